@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian packages clearshape needs to build, test, benchmark and report.
+# Idempotent: does nothing when every package is already installed.
+# Usage: scripts/install-deps.sh [--with-report]   (--with-report adds headless Chromium)
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libsundials-dev libceres-dev libnlopt-cxx-dev
+  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-numpy python3-scipy python3-matplotlib
+)
+if [[ "${1:-}" == "--with-report" ]]; then
+  packages+=(chromium)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  exit 0
+fi
+
+echo "clearshape: installing missing Debian packages: ${missing[*]}" >&2
+SUDO=""
+if [[ "$(id -u)" -ne 0 ]]; then
+  if command -v sudo >/dev/null; then SUDO="sudo"; else
+    echo "clearshape: not root and no sudo; install these packages first: ${missing[*]}" >&2
+    exit 2
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

@@ -1,0 +1,209 @@
+#include "clearshape/io/table.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/io/atomic_file.hpp"
+
+namespace clearshape::io {
+
+namespace {
+
+bool is_separator(char c) { return c == ',' || c == ';' || c == ' ' || c == '\t' || c == '\r'; }
+
+// Splits a line on commas/semicolons (keeping empty fields) when it has any, else on runs of
+// white space.
+std::vector<std::string_view> split_fields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  const bool delimited = line.find_first_of(",;") != std::string_view::npos;
+  std::size_t i = 0;
+  if (delimited) {
+    while (true) {
+      const std::size_t j = line.find_first_of(",;", i);
+      std::string_view f = line.substr(i, j == std::string_view::npos ? std::string_view::npos : j - i);
+      while (!f.empty() && (f.front() == ' ' || f.front() == '\t')) f.remove_prefix(1);
+      while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
+      fields.push_back(f);
+      if (j == std::string_view::npos) break;
+      i = j + 1;
+    }
+  } else {
+    while (i < line.size()) {
+      while (i < line.size() && is_separator(line[i])) ++i;
+      if (i >= line.size()) break;
+      std::size_t j = i;
+      while (j < line.size() && !is_separator(line[j])) ++j;
+      fields.push_back(line.substr(i, j - i));
+      i = j;
+    }
+  }
+  return fields;
+}
+
+bool parse_number(std::string_view s, double& out) {
+  if (s.empty()) return false;
+  if (s.front() == '+') s.remove_prefix(1);
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+  return ec == std::errc() && ptr == s.data() + s.size();
+}
+
+bool is_blank_or_comment(std::string_view line) {
+  const auto pos = line.find_first_not_of(" \t\r");
+  return pos == std::string_view::npos || line[pos] == '#';
+}
+
+}  // namespace
+
+std::optional<std::size_t> Table::find(std::string_view name) const {
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == name) return i;
+  }
+  return std::nullopt;
+}
+
+const std::vector<double>& Table::column(std::string_view name) const {
+  if (auto i = find(name)) return columns[*i];
+  double index = 0.0;
+  if (parse_number(name, index) && index >= 1 && index <= static_cast<double>(columns.size()) &&
+      std::floor(index) == index) {
+    return columns[static_cast<std::size_t>(index) - 1];
+  }
+  std::string available;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    available += fmt::format("{}{} ({})", i ? ", " : "", names[i], i + 1);
+  }
+  throw InputError(source, 0, std::string(name),
+                   fmt::format("no such column; available: {}", available));
+}
+
+Table parse_table(std::string_view text, const std::string& source) {
+  Table table;
+  table.source = source;
+  std::size_t line_no = 0;
+  std::size_t start = 0;
+  bool first_content_line = true;
+  while (start <= text.size()) {
+    const std::size_t end = text.find('\n', start);
+    std::string_view line = text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start);
+    ++line_no;
+    start = (end == std::string_view::npos) ? text.size() + 1 : end + 1;
+    if (is_blank_or_comment(line)) continue;
+    const auto fields = split_fields(line);
+    if (first_content_line) {
+      first_content_line = false;
+      double tmp = 0.0;
+      const bool numeric = std::all_of(fields.begin(), fields.end(),
+                                       [&](std::string_view f) { return parse_number(f, tmp); });
+      table.columns.resize(fields.size());
+      if (!numeric) {
+        table.had_header = true;
+        for (std::size_t i = 0; i < fields.size(); ++i) {
+          if (fields[i].empty()) throw InputError(source, line_no, fmt::format("column {}", i + 1), "empty column name in header");
+          table.names.emplace_back(fields[i]);
+        }
+        continue;
+      }
+      for (std::size_t i = 0; i < fields.size(); ++i) table.names.push_back(fmt::format("col{}", i + 1));
+    }
+    if (fields.size() != table.columns.size()) {
+      throw InputError(source, line_no, "",
+                       fmt::format("expected {} columns, found {}", table.columns.size(), fields.size()));
+    }
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      double v = 0.0;
+      if (!parse_number(fields[i], v)) {
+        throw InputError(source, line_no, table.names[i], fmt::format("'{}' is not a number", fields[i]));
+      }
+      if (!std::isfinite(v)) {
+        throw InputError(source, line_no, table.names[i], fmt::format("value {} is not finite", fields[i]));
+      }
+      table.columns[i].push_back(v);
+    }
+  }
+  if (table.columns.empty() || table.rows() == 0) {
+    throw InputError(source, 0, "", "no data rows");
+  }
+  return table;
+}
+
+Table read_table(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), 0, "", "cannot open file for reading");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_table(ss.str(), path.string());
+}
+
+double uniform_sample_time(const Table& table, std::string_view time_column, double tolerance) {
+  const auto& t = table.column(time_column);
+  if (t.size() < 2) throw InputError(table.source, 0, std::string(time_column), "need at least 2 samples");
+  const double mean_step = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (!(t[i] > t[i - 1])) {
+      throw InputError(table.source, table.line_of_row(i), std::string(time_column),
+                       fmt::format("time must increase strictly; {} follows {}", t[i], t[i - 1]));
+    }
+  }
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    const double step = t[i] - t[i - 1];
+    if (std::abs(step - mean_step) > tolerance * mean_step) {
+      throw InputError(table.source, table.line_of_row(i), std::string(time_column),
+                       fmt::format("irregular sampling: step {} differs from the mean step {} by more "
+                                   "than {:.3g}%; resample to a uniform time base",
+                                   step, mean_step, tolerance * 100.0));
+    }
+  }
+  return mean_step;
+}
+
+UniformSeries series_from_table(const Table& table, std::string_view time_column,
+                                std::string_view value_column) {
+  UniformSeries s;
+  s.sample_time_s = uniform_sample_time(table, time_column);
+  s.start_s = table.column(time_column).front();
+  s.values = table.column(value_column);
+  return s;
+}
+
+std::string format_csv(const std::vector<std::string>& names,
+                       const std::vector<const std::vector<double>*>& columns) {
+  if (names.size() != columns.size()) {
+    throw InvalidArgument(fmt::format("format_csv: {} names for {} columns", names.size(), columns.size()));
+  }
+  const std::size_t rows = columns.empty() ? 0 : columns.front()->size();
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    if (columns[c]->size() != rows) {
+      throw InvalidArgument(fmt::format("format_csv: column '{}' has {} rows, expected {}", names[c],
+                                        columns[c]->size(), rows));
+    }
+  }
+  std::string out;
+  out.reserve((rows + 1) * columns.size() * 14);
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    if (c) out += ',';
+    out += names[c];
+  }
+  out += '\n';
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c) out += ',';
+      // Shortest representation that round-trips: deterministic bytes, no precision loss.
+      fmt::format_to(std::back_inserter(out), "{}", (*columns[c])[r]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+void write_csv(const std::filesystem::path& path, const std::vector<std::string>& names,
+               const std::vector<const std::vector<double>*>& columns) {
+  write_text_atomic(path, format_csv(names, columns));
+}
+
+}  // namespace clearshape::io

@@ -1,0 +1,16 @@
+#pragma once
+// Runs the clearshape executable in a test and captures exit code, stdout and stderr.
+#include <string>
+
+namespace clearshape::testing {
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+/// Runs `clearshape <arguments>` through /bin/sh (arguments are not escaped: quote them).
+CliResult run_cli(const std::string& arguments);
+
+}  // namespace clearshape::testing
