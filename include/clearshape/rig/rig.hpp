@@ -1,0 +1,83 @@
+#pragma once
+// The hardware abstraction of a test rig, after ros2_control's hardware_interface
+// (reference/aesthetics_ecosystem.md §1.6): a lifecycle run outside the real-time loop, and
+// read()/write() inside it.
+//
+//            configure()           activate()
+//   unconfigured ───────► inactive ─────────► active
+//        ▲      cleanup()    ▲  ◄───────────  │  │ read/write report device_error
+//        └──────────────────┘   deactivate()  │  ▼
+//                                 ◄────────────── error
+//
+// Lifecycle calls are configuration-time: a bad configuration throws (InvalidArgument,
+// RuntimeError) and leaves the state unchanged; a call in the wrong state returns
+// Status::not_ready. read() and write() are noexcept, never allocate, and return a Status:
+// not_ready outside `active`; device_error moves the rig to `error` (leave it with deactivate()).
+//
+// Loop contract: after activate() the clock is at t = 0. Each read() returns the next sample
+// (t = 0, T, 2T, …; T = sample_time_s()); a write() holds its command from the time of the
+// last read until the next write.
+#include <cstdint>
+#include <string_view>
+
+#include "clearshape/core/status.hpp"
+#include "clearshape/rig/types.hpp"
+
+namespace clearshape::rig {
+
+enum class LifecycleState : std::uint8_t { unconfigured, inactive, active, error };
+std::string_view to_string(LifecycleState state) noexcept;
+
+/// Counters kept by the base class (real-time safe: plain integers).
+struct CycleCounters {
+  std::uint64_t reads = 0;
+  std::uint64_t writes = 0;
+  std::uint64_t failed_reads = 0;   ///< read() returned other than ok
+  std::uint64_t failed_writes = 0;  ///< write() returned other than ok
+  Status last_read = Status::ok;
+  Status last_write = Status::ok;
+};
+
+class Rig {
+ public:
+  virtual ~Rig() = default;
+  Rig(const Rig&) = delete;
+  Rig& operator=(const Rig&) = delete;
+
+  /// unconfigured → inactive: validate the configuration, open devices, allocate buffers.
+  Status configure();
+  /// inactive → active: reset the clock to t = 0 and start sampling.
+  Status activate();
+  /// active or error → inactive: stop (the command goes to a safe value).
+  Status deactivate();
+  /// inactive → unconfigured: release devices and buffers.
+  Status cleanup();
+
+  /// The next sample (see the loop contract). Real-time safe.
+  Status read(Measurement& measurement) noexcept;
+  /// The command to hold from now on. Real-time safe.
+  Status write(const Command& command) noexcept;
+
+  LifecycleState state() const noexcept { return state_; }
+  const CycleCounters& counters() const noexcept { return counters_; }
+  /// Sample period T of read(), in s.
+  virtual double sample_time_s() const noexcept = 0;
+  /// The mode the rig was configured for (write() rejects the other one).
+  virtual CommandMode mode() const noexcept = 0;
+  virtual std::string_view name() const noexcept = 0;
+
+ protected:
+  Rig() = default;
+  virtual void on_configure() = 0;          ///< may throw; state stays unconfigured then
+  virtual void on_activate() = 0;           ///< may throw; state stays inactive then
+  virtual void on_deactivate() noexcept = 0;
+  virtual void on_cleanup() noexcept = 0;
+  virtual Status on_read(Measurement& measurement) noexcept = 0;
+  virtual Status on_write(const Command& command) noexcept = 0;
+
+ private:
+  LifecycleState state_ = LifecycleState::unconfigured;
+  CycleCounters counters_{};
+};
+
+}  // namespace clearshape::rig
