@@ -1,8 +1,10 @@
 #include "clearshape/shaping/apply.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -15,8 +17,6 @@ namespace {
 constexpr double kMaxDelaySamples = 67108864.0;  // 2^26
 // t/Ts within this relative distance of an integer is floating-point noise of the division.
 constexpr double kOnGridTolerance = 1e-12;
-// Output samples computed per block (8 KiB of doubles stays in L1 while every tap is added).
-constexpr std::size_t kBlock = 1024;
 
 struct GridPosition {
   std::size_t m = 0;  // sample at or before the impulse
@@ -79,19 +79,54 @@ void split(std::vector<DiscreteTap>& taps, const Impulse& impulse, double sample
   taps.push_back({at.m + 1, w1});
 }
 
-// Adds w·u[k − d] (u held at its ends) to y[k] for k in [k0, k1).
-void add_tap(double* y, std::size_t k0, std::size_t k1, const DiscreteTap& tap, const double* u,
-             std::size_t n) {
-  const double w = tap.weight;
-  const std::size_t d = tap.delay_samples;
-  const std::size_t head_end = std::clamp(d, k0, k1);          // k < d: before the first sample
-  const std::size_t body_end = std::clamp(n + d, head_end, k1);  // d <= k < n + d: inside
-  const double before = w * u[0];
-  for (std::size_t k = k0; k < head_end; ++k) y[k - k0] += before;
-  for (std::size_t k = head_end; k < body_end; ++k) y[k - k0] += w * u[k - d];
-  const double after = w * u[n - 1];
-  for (std::size_t k = body_end; k < k1; ++k) y[k - k0] += after;
+// y[k] = Σ w_j·u[k − d_j] with u held at its ends, for any k. Even and odd taps are summed
+// apart and then added — the order of StreamingShaper::step, so the two agree to the last bit.
+double shaped_sample(std::span<const DiscreteTap> taps, const double* u, std::size_t n,
+                     std::size_t k) noexcept {
+  auto input_at = [&](std::size_t d) { return k < d ? u[0] : (k - d < n ? u[k - d] : u[n - 1]); };
+  double even = 0.0;
+  double odd = 0.0;
+  std::size_t j = 0;
+  for (; j + 1 < taps.size(); j += 2) {
+    even += taps[j].weight * input_at(taps[j].delay_samples);
+    odd += taps[j + 1].weight * input_at(taps[j + 1].delay_samples);
+  }
+  if (j < taps.size()) even += taps[j].weight * input_at(taps[j].delay_samples);
+  return even + odd;
 }
+
+// The same for k in [k0, k1) where every u[k − d_j] exists, with N taps known at compile time
+// so that the tap loop unrolls and the k loop vectorises (same summation order).
+template <std::size_t N>
+void shape_interior(std::span<const DiscreteTap> taps, const double* u, double* y, std::size_t k0,
+                    std::size_t k1) noexcept {
+  std::array<double, N> w{};
+  std::array<std::size_t, N> d{};
+  for (std::size_t j = 0; j < N; ++j) {
+    w[j] = taps[j].weight;
+    d[j] = taps[j].delay_samples;
+  }
+  for (std::size_t k = k0; k < k1; ++k) {
+    double even = 0.0;
+    double odd = 0.0;
+    for (std::size_t j = 0; j < N; j += 2) {
+      even += w[j] * u[k - d[j]];
+      if (j + 1 < N) odd += w[j + 1] * u[k - d[j + 1]];
+    }
+    y[k] = even + odd;
+  }
+}
+
+using InteriorKernel = void (*)(std::span<const DiscreteTap>, const double*, double*, std::size_t,
+                                std::size_t) noexcept;
+
+// Kernels for 1…kMaxFixedTaps taps (a 5-impulse shaper split linearly has at most 10).
+constexpr std::size_t kMaxFixedTaps = 16;
+template <std::size_t... I>
+constexpr std::array<InteriorKernel, sizeof...(I)> make_kernels(std::index_sequence<I...>) {
+  return {&shape_interior<I + 1>...};
+}
+constexpr auto kKernels = make_kernels(std::make_index_sequence<kMaxFixedTaps>{});
 
 }  // namespace
 
@@ -148,15 +183,19 @@ UniformSeries shape_offline(std::span<const DiscreteTap> taps, const UniformSeri
   const std::size_t n = input.size();
   if (n == 0) return out;
   const std::size_t length = n + (extend ? max_delay_samples(taps) : 0);
-  out.values.assign(length, 0.0);
-  // Blocked: every tap is added over one L1-sized block before the next block, in tap order
-  // (the same summation order as StreamingShaper::step, so the two agree to the last bit
-  // unless the compiler contracts differently).
+  out.values.resize(length);
+  const double* u = input.values.data();
   double* y = out.values.data();
-  for (std::size_t k0 = 0; k0 < length; k0 += kBlock) {
-    const std::size_t k1 = std::min(length, k0 + kBlock);
-    for (const DiscreteTap& tap : taps) add_tap(y + k0, k0, k1, tap, input.values.data(), n);
+  // Interior [D, n): all taps inside the input; before and after it the input is held.
+  const std::size_t interior_begin = std::min(max_delay_samples(taps), n);
+  const std::size_t interior_end = std::max(interior_begin, n);
+  for (std::size_t k = 0; k < interior_begin; ++k) y[k] = shaped_sample(taps, u, n, k);
+  if (taps.size() <= kMaxFixedTaps) {
+    kKernels[taps.size() - 1](taps, u, y, interior_begin, interior_end);
+  } else {
+    for (std::size_t k = interior_begin; k < interior_end; ++k) y[k] = shaped_sample(taps, u, n, k);
   }
+  for (std::size_t k = interior_end; k < length; ++k) y[k] = shaped_sample(taps, u, n, k);
   return out;
 }
 

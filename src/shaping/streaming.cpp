@@ -54,11 +54,20 @@ Status StreamingShaper::step(double input, double& output) noexcept {
   }
   head_ = (head_ + 1) & mask_;
   history_[head_] = input;
-  // y[k] = Σ w_j·u[k − d_j] (the FIR of discretize()); unsigned wrap-around then mask.
-  double y = 0.0;
+  // y[k] = Σ w_j·u[k − d_j] (the FIR of discretize()); unsigned wrap-around then mask. Even and
+  // odd taps go to two accumulators (half the dependent-add chain), the order shape_offline uses.
   const double* h = history_.data();
-  for (const DiscreteTap& tap : taps_) y += tap.weight * h[(head_ - tap.delay_samples) & mask_];
-  output = y;
+  const DiscreteTap* tap = taps_.data();
+  const std::size_t n = taps_.size();
+  double even = 0.0;
+  double odd = 0.0;
+  std::size_t j = 0;
+  for (; j + 1 < n; j += 2) {
+    even += tap[j].weight * h[(head_ - tap[j].delay_samples) & mask_];
+    odd += tap[j + 1].weight * h[(head_ - tap[j + 1].delay_samples) & mask_];
+  }
+  if (j < n) even += tap[j].weight * h[(head_ - tap[j].delay_samples) & mask_];
+  output = even + odd;
   return status;
 }
 
