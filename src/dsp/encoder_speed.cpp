@@ -1,5 +1,8 @@
 #include "clearshape/dsp/encoder_speed.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/dsp/butterworth.hpp"
@@ -28,7 +31,12 @@ std::vector<double> angle_speed_deg_s(std::span<const double> angle_deg, double 
   if (phase == Phase::causal) {
     return sosfilt(filter, backward_difference(angle_deg, sample_time_s));  // real-time chain
   }
-  return sosfiltfilt(filter, central_difference(angle_deg, sample_time_s));  // offline chain
+  // Offline chain: central difference + forward-backward filtering with a long odd pad.
+  const auto pad = static_cast<std::size_t>(std::lround(kThesisZeroPhasePadS / sample_time_s));
+  const std::size_t n = angle_deg.size();
+  FiltfiltOptions options;
+  options.pad_length = std::min(pad, n > 0 ? n - 1 : 0);
+  return sosfiltfilt(filter, central_difference(angle_deg, sample_time_s), options);
 }
 
 std::vector<double> encoder_speed_deg_s(std::span<const std::int64_t> counts, double sample_time_s,

@@ -176,8 +176,11 @@ def gen_differentiate():
     # starting from rest.
     d_back = np.concatenate(([0.0], np.diff(deg) * fs))
     causal = signal.sosfilt(sos, d_back)
-    # Zero-phase (offline) chain: central difference (np.gradient, edge_order=1) + sosfiltfilt.
-    zero_phase = signal.sosfiltfilt(sos, np.gradient(deg, 1.0 / fs))
+    # Zero-phase (offline) chain: central difference (np.gradient, edge_order=1) + sosfiltfilt
+    # with odd padding of 1 s (clearshape's kThesisZeroPhasePadS), capped at n - 1.
+    zero_phase = signal.sosfiltfilt(sos, np.gradient(deg, 1.0 / fs), padlen=min(int(round(1.0 * fs)), n - 1))
+    short = deg[:300]  # shorter than the pad: padlen = n - 1
+    zero_phase_short = signal.sosfiltfilt(sos, np.gradient(short, 1.0 / fs), padlen=len(short) - 1)
     dump("dsp_differentiate.json", {
         "dt_s": dt, "x": x.tolist(), "gradient_edge1": grad1.tolist(),
         "gradient_edge2": grad2.tolist(),
@@ -185,6 +188,7 @@ def gen_differentiate():
             "counts_per_rev": counts_per_rev, "fs_hz": fs, "counts": counts.tolist(),
             "sos": sos.tolist(), "backward_difference_deg_s": d_back.tolist(),
             "causal_deg_s": causal.tolist(), "zero_phase_deg_s": zero_phase.tolist(),
+            "zero_phase_first300_deg_s": zero_phase_short.tolist(),
         },
     })
 

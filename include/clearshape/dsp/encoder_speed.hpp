@@ -4,7 +4,12 @@
 // the −3 dB cutoff), logged at 1 kHz. Two variants:
 //   causal      backward difference + sosfilt from rest — what a real-time (Simulink) chain
 //               computes; it lags by the filter's group delay (≈ 2.6 / 30 rad/s ≈ 87 ms at DC).
-//   zero_phase  central difference (numpy.gradient) + sosfiltfilt — offline, no lag.
+//   zero_phase  central difference (numpy.gradient) + sosfiltfilt with odd padding — offline,
+//               no lag. The padding is 1 s (kThesisZeroPhasePadS), not scipy's default
+//               3·(2·2+1) = 15 samples: the slowest pole of the filter decays as e^{−11.5 t}
+//               (30 rad/s · sin(π/8)), so a 15-sample pad leaves an edge transient of about
+//               slope × group delay (tens of °/s on a fast move), while 1 s leaves e^{−11.5} ≈ 1e−5
+//               of it.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -20,6 +25,8 @@ inline constexpr double kThesisSpeedFilterCutoffRadS = 30.0;   // §3.3, passban
 inline constexpr double kThesisSampleTimeS = 1e-3;             // 1 kHz logging (note to Eq. 4.1)
 /// Counts per motor revolution: the 3000 p/r incremental encoder (Table 3.1) decoded ×4.
 inline constexpr double kThesisEncoderCountsPerRev = 4.0 * 3000.0;
+/// Edge padding of the zero-phase chain, in seconds (see the file comment).
+inline constexpr double kThesisZeroPhasePadS = 1.0;
 
 enum class Phase { causal, zero_phase };
 
@@ -32,8 +39,8 @@ std::vector<double> encoder_counts_to_deg(std::span<const std::int64_t> counts,
                                           double counts_per_rev = kThesisEncoderCountsPerRev);
 
 /// Angular speed in °/s from an angle in degrees sampled every sample_time_s, through the
-/// thesis chain (see the file comment for the variants). The zero-phase variant needs more
-/// samples than sosfiltfilt's pad length (27 for the thesis filter).
+/// thesis chain (see the file comment for the variants). The zero-phase variant pads each end
+/// with min(round(kThesisZeroPhasePadS / sample_time_s), n − 1) samples and needs n ≥ 2.
 std::vector<double> angle_speed_deg_s(std::span<const double> angle_deg, double sample_time_s,
                                       Phase phase = Phase::causal);
 /// Same from raw encoder counts.
