@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
 #include "clearshape/lti/modes.hpp"
 #include "clearshape/lti/transfer_function.hpp"
 
@@ -49,7 +50,7 @@ TEST(TransferFunction, RightHalfPlaneZeroAndModes) {
   ASSERT_EQ(modes.size(), 1u);
   EXPECT_NEAR(modes[0].natural_frequency_rad_s, 10.0, 1e-12);
   EXPECT_NEAR(modes[0].damping_ratio, 0.1, 1e-12);
-  EXPECT_NEAR(modes[0].period_s(), 2.0 * M_PI / std::sqrt(99.0), 1e-12);
+  EXPECT_NEAR(modes[0].period_s(), clearshape::kTwoPi / std::sqrt(99.0), 1e-12);
 }
 
 TEST(TransferFunction, FrequencyResponseClosedForm) {
