@@ -187,6 +187,12 @@ TEST_P(LtiGolden, StepAndLsim) {
     const double err = relative_error(y.values, doc["lsim"][key].get<std::vector<double>>());
     EXPECT_LE(err, 1e-8) << GetParam() << " " << key;
     std::cout << "[golden] " << GetParam() << " lsim " << key << " max rel error " << err << "\n";
+    if (model.delay_s() == 0.0) {  // the balanced canonical realization of the expanded H(s)
+      const auto yt = lti::simulate(model.transfer_function(), u, hold);
+      const double err_tf = relative_error(yt.values, doc["lsim"][key].get<std::vector<double>>());
+      EXPECT_LE(err_tf, 1e-8) << GetParam() << " " << key << " (transfer function)";
+      std::cout << "[golden] " << GetParam() << " lsim " << key << " via TransferFunction max rel error " << err_tf << "\n";
+    }
   }
   if (doc["lsim"].contains("foh_x0")) {
     const auto& g = doc["lsim"]["foh_x0"];
