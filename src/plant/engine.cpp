@@ -1,0 +1,111 @@
+#include "engine.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <cvode/cvode.h>
+
+#include "clearshape/core/error.hpp"
+#include "planar_system.hpp"
+#include "torsional_system.hpp"
+
+namespace clearshape::plant::detail {
+
+namespace {
+constexpr int kTooManyTotalSteps = -1000;
+constexpr int kRestartFailed = -1001;
+
+bool reached(double t, double tout) noexcept {
+  return tout - t <= 1e-12 * std::max(1.0, std::abs(tout));
+}
+}  // namespace
+
+std::unique_ptr<JointSystem> make_system(const PlantModel& model, const SolverOptions& options) {
+  model.validate();
+  options.validate();
+  if (std::holds_alternative<TorsionalClearance>(model.joint)) {
+    return std::make_unique<TorsionalSystem>(model, options);
+  }
+  return std::make_unique<PlanarSystem>(model, options);
+}
+
+Engine::Engine(const PlantModel& model, const SolverOptions& options,
+               std::vector<ContactEvent>* events, bool bounded_events)
+    : system_(make_system(model, options)),
+      solver_(*system_, options),
+      log_(events, bounded_events),
+      options_(options),
+      found_(static_cast<std::size_t>(system_->root_count), 0) {}
+
+void Engine::start(const InitialState& initial) {
+  t_ = 0.0;
+  log_.count = 0;
+  system_->initial_state(initial, system_->input.value(0.0), solver_.state(), log_);
+  const int flag = restart();
+  if (flag < 0) throw RuntimeError("plant: cannot start the integrator: " + failure(flag));
+}
+
+int Engine::restart() noexcept {
+  ++restarts_;
+  const int flag = solver_.restart(t_);
+  return flag < 0 ? kRestartFailed : 0;
+}
+
+int Engine::set_held_input(double value) noexcept {
+  if (system_->input.use_held && system_->input.held == value) return 0;
+  system_->input.held = value;
+  system_->on_input_jump(t_, solver_.state());
+  ++stops_;
+  return restart();
+}
+
+int Engine::run_to(double tout) noexcept {
+  while (!reached(t_, tout)) {
+    double tret = t_;
+    const int flag = solver_.advance(tout, tret);
+    if (flag < 0) return flag;
+    t_ = tret;
+    if (solver_.total_steps() > options_.max_total_steps) return kTooManyTotalSteps;
+    if (flag == CV_ROOT_RETURN) {
+      solver_.root_info(found_.data());
+      if (system_->on_roots(t_, solver_.state(), found_.data(), log_)) {
+        if (restart() < 0) return kRestartFailed;
+      }
+    } else if (flag == CV_TSTOP_RETURN) {
+      if (stop_handler_) stop_handler_(stop_context_, t_, *system_);
+      system_->on_input_jump(t_, solver_.state());
+      ++stops_;
+      if (restart() < 0) return kRestartFailed;
+    } else {
+      t_ = tout;  // CV_SUCCESS: tret == tout
+    }
+  }
+  return 0;
+}
+
+SolverStats Engine::stats() noexcept {
+  SolverStats s = solver_.stats();
+  s.events = log_.count;
+  s.restarts = restarts_;
+  s.command_stops = stops_;
+  return s;
+}
+
+std::string Engine::failure(int flag) const {
+  std::string why;
+  if (flag == kTooManyTotalSteps) {
+    why = "more than solver.max_total_steps = " + std::to_string(options_.max_total_steps) +
+          " steps: the contact is chattering or very stiff; raise the limit, reduce the contact "
+          "damping D or stiffness K, or lower solver.zeno_events";
+  } else if (flag == kRestartFailed) {
+    why = "the integrator could not restart after an event (non-finite state?)";
+  } else {
+    why = describe_cvode_failure(flag);
+  }
+  std::string msg = "plant simulation failed at " + system_->describe(t_, solver_.state()) +
+                    ": " + why;
+  if (!solver_.message().empty()) msg += " [" + solver_.message() + "]";
+  return msg;
+}
+
+}  // namespace clearshape::plant::detail
