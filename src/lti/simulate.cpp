@@ -82,8 +82,8 @@ Simulator::Simulator(SampledModel model)
       history_(model_.delay_samples() + 3, 0.0) {}
 
 double Simulator::delayed(std::size_t lag) const noexcept {
-  const std::size_t size = history_.size();
-  return history_[(head_ + size - lag) % size];
+  // lag < size: one conditional wrap instead of a division.
+  return history_[head_ >= lag ? head_ - lag : head_ + history_.size() - lag];
 }
 
 Status Simulator::step(double input, double& output) noexcept {
@@ -93,13 +93,14 @@ Status Simulator::step(double input, double& output) noexcept {
     status = Status::not_finite;
   }
   last_input_ = input;
-  head_ = (head_ + 1) % history_.size();
+  head_ = head_ + 1 == history_.size() ? 0 : head_ + 1;
   history_[head_] = input;
   const std::size_t d = model_.delay_samples();
   const Eigen::Vector3d lagged(delayed(d), delayed(d + 1), delayed(d + 2));
   if (steps_ > 0) {
-    scratch_.noalias() = model_.phi() * x_;
-    scratch_.noalias() += model_.input_taps() * lagged;
+    // x[k] = Φ x[k−1] + G·(u[k−d], u[k−d−1], u[k−d−2]); lazy products avoid Eigen's GEMV
+    // dispatch, which dominates for the 1–6 states of a drive model.
+    scratch_.noalias() = model_.phi().lazyProduct(x_) + model_.input_taps().lazyProduct(lagged);
     x_.swap(scratch_);
   }
   ++steps_;

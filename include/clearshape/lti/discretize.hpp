@@ -1,6 +1,7 @@
 #pragma once
 // Exact discretization of a continuous state-space model (matrix exponential of an augmented
-// matrix, Eigen unsupported MatrixFunctions), with SciPy's cont2discrete conventions.
+// matrix, Van Loan 1978, via Eigen unsupported MatrixFunctions), with SciPy's cont2discrete
+// conventions.
 #include <span>
 #include <vector>
 

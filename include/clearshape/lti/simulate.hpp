@@ -7,7 +7,8 @@
 // its breakpoints inside the sample interval, at kT + fT; the interval is split there and each
 // part integrated exactly (matrix exponential), the delayed input's values at the split points
 // being linear interpolations of the samples (FOH) or the held sample (ZOH). So the result is
-// exact for the held input at any delay (modified z-transform, Franklin–Powell §4.3.3).
+// exact for the held input at any delay (the modified z-transform of Franklin, Powell & Workman,
+// "Digital Control of Dynamic Systems"; integrals by Van Loan 1978, see discretize.hpp).
 // Samples before the start take the value `input_before_start` (default 0).
 //
 // Per sample: x[k] = Φ x[k−1] + Σⱼ Gⱼ u[k−d−j],  y[k] = C x[k] + Σⱼ Hⱼ u[k−d−j],  j = 0, 1, 2.
