@@ -60,9 +60,19 @@ int Engine::set_held_input(double value) noexcept {
 }
 
 int Engine::run_to(double tout) noexcept {
+  bool root_pending = false;  // a root return handled without restarting the integrator
   while (!reached(t_, tout)) {
     double tret = t_;
-    const int flag = solver_.advance(tout, tret);
+    int flag = solver_.advance(tout, tret);
+    if (flag == CV_ILL_INPUT && root_pending) {
+      // CVODE refuses to continue when a root function stays exactly 0 just after the root
+      // ("root found at and very near t"); y still holds the root state: restart from it.
+      solver_.clear_message();
+      if (restart() < 0) return kRestartFailed;
+      root_pending = false;
+      flag = solver_.advance(tout, tret);
+    }
+    root_pending = false;
     if (flag < 0) return flag;
     t_ = tret;
     if (solver_.total_steps() > options_.max_total_steps) return kTooManyTotalSteps;
@@ -70,6 +80,8 @@ int Engine::run_to(double tout) noexcept {
       solver_.root_info(found_.data());
       if (system_->on_roots(t_, solver_.state(), found_.data(), log_)) {
         if (restart() < 0) return kRestartFailed;
+      } else {
+        root_pending = true;
       }
     } else if (flag == CV_TSTOP_RETURN) {
       if (stop_handler_) stop_handler_(stop_context_, t_, *system_);
@@ -79,6 +91,9 @@ int Engine::run_to(double tout) noexcept {
     } else {
       t_ = tout;  // CV_SUCCESS: tret == tout
     }
+  }
+  if (system_->check_consistency(t_, solver_.state(), log_)) {
+    if (restart() < 0) return kRestartFailed;
   }
   return 0;
 }

@@ -47,12 +47,20 @@ void Gyroscope::reset(double rate_rad_s) noexcept {
   normal_.reset();
   const double dps = rad_to_deg(rate_rad_s) + config_.bias_dps;
   filter_state_dps_ = dps;
-  filter_primed_ = true;
-  GyroSample s;
-  s.raw = quantize(rate_rad_s);
-  s.rate_rad_s = deg_to_rad(static_cast<double>(s.raw) / config_.sensitivity_lsb_per_dps);
-  delay_.fill(s);
+  delay_.fill(convert(dps));  // as if the sensor had rested at this rate
   head_ = 0;
+}
+
+GyroSample Gyroscope::convert(double dps) const noexcept {
+  GyroSample out;
+  double clipped = std::isnan(dps) ? 0.0 : dps;
+  out.saturated = !(std::abs(clipped) < config_.full_scale_dps);
+  clipped = std::clamp(clipped, -config_.full_scale_dps, config_.full_scale_dps);
+  const double lsb = std::nearbyint(clipped * config_.sensitivity_lsb_per_dps);
+  if (lsb > 32767.0 || lsb < -32768.0) out.saturated = true;
+  out.raw = static_cast<std::int16_t>(std::clamp(lsb, -32768.0, 32767.0));
+  out.rate_rad_s = deg_to_rad(static_cast<double>(out.raw) / config_.sensitivity_lsb_per_dps);
+  return out;
 }
 
 std::int16_t Gyroscope::quantize(double rate_rad_s) const noexcept {
@@ -70,14 +78,7 @@ GyroSample Gyroscope::sample(double true_rate_rad_s) noexcept {
     filter_state_dps_ += filter_coefficient_ * (dps - filter_state_dps_);
     dps = filter_state_dps_;
   }
-  GyroSample now;
-  double clipped = std::isnan(dps) ? 0.0 : dps;
-  now.saturated = !(std::abs(clipped) < config_.full_scale_dps);
-  clipped = std::clamp(clipped, -config_.full_scale_dps, config_.full_scale_dps);
-  const double lsb = std::nearbyint(clipped * config_.sensitivity_lsb_per_dps);
-  if (lsb > 32767.0 || lsb < -32768.0) now.saturated = true;
-  now.raw = static_cast<std::int16_t>(std::clamp(lsb, -32768.0, 32767.0));
-  now.rate_rad_s = deg_to_rad(static_cast<double>(now.raw) / config_.sensitivity_lsb_per_dps);
+  const GyroSample now = convert(dps);
   if (config_.latency_samples == 0) return now;
   // delay line of latency_samples + 1 slots: write the newest, read the oldest
   const int size = config_.latency_samples + 1;

@@ -78,6 +78,10 @@ class JointSystem {
   virtual bool on_roots(double t, double* y, const int* found, EventLog& log) noexcept = 0;
   /// After a command discontinuity at t (input already updated); may modify y.
   virtual void on_input_jump(double, double*) noexcept {}
+  /// Safety net at an output time: an onset or separation CVODE could not see (a root function
+  /// exactly 0 when the integrator (re)started, e.g. a start on the boundary at rest) is
+  /// processed now. Returns true if the integrator must restart.
+  virtual bool check_consistency(double t, double* y, EventLog& log) noexcept = 0;
   virtual void sample(double t, const double* y, Sample& s) const noexcept = 0;
   /// One line describing the state (for error messages).
   virtual std::string describe(double t, const double* y) const = 0;

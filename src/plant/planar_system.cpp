@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "clearshape/core/error.hpp"
 
@@ -154,7 +155,32 @@ void PlanarSystem::initial_state(const InitialState& init, double u0, double* y,
     throw_invalid("initial.pivot", dist, "<= radial_clearance_m for an impulse law",
                   "a rigid impact law admits no penetration; start inside the clearance");
   }
-  if (delta > 0.0 || (delta == 0.0 && rate > 0.0)) onset(0.0, y, log);
+  if (delta > 0.0 || (delta == 0.0 && rate > 0.0)) {
+    onset(0.0, y, log);
+    return;
+  }
+  if (delta == 0.0 && rate == 0.0 && dist > 0.0) {
+    // on the boundary at rest: contact if the pivot accelerates outwards (δ̈ = p·a/‖p‖ > 0)
+    std::vector<double> yd(static_cast<std::size_t>(size));
+    rhs(0.0, y, yd.data());
+    const double acc = (y[ip_] * yd[static_cast<std::size_t>(iv_)] +
+                        y[ip_ + 1] * yd[static_cast<std::size_t>(iv_ + 1)]) / dist;
+    if (acc > 0.0) onset(0.0, y, log);
+  }
+}
+
+bool PlanarSystem::check_consistency(double t, double* y, EventLog& log) noexcept {
+  const double dist = std::hypot(y[ip_], y[ip_ + 1]);
+  const double delta = dist - joint_.radial_clearance_m;
+  if (mode == ContactMode::free && delta > 0.0) return onset(t, y, log) || true;
+  if (mode == ContactMode::contact && delta < 0.0) {
+    const double rate = dist > 0.0 ? (y[ip_] * y[iv_] + y[ip_ + 1] * y[iv_ + 1]) / dist : 0.0;
+    log.push({t, EventKind::separation, 0, rate, 0.0});
+    mode = ContactMode::free;
+    memory_ = {};
+    return true;
+  }
+  return false;
 }
 
 void PlanarSystem::tolerances(const SolverOptions& o, double* atol) const {

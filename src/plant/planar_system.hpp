@@ -20,6 +20,7 @@ class PlanarSystem final : public JointSystem {
   void initial_state(const InitialState& init, double u0, double* y, EventLog& log) override;
   void tolerances(const SolverOptions& o, double* atol) const override;
   bool on_roots(double t, double* y, const int* found, EventLog& log) noexcept override;
+  bool check_consistency(double t, double* y, EventLog& log) noexcept override;
   void sample(double t, const double* y, Sample& s) const noexcept override;
   std::string describe(double t, const double* y) const override;
   void reset_discrete() noexcept override;

@@ -299,7 +299,7 @@ SingleImpact single_impact(const ContactLaw& law, double effective_mass, double 
   model.link = Link{};
   model.link.inertia_kg_m2 = effective_mass;
   TorsionalClearance joint;
-  joint.half_play_rad = 10.0 * d_max;
+  joint.half_play_rad = 0.01 * d_max;  // small: δ = φ − β keeps its precision
   joint.law = law;
   model.joint = joint;
   SolverOptions o = options;

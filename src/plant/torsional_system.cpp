@@ -198,21 +198,57 @@ void TorsionalSystem::initial_state(const InitialState& init, double u0, double*
   const int sigma = phi >= 0.0 ? 1 : -1;
   const double delta = sigma * phi - beta;
   const double rate = sigma * (y[iw_] - drive_.rate_rad_s(x, input.value(0.0)));
-  if (joint_.impact) {
-    if (delta > 0.0) {
-      throw_invalid("initial.relative_angle_rad", phi, "|phi| <= half_play_rad for an impulse law",
-                    "a rigid impact law admits no penetration; start inside the play");
-    }
-    if (delta == 0.0) {
-      if (rate > 0.0) {
-        onset(0.0, y, sigma, log);
-      } else if (lock_force(0.0, y, sigma) > 0.0) {
-        plastic_lock(0.0, y, sigma, rate, log);
-      }
-    }
+  if (joint_.impact && delta > 0.0) {
+    throw_invalid("initial.relative_angle_rad", phi, "|phi| <= half_play_rad for an impulse law",
+                  "a rigid impact law admits no penetration; start inside the play");
+  }
+  if (delta > 0.0 || (delta == 0.0 && rate > 0.0)) {
+    onset(0.0, y, sigma, log);
     return;
   }
-  if (delta > 0.0 || (delta == 0.0 && rate > 0.0)) onset(0.0, y, sigma, log);
+  // On the boundary at rest (e.g. zero play): contact if the link accelerates into a stop.
+  for (int s : {1, -1}) {
+    if (s * phi - beta != 0.0) continue;
+    const double rel_rate = s * (y[iw_] - drive_.rate_rad_s(x, input.value(0.0)));
+    if (rel_rate == 0.0 && free_approach_acceleration(0.0, y, s) > 0.0) {
+      if (joint_.impact) {
+        plastic_lock(0.0, y, s, 0.0, log);
+      } else {
+        onset(0.0, y, s, log);
+      }
+      return;
+    }
+  }
+}
+
+double TorsionalSystem::free_approach_acceleration(double t, const double* y, int sigma) const noexcept {
+  const Eigen::Map<const Eigen::VectorXd> x(y, nd_);
+  const double u = input.value(t);
+  const double w = y[iw_];
+  const double phi_rate = w - drive_.rate_rad_s(x, u);
+  const double theta = drive_.angle_rad(x) + y[iphi_];
+  const double tau = -weight_rc_ * std::cos(theta) - link_.ground_viscous_n_m_s_per_rad * w +
+                     link_.external_torque_n_m + joint_.joint_friction.evaluate(phi_rate).force;
+  return sigma * (tau / link_.inertia_kg_m2 - drive_.acceleration_rad_s2(x, u, input.rate(t)));
+}
+
+bool TorsionalSystem::check_consistency(double t, double* y, EventLog& log) noexcept {
+  const double phi = y[iphi_];
+  const double beta = joint_.half_play_rad;
+  if (mode == ContactMode::free) {
+    for (int s : {1, -1}) {
+      if (s * phi - beta > 0.0) return onset(t, y, s, log) || true;
+    }
+  } else if (mode == ContactMode::contact && side_ * phi - beta < 0.0) {
+    const Eigen::Map<const Eigen::VectorXd> x(y, nd_);
+    log.push({t, EventKind::separation, side_,
+              side_ * (y[iw_] - drive_.rate_rad_s(x, input.value(t))), 0.0});
+    mode = ContactMode::free;
+    memory_ = {};
+    if (-side_ * phi - beta > 0.0) onset(t, y, -side_, log);
+    return true;
+  }
+  return false;
 }
 
 void TorsionalSystem::tolerances(const SolverOptions& o, double* atol) const {

@@ -17,6 +17,7 @@ class TorsionalSystem final : public JointSystem {
   void tolerances(const SolverOptions& o, double* atol) const override;
   bool on_roots(double t, double* y, const int* found, EventLog& log) noexcept override;
   void on_input_jump(double t, double* y) noexcept override;
+  bool check_consistency(double t, double* y, EventLog& log) noexcept override;
   void sample(double t, const double* y, Sample& s) const noexcept override;
   std::string describe(double t, const double* y) const override;
   void reset_discrete() noexcept override;
@@ -35,6 +36,8 @@ class TorsionalSystem final : public JointSystem {
   };
   Terms terms(double t, const double* y) const noexcept;
   double lock_force(double t, const double* y, int side) const noexcept;
+  /// σ·φ̈ without contact force: > 0 means the link accelerates into the stop on side σ.
+  double free_approach_acceleration(double t, const double* y, int sigma) const noexcept;
   bool onset(double t, double* y, int side, EventLog& log) noexcept;
   void plastic_lock(double t, double* y, int side, double rate, EventLog& log) noexcept;
 

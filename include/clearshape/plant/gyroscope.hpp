@@ -55,11 +55,11 @@ class Gyroscope {
   const GyroscopeConfig& config() const noexcept { return config_; }
 
  private:
+  GyroSample convert(double dps) const noexcept;  // saturation and quantization
   GyroscopeConfig config_;
   double noise_std_dps_ = 0.0;
   double filter_coefficient_ = 1.0;  // y += a (x − y)
   double filter_state_dps_ = 0.0;
-  bool filter_primed_ = false;
   std::array<GyroSample, kMaxGyroLatencySamples + 1> delay_{};
   int head_ = 0;
   std::mt19937_64 rng_;
