@@ -32,9 +32,14 @@ struct InsensitivityBand {
   double width() const noexcept { return ratio_high - ratio_low; }
 };
 
-/// The contiguous band of r around 1 where V <= vtol (edges found by bracketing and
+/// The contiguous band of r around 1 where V <= vtol (to a relative 1e-9, so shapers designed
+/// to touch vtol keep their band; edges found by bracketing and
 /// bisection). Width 0 when V(1) > vtol. `hump_tolerance` lets interior humps of fitted EI
-/// shapers exceed vtol by that relative amount without ending the band.
+/// shapers exceed vtol by that relative amount without ending the band: the band then ends
+/// where V first exceeds vtol·(1 + hump_tolerance), and its edge is the last crossing of vtol
+/// before that. The ratios are sampled from r = 1 outward (step 1e-3 / max(1, duration in
+/// design periods)) and the edge refined by bisection to 1e-14. For a damped mode whose V
+/// stays below vtol at high ratios (a small last impulse) ratio_high is capped at 10.
 InsensitivityBand insensitivity(const Shaper& shaper, const Mode& design, double vtol,
                                 double hump_tolerance = 0.0);
 
