@@ -16,6 +16,8 @@ namespace clearshape::plant::detail {
 
 namespace {
 
+constexpr double kNoStop = 1e300;
+
 int rhs_callback(realtype t, N_Vector y, N_Vector ydot, void* user) {
   auto* s = static_cast<CvodeSolver*>(user);
   return s->system().rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
@@ -105,15 +107,15 @@ int CvodeSolver::restart(double t0) noexcept {
   const int flag = CVodeReInit(mem_, t0, y_);
   if (flag < 0) return flag;
   initialized_ = true;
-  if (stop_active_ && stop_s_ > t0) return CVodeSetStopTime(mem_, stop_s_);
-  return flag;
+  stop_active_ = stop_active_ && stop_s_ > t0;
+  // CVODE 6.4 has no CVodeClearStopTime: a stale stop time is pushed out of reach instead
+  return CVodeSetStopTime(mem_, stop_active_ ? stop_s_ : kNoStop);
 }
 
 int CvodeSolver::set_stop_time(double tstop) noexcept {
   stop_s_ = tstop;
   stop_active_ = std::isfinite(tstop) && tstop > t_;
-  if (stop_active_) return CVodeSetStopTime(mem_, tstop);
-  return 0;
+  return CVodeSetStopTime(mem_, stop_active_ ? tstop : kNoStop);
 }
 
 int CvodeSolver::advance(double tout, double& tret) noexcept {

@@ -33,6 +33,8 @@ class CvodeSolver {
   /// Counters since construction (CVodeReInit resets CVODE's own; they are carried over).
   SolverStats stats() noexcept;
   long total_steps() noexcept;
+  /// Forgets the counters (a new run); the next restart starts counting afresh.
+  void reset_stats() noexcept { carried_ = {}; initialized_ = false; }
   const std::string& message() const noexcept { return message_; }
   void clear_message() noexcept { message_.clear(); }
   double current_time() const noexcept { return t_; }

@@ -40,6 +40,9 @@ Engine::Engine(const PlantModel& model, const SolverOptions& options,
 void Engine::start(const InitialState& initial) {
   t_ = 0.0;
   log_.count = 0;
+  restarts_ = 0;
+  stops_ = 0;
+  solver_.reset_stats();
   system_->initial_state(initial, system_->input.value(0.0), solver_.state(), log_);
   const int flag = restart();
   if (flag < 0) throw RuntimeError("plant: cannot start the integrator: " + failure(flag));

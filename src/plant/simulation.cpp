@@ -188,13 +188,10 @@ Simulation simulate(const PlantModel& model, const Command& command,
       const int flag = engine.run_to(t);
       if (flag < 0) throw RuntimeError(engine.failure(flag));
       // a discontinuity falling on this output time is taken now (right-continuous hold)
-      if (input.use_held) {
-        const double next = ctx.next_after(t - 1e-12 * std::max(1.0, t));
-        if (std::abs(next - t) <= 1e-12 * std::max(1.0, t)) {
-          const int f2 = engine.set_held_input(command.value(t - input.delay_s));
-          if (f2 < 0) throw RuntimeError(engine.failure(f2));
-          engine.set_next_stop(ctx.next_after(t));
-        }
+      if (input.use_held && input.held != command.value(t - input.delay_s)) {
+        const int f2 = engine.set_held_input(command.value(t - input.delay_s));
+        if (f2 < 0) throw RuntimeError(engine.failure(f2));
+        engine.set_next_stop(ctx.next_after(t));
       }
     }
     engine.system().sample(t, engine.state(), s);

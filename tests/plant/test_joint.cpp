@@ -397,3 +397,31 @@ TEST(Joint, FailuresNameTimeStateAndRemedy) {
   m.link.inertia_kg_m2 = 0.0;
   EXPECT_THROW((void)cp::simulate(m, cp::Command::constant(0.0), {}), clearshape::InvalidArgument);
 }
+
+// T14 / B8: Modelica Rotational.Examples.Backlash parameters (J = 5 kg·m², c = 2e4 N·m/rad,
+// d = 50 N·m·s/rad, b = 45°, φ(0) = 90°): the ElastoBacklash (bounded damper) torque never
+// pulls and is continuous at onset; the ElastoBacklash2 (clamped) torque jumps by d·δ̇⁻.
+TEST(Joint, ModelicaBacklashVariants) {
+  const double beta = clearshape::deg_to_rad(22.5);
+  for (auto policy : {cp::DampingPolicy::bounded, cp::DampingPolicy::clamped}) {
+    auto m = fixed_stop(5.0, beta, cp::ContactLaw::kelvin_voigt(2e4, 50.0, policy));
+    cp::SimulationOptions o;
+    o.duration_s = 1.0;
+    o.output_rate_hz = 1e4;
+    o.initial.relative_angle_rad = clearshape::deg_to_rad(90.0);
+    const auto r = cp::simulate(m, cp::Command::constant(0.0), o);
+    EXPECT_GE(*std::min_element(r.normal_force.begin(), r.normal_force.end()), 0.0);
+    const auto onset = std::find_if(r.events.begin(), r.events.end(), [](const cp::ContactEvent& e) {
+      return e.kind == cp::EventKind::onset && e.time_s > 0.0;
+    });
+    ASSERT_NE(onset, r.events.end()) << cp::to_string(policy);
+    const auto k = static_cast<std::size_t>(std::ceil(onset->time_s * 1e4 + 1e-9));
+    const double jump = 50.0 * onset->rate;
+    if (policy == cp::DampingPolicy::bounded) {
+      EXPECT_LE(r.normal_force[k], 2.0 * 2e4 * r.penetration[k] * (1 + 1e-9));
+      EXPECT_LT(r.normal_force[k], 0.2 * jump);
+    } else {
+      EXPECT_GT(r.normal_force[k], 0.8 * jump);
+    }
+  }
+}
