@@ -35,12 +35,71 @@ void check_state_size(const SosDesign& design, std::size_t size) {
   }
 }
 
+// The recursion over a whole buffer in place, forwards or backwards, for a known number of
+// sections: coefficients and delays live in registers and consecutive samples overlap across
+// sections. Same operations in the same order as filter_sample (and scipy's sosfilt).
+template <std::size_t N>
+void filter_in_place_fixed(const Section* sections, SectionState* state, std::span<double> data,
+                           bool backwards) noexcept {
+  double b0[N], b1[N], b2[N], a1[N], a2[N], z0[N], z1[N];
+  for (std::size_t i = 0; i < N; ++i) {
+    b0[i] = sections[i].b0, b1[i] = sections[i].b1, b2[i] = sections[i].b2;
+    a1[i] = sections[i].a1, a2[i] = sections[i].a2;
+    z0[i] = state[i][0], z1[i] = state[i][1];
+  }
+  auto sample = [&](double x) {
+    for (std::size_t i = 0; i < N; ++i) {
+      const double y = b0[i] * x + z0[i];
+      z0[i] = b1[i] * x - a1[i] * y + z1[i];
+      z1[i] = b2[i] * x - a2[i] * y;
+      x = y;
+    }
+    return x;
+  };
+  if (backwards) {
+    for (std::size_t k = data.size(); k-- > 0;) data[k] = sample(data[k]);
+  } else {
+    for (double& v : data) v = sample(v);
+  }
+  for (std::size_t i = 0; i < N; ++i) state[i] = {z0[i], z1[i]};
+}
+
+// Any number of sections: blocks of samples through one section at a time (registers again).
+void filter_in_place_blocks(const std::vector<Section>& sections, std::vector<SectionState>& state,
+                            std::span<double> data, bool backwards) noexcept {
+  constexpr std::size_t kBlock = 2048;
+  const std::size_t n = data.size();
+  for (std::size_t start = 0; start < n; start += kBlock) {
+    const std::size_t count = std::min(kBlock, n - start);
+    const std::span<double> block =
+        data.subspan(backwards ? n - start - count : start, count);
+    for (std::size_t i = 0; i < sections.size(); ++i) {
+      filter_in_place_fixed<1>(&sections[i], &state[i], block, backwards);
+    }
+  }
+}
+
+void filter_in_place(const std::vector<Section>& sections, std::vector<SectionState>& state,
+                     std::span<double> data, bool backwards) noexcept {
+  const Section* s = sections.data();
+  SectionState* z = state.data();
+  switch (sections.size()) {
+    case 1: return filter_in_place_fixed<1>(s, z, data, backwards);
+    case 2: return filter_in_place_fixed<2>(s, z, data, backwards);
+    case 3: return filter_in_place_fixed<3>(s, z, data, backwards);
+    case 4: return filter_in_place_fixed<4>(s, z, data, backwards);
+    case 5: return filter_in_place_fixed<5>(s, z, data, backwards);
+    case 6: return filter_in_place_fixed<6>(s, z, data, backwards);
+    case 7: return filter_in_place_fixed<7>(s, z, data, backwards);
+    case 8: return filter_in_place_fixed<8>(s, z, data, backwards);
+    default: return filter_in_place_blocks(sections, state, data, backwards);
+  }
+}
+
 std::vector<double> run(const SosDesign& design, std::span<const double> input,
                         std::vector<SectionState>& state) {
-  std::vector<double> out(input.size());
-  for (std::size_t n = 0; n < input.size(); ++n) {
-    out[n] = filter_sample(design.sections(), state.data(), input[n]);
-  }
+  std::vector<double> out(input.begin(), input.end());
+  filter_in_place(design.sections(), state, out, false);
   return out;
 }
 
@@ -155,20 +214,21 @@ std::vector<double> sosfiltfilt(const SosDesign& design, std::span<const double>
       default: ext.push_back(last); break;
     }
   }
+  // Forward pass from the steady state of ext[0], backward pass (in place, from the end) from the
+  // steady state of the last forward output, then drop the extension (scipy sosfiltfilt).
   const std::vector<SectionState> zi = sosfilt_zi(design);
-  auto scaled = [&](double value) {
-    std::vector<SectionState> s(zi.size());
-    for (std::size_t i = 0; i < zi.size(); ++i) s[i] = {zi[i][0] * value, zi[i][1] * value};
-    return s;
+  std::vector<SectionState> state(zi.size());
+  auto set_scaled = [&](double value) {
+    for (std::size_t i = 0; i < zi.size(); ++i) state[i] = {zi[i][0] * value, zi[i][1] * value};
   };
-  std::vector<SectionState> state = scaled(ext.front());  // forward from steady state at x[0]
-  std::vector<double> y = run(design, ext, state);
-  std::reverse(y.begin(), y.end());
-  state = scaled(y.front());  // backward from steady state at the last forward output
-  y = run(design, y, state);
-  std::reverse(y.begin(), y.end());
-  return std::vector<double>(y.begin() + static_cast<std::ptrdiff_t>(edge),
-                             y.end() - static_cast<std::ptrdiff_t>(edge));
+  const std::vector<Section>& sections = design.sections();
+  set_scaled(ext.front());
+  filter_in_place(sections, state, ext, false);
+  set_scaled(ext.back());
+  filter_in_place(sections, state, ext, true);
+  ext.erase(ext.begin(), ext.begin() + static_cast<std::ptrdiff_t>(edge));  // in place, no copy
+  ext.resize(n);
+  return ext;
 }
 
 }  // namespace clearshape::dsp
