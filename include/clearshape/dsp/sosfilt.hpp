@@ -1,7 +1,9 @@
 #pragma once
 // Running a second-order-section filter: causally one sample at a time (real time), causally
 // over a whole signal (scipy.signal.sosfilt), and forward-backward with zero phase
-// (scipy.signal.sosfiltfilt). Each section is a transposed direct form II, as scipy's sosfilt.
+// (scipy.signal.sosfiltfilt). Each section is a transposed direct form II with the same
+// operations in the same order as scipy's sosfilt (bitwise-equal outputs in bench/dsp_peer.py);
+// offline, 1–8 sections run a register-resident kernel, more run in blocks per section.
 #include <array>
 #include <cstddef>
 #include <optional>
