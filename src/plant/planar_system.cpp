@@ -199,8 +199,10 @@ void PlanarSystem::tolerances(const SolverOptions& o, double* atol) const {
   atol[ip_ + 2] = o.angle_tolerance_rad;
   atol[iv_] = atol[iv_ + 1] = o.speed_tolerance_m_s;
   atol[iv_ + 2] = o.rate_tolerance_rad_s;
-  atol[idiss_] = kIgnoredWeight;
-  atol[iwork_] = kIgnoredWeight;
+  // energy integrals: J·(rate tolerance)·(1 rad/s), or out of the error test
+  const double energy_tol = o.control_energy_error ? link_.inertia_kg_m2 * o.rate_tolerance_rad_s : kIgnoredWeight;
+  atol[idiss_] = energy_tol;
+  atol[iwork_] = energy_tol;
 }
 
 bool PlanarSystem::onset(double t, double* y, EventLog& log) noexcept {

@@ -267,8 +267,10 @@ void TorsionalSystem::tolerances(const SolverOptions& o, double* atol) const {
   }
   atol[iphi_] = o.angle_tolerance_rad;
   atol[iw_] = o.rate_tolerance_rad_s;
-  atol[idiss_] = kIgnoredWeight;
-  atol[iwork_] = kIgnoredWeight;
+  // energy integrals: J·(rate tolerance)·(1 rad/s), or out of the error test
+  const double energy_tol = o.control_energy_error ? link_.inertia_kg_m2 * o.rate_tolerance_rad_s : kIgnoredWeight;
+  atol[idiss_] = energy_tol;
+  atol[iwork_] = energy_tol;
 }
 
 void TorsionalSystem::plastic_lock(double t, double* y, int side, double rate, EventLog& log) noexcept {
