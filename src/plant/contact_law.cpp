@@ -145,6 +145,7 @@ namespace {
 ContactForce combine(double fe, double dfe, double fd, double dfd_rate, DampingPolicy policy) noexcept {
   ContactForce out;
   out.elastic = fe;
+  out.elastic_d_penetration = dfe;
   switch (policy) {
     case DampingPolicy::raw:
       out.force = fe + fd;
@@ -192,6 +193,7 @@ ContactForce ContactLaw::evaluate(double delta, double rate,
       out.force = k * delta;
       out.d_penetration = k;
       out.elastic = stiffness_ * delta;
+      out.elastic_d_penetration = stiffness_;
       return out;
     }
     case Kind::hysteresis: {  // F = K δⁿ (1 + χ δ̇/δ̇⁻), clamped (clearance_sim.md §3.3)
@@ -199,6 +201,7 @@ ContactForce ContactLaw::evaluate(double delta, double rate,
       const double fe = stiffness_ * pow_nm1 * delta;
       ContactForce out;
       out.elastic = fe;
+      out.elastic_d_penetration = exponent_ * stiffness_ * pow_nm1;
       const double g = memory.approach_rate > 0.0 ? chi_ / memory.approach_rate : 0.0;
       const double factor = 1.0 + g * rate;
       if (factor > 0.0) {

@@ -154,15 +154,25 @@ int TorsionalSystem::jacobian(double t, const double* y, double* jac) noexcept {
   }
   const double inv_j = 1.0 / link_.inertia_kg_m2;
   const double b = link_.ground_viscous_n_m_s_per_rad;
+  const Terms r = terms(t, y);
+  const double w = y[iw_];
   if (mode == ContactMode::locked) {
+    const Eigen::Map<const Eigen::VectorXd> x(y, nd_);
+    const double alpha = drive_.acceleration_rad_s2(x, r.u, input.rate(t));
+    const double tau_c = link_.inertia_kg_m2 * alpha - r.tau_other;
     for (int j = 0; j < nd_; ++j) {  // ∂α_m/∂x = c_rateᵀ A
       double v = 0.0;
       for (int i = 0; i < nd_; ++i) v += c_rate(i) * a(i, j);
       at(iw_, j) = v;
+      // shaft power (J α_m − τ_other) ω_m
+      at(iwork_, j) = (link_.inertia_kg_m2 * v - r.d_tau_gravity * c_angle(j)) * r.omega_m +
+                      tau_c * c_rate(j);
     }
+    at(iwork_, iphi_) = -r.d_tau_gravity * r.omega_m;
+    at(iwork_, iw_) = b * r.omega_m;
+    at(idiss_, iw_) = 2.0 * b * w;
     return 0;
   }
-  const Terms r = terms(t, y);
   for (int j = 0; j < nd_; ++j) at(iphi_, j) = -c_rate(j);  // φ̇ = ω − c_rateᵀx − d u
   at(iphi_, iw_) = 1.0;
   const double d_rate = -r.contact.d_rate + r.joint.d_rate;  // ∂(τ_c + τ_jf)/∂φ̇
@@ -171,6 +181,22 @@ int TorsionalSystem::jacobian(double t, const double* y, double* jac) noexcept {
   }
   at(iw_, iphi_) = (-r.contact.d_penetration + r.d_tau_gravity) * inv_j;
   at(iw_, iw_) = (d_rate - b) * inv_j;
+  // work integrals: P_diss = F_d δ̇ − τ_jf φ̇ + b ω², P_drive = (τ_c + τ_jf) ω_m, F_d = F − F_el
+  const double s = r.s;
+  const double f_d = r.contact.force - r.contact.elastic;
+  const double dp_dphi = (r.contact.d_penetration - r.contact.elastic_d_penetration) * s * r.delta_rate;
+  const double dp_dq = s * (r.contact.d_rate * r.delta_rate + f_d) -
+                       (r.joint.d_rate * r.phi_rate + r.joint.force);
+  at(idiss_, iphi_) = dp_dphi;
+  at(idiss_, iw_) = dp_dq + 2.0 * b * w;
+  const double dw_dq = (-r.contact.d_rate + r.joint.d_rate) * r.omega_m;
+  const double torque = r.tau_contact + r.joint.force;
+  at(iwork_, iphi_) = -r.contact.d_penetration * r.omega_m;
+  at(iwork_, iw_) = dw_dq;
+  for (int j = 0; j < nd_; ++j) {
+    at(idiss_, j) = -dp_dq * c_rate(j);
+    at(iwork_, j) = -dw_dq * c_rate(j) + torque * c_rate(j);
+  }
   return 0;
 }
 

@@ -50,6 +50,7 @@ struct ContactForce {
   double d_penetration = 0.0;    ///< ∂F/∂δ
   double d_rate = 0.0;           ///< ∂F/∂δ̇
   double elastic = 0.0;          ///< the conservative part F_el = dV/dδ (for energy balances)
+  double elastic_d_penetration = 0.0;  ///< ∂F_el/∂δ
 };
 
 /// Discrete per-impact memory of a law, owned by the simulator.
