@@ -425,3 +425,36 @@ TEST(Joint, ModelicaBacklashVariants) {
     }
   }
 }
+
+// T9 planar: frictionless impulses of the pivot against the bearing (M with the link's
+// rotation coupled through r_c): δ̇⁺ = −e δ̇⁻ along the normal, kinetic energy lost only to the
+// impacts, and the pivot stays inside the clearance.
+TEST(Joint, PlanarImpulsesReverseTheNormalRate) {
+  cp::PlantModel m;
+  m.drive = cp::DriveModel::first_order_position(0.01);
+  m.link.mass_kg = 0.3;
+  m.link.inertia_kg_m2 = 2e-3;
+  m.link.com_distance_m = 0.04;
+  cp::PlanarClearance j;
+  j.radial_clearance_m = 1e-3;
+  j.law = cp::ContactLaw::hertz_dashpot(1e8, 1.5, 0.0);
+  j.impact = cp::ImpactLaw{0.7, 1e-4};
+  m.joint = j;
+  auto o = tight(0.05, 1e4);
+  o.solver.length_tolerance_m = 1e-15;
+  o.solver.speed_tolerance_m_s = 1e-13;
+  o.initial.pivot_vx_m_s = 0.2;
+  o.initial.pivot_vy_m_s = 0.05;
+  o.initial.link_rate_rad_s = 3.0;
+  const auto r = cp::simulate(m, cp::Command::constant(0.0), o);
+  ASSERT_GE(count(r, cp::EventKind::impact), 3);
+  for (const auto& e : r.events) {
+    if (e.kind != cp::EventKind::impact) continue;
+    EXPECT_NEAR(e.rate_after, -0.7 * e.rate, 1e-12 * std::abs(e.rate));
+  }
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    ASSERT_LE(std::hypot(r.pivot_x_m[k], r.pivot_y_m[k]), 1e-3 * (1 + 1e-9));
+  }
+  EXPECT_LT(energy_drift(r), 1e-8);
+  EXPECT_GT(r.dissipated_energy_j.back(), 0.0);
+}
