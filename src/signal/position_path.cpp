@@ -98,7 +98,8 @@ double PulseTrain::pulse_frequency_hz() const noexcept {
 // ---- apply_position_path -------------------------------------------------------------------
 
 PositionPathResult apply_position_path(const UniformSeries& position_rad,
-                                       const PulseTrainConfig& config) {
+                                       const PulseTrainConfig& config,
+                                       std::optional<double> initial_rad) {
   config.validate();
   if (position_rad.values.empty()) {
     throw InvalidArgument("apply_position_path: the position trajectory is empty");
@@ -124,22 +125,24 @@ PositionPathResult apply_position_path(const UniformSeries& position_rad,
   r.held_velocity_rad_s = {start_s, period_s, std::vector<double>(updates)};
   r.pulses_per_update.resize(updates);
 
+  const double initial = initial_rad.value_or(position_rad.values.front());
+  require_finite("initial_rad", initial);
   PulseTrain train(config);
-  train.reset(position_rad.values.front());
+  train.reset(initial);
   r.initial_count = train.count();
-  double aimed_rad = position_rad.values.front();  // integral of the held velocity (sampled)
+  double aimed_rad = initial;  // where the pulses aim at the end of the period
   std::size_t i = 0;
   for (std::size_t k = 0; k < updates; ++k) {
     const double t_k = start_s + static_cast<double>(k) * period_s;
-    const double here_rad = interpolate(position_rad, t_k);
     double velocity_rad_s = 0.0;
     if (config.velocity_hold == VelocityHold::lookahead) {
       // §3.2/§4.1.2: hold the velocity that reaches the trajectory at the next update instant.
-      aimed_rad = interpolate(position_rad, t_k + period_s);
-      velocity_rad_s = (aimed_rad - here_rad) / period_s;
+      const double next_rad = interpolate(position_rad, t_k + period_s);
+      velocity_rad_s = (next_rad - aimed_rad) / period_s;
+      aimed_rad = next_rad;
     } else {
       // §3.2: derivative of the trajectory (backward difference), sampled at the update.
-      velocity_rad_s = (here_rad - interpolate(position_rad, t_k - h_s)) / h_s;
+      velocity_rad_s = (interpolate(position_rad, t_k) - interpolate(position_rad, t_k - h_s)) / h_s;
       aimed_rad += velocity_rad_s * period_s;
     }
     r.held_velocity_rad_s.values[k] = velocity_rad_s;

@@ -62,6 +62,20 @@ TEST(PositionPath, IdealStepBecomesAHigherSlopedRamp) {
   EXPECT_EQ(r.pulse_frequency_hz.values[120], 0.0);
 }
 
+TEST(PositionPath, InitialPositionMakesAStepAtTimeZeroAMove) {
+  const auto p = trajectory_rad(sig::Step{.amplitude = 20.0}, 1000.0, 1.0);
+  const auto from_first = sig::apply_position_path(p, {});
+  EXPECT_EQ(from_first.initial_count, 167);  // already there: no pulses
+  for (auto n : from_first.pulses_per_update) EXPECT_EQ(n, 0);
+  const auto from_zero = sig::apply_position_path(p, {}, 0.0);
+  EXPECT_EQ(from_zero.initial_count, 0);
+  EXPECT_EQ(from_zero.pulses_per_update[0], 167);  // round(20/360·3000) in the first period
+  EXPECT_NEAR(cs::rad_to_deg(from_zero.held_velocity_rad_s.values[0]), 600.0, 1e-9);
+  EXPECT_EQ(from_zero.commanded_rad.values[0], 0.0);
+  EXPECT_NEAR(cs::rad_to_deg(from_zero.commanded_rad.values[40]), 20.04, 1e-12);
+  EXPECT_THROW(sig::apply_position_path(p, {}, NAN), cs::InvalidArgument);
+}
+
 TEST(PositionPath, RampIsTrackedToHalfACountAtEveryUpdate) {
   const auto p = trajectory_rad(sig::Ramp{.slope_per_s = 90.0}, 1000.0, 2.0);
   const auto r = sig::apply_position_path(p, {});

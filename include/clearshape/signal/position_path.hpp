@@ -12,6 +12,7 @@
 // so the commanded position is a whole count at every update instant.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "clearshape/core/series.hpp"
@@ -21,7 +22,7 @@ namespace clearshape::signal {
 
 /// How the velocity held over update period k, [t_k, t_k + T), is taken from the trajectory p(t).
 enum class VelocityHold {
-  /// (p(t_k + T) − p(t_k)) / T, and the pulses aim at p(t_k + T): the commanded position meets
+  /// (p(t_k + T) − p(t_k)) / T (p(t_0) = the initial position), and the pulses aim at p(t_k + T): the commanded position meets
   /// the trajectory (to a whole count) at every update instant; an ideal step becomes a ramp of
   /// slope amplitude/T. Needs the trajectory one period ahead (it is generated beforehand, as
   /// in the thesis). Default.
@@ -99,9 +100,11 @@ struct PositionPathResult {
 
 /// Runs the position-mode path over a trajectory sampled uniformly (linear interpolation
 /// between samples, held after the end). Update instants are t_k = start + k·T for every
-/// t_k <= the last sample time. Throws InvalidArgument for an empty or non-finite input or an
-/// invalid config.
+/// t_k <= the last sample time. The driver starts at `initial_rad` (default: the first sample;
+/// give the value before the signal starts, e.g. 0, so that a step at t = 0 is a move).
+/// Throws InvalidArgument for an empty or non-finite input or an invalid config.
 PositionPathResult apply_position_path(const UniformSeries& position_rad,
-                                       const PulseTrainConfig& config);
+                                       const PulseTrainConfig& config,
+                                       std::optional<double> initial_rad = std::nullopt);
 
 }  // namespace clearshape::signal
