@@ -47,6 +47,18 @@ TEST(ContactLaw, FactorsAndDampingRatio) {
   EXPECT_THROW((void)cp::ContactLaw::hertz_dashpot(1.0, 0.5, 1.0), clearshape::InvalidArgument);
 }
 
+TEST(ContactLaw, ThesisPresets) {
+  const auto pos = cp::ContactLaw::thesis_position_mode();
+  EXPECT_EQ(pos.stiffness(), 10000.0);
+  EXPECT_EQ(pos.damping(), 300.0);
+  EXPECT_EQ(pos.exponent(), 1.5);
+  EXPECT_EQ(pos.policy(), cp::DampingPolicy::raw);
+  const auto spd = cp::ContactLaw::thesis_speed_mode(cp::DampingPolicy::clamped);
+  EXPECT_EQ(spd.stiffness(), 5.0);
+  EXPECT_EQ(spd.damping(), 350.0);
+  EXPECT_EQ(spd.policy(), cp::DampingPolicy::clamped);
+}
+
 TEST(ContactLaw, ForcesAndDerivatives) {
   const cp::ContactMemory none{};
   const auto law = cp::ContactLaw::hertz_dashpot(1e4, 1.5, 300.0, cp::DampingPolicy::raw);

@@ -75,6 +75,15 @@ class ContactLaw {
   /// K = 5, D = 350 speed mode — units unstated there, N·m/rad^n and N·m·s/rad here).
   static ContactLaw hertz_dashpot(double stiffness, double exponent, double damping,
                                   DampingPolicy policy = DampingPolicy::clamped);
+  /// Thesis §4.2 calibrations of Eq. 4.3 (n = 1.5), read in N·m/rad^1.5 and N·m·s/rad:
+  /// position mode K = 10000, D = 300; speed mode K = 5, D = 350. The thesis's Eq. 2.4 applies
+  /// the law as written whenever δ > 0 (raw); `clamped` or `bounded` remove its pulling.
+  static ContactLaw thesis_position_mode(DampingPolicy policy = DampingPolicy::raw) {
+    return hertz_dashpot(10000.0, 1.5, 300.0, policy);
+  }
+  static ContactLaw thesis_speed_mode(DampingPolicy policy = DampingPolicy::raw) {
+    return hertz_dashpot(5.0, 1.5, 350.0, policy);
+  }
   /// Linear Kelvin–Voigt with an explicit damping coefficient c.
   static ContactLaw kelvin_voigt(double stiffness, double damping,
                                  DampingPolicy policy = DampingPolicy::raw);
