@@ -61,6 +61,18 @@ double kelvin_voigt_damping_ratio(double e) {
   return -l / std::sqrt(std::numbers::pi * std::numbers::pi + l * l);  // linear oscillator, half cycle
 }
 
+double dashpot_group(double stiffness, double exponent, double damping, double mass,
+                     double approach_rate) {
+  require_positive("stiffness", stiffness);
+  require_in_closed("exponent", exponent, 1.0, 10.0);
+  require_non_negative("damping", damping);
+  require_positive("mass", mass);
+  require_positive("approach_rate", approach_rate);
+  // length scale (m v₀²/K)^(1/(n+1)), force scale m v₀/(that time scale) (clearance_sim §3.4)
+  const double length = std::pow(mass * approach_rate * approach_rate / stiffness, 1.0 / (exponent + 1.0));
+  return damping * length / (mass * approach_rate);
+}
+
 namespace {
 void check_stiffness(double k) {
   require_positive("stiffness", k, "the contact stiffness K must be > 0");

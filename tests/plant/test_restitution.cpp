@@ -161,3 +161,21 @@ TEST(Restitution, ThesisKelvinVoigtReturnsSquareRootOfE) {
     EXPECT_NEAR(r.dissipated_energy, 0.5 * 2.0 * (1.0 - e) * 0.09, 1e-8);
   }
 }
+
+// T3: e of the thesis law depends on K, D, m, v₀ only through z; the thesis calibrations are
+// deep in the sticking regime for any plausible link (J = 1e-3 kg·m², ω₀ = 1 rad/s).
+TEST(Restitution, ThesisLawDependsOnlyOnZ) {
+  EXPECT_DOUBLE_EQ(cp::dashpot_group(1.0, 1.5, 0.3, 1.0, 1.0), 0.3);
+  const auto base = cp::single_impact(
+      cp::ContactLaw::hertz_dashpot(1.0, 1.5, 0.3, cp::DampingPolicy::clamped), 1.0, 1.0, tight());
+  // K ×100, m ×0.5, v₀ ×3 with D chosen to keep z = 0.3
+  const double k = 100.0, m = 0.5, v = 3.0;
+  const double d = 0.3 / cp::dashpot_group(k, 1.5, 1.0, m, v);
+  ASSERT_NEAR(cp::dashpot_group(k, 1.5, d, m, v), 0.3, 1e-14);
+  const auto scaled = cp::single_impact(
+      cp::ContactLaw::hertz_dashpot(k, 1.5, d, cp::DampingPolicy::clamped), m, v, tight());
+  EXPECT_NEAR(scaled.restitution, base.restitution, 1e-6);
+  EXPECT_NEAR(cp::dashpot_group(10000.0, 1.5, 300.0, 1e-3, 1.0), 475.468, 1e-3);  // ≫ 2: sticks
+  EXPECT_NEAR(cp::dashpot_group(5.0, 1.5, 350.0, 1e-3, 1.0), 11600.59, 1e-2);
+  EXPECT_NEAR(cp::dashpot_group(10000.0, 1.5, 300.0, 1e-4, 1.0), 1.9e3, 0.05e3);  // §3.4 example
+}

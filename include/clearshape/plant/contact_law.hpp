@@ -44,6 +44,12 @@ std::string_view to_string(DampingPolicy policy) noexcept;
 /// returns velocity ratio e (exact for the raw Kelvin–Voigt law). e in (0, 1].
 double kelvin_voigt_damping_ratio(double restitution);
 
+/// z = D (m v₀²/K)^(2/5)/(m v₀): the single group that sets the restitution of the thesis law
+/// F = K δ^1.5 + D δ̇ for a mass (inertia) m hitting at v₀ (clearance_sim.md §3.4; raw law
+/// sticks for z ≳ 2). For exponent n the group is D (m v₀²/K)^(1/(n+1))/(m v₀).
+double dashpot_group(double stiffness, double exponent, double damping, double mass,
+                     double approach_rate);
+
 /// Force and its partial derivatives (for the analytic Jacobian).
 struct ContactForce {
   double force = 0.0;            ///< F (≥ 0 unless the policy is raw)
