@@ -151,6 +151,17 @@ TEST(Restitution, ElasticHertzImpactClosedForm) {
   EXPECT_NEAR(steel.contact_time_s, 9.12e-5, 0.01e-5);
 }
 
+// The non-stiff Adams option on the elastic Hertz impact.
+TEST(Restitution, AdamsIntegratorOnElasticImpact) {
+  auto o = tight();
+  o.integrator = cp::Integrator::adams;
+  const auto r = cp::single_impact(cp::ContactLaw::hertz_dashpot(1.0, 1.5, 0.0, cp::DampingPolicy::raw),
+                                   1.0, 1.0, o);
+  ASSERT_TRUE(r.separated);
+  EXPECT_NEAR(r.restitution, 1.0, 1e-6);
+  EXPECT_NEAR(r.contact_time_s / 3.21807, 1.0, 1e-5);
+}
+
 // Thesis Eq. 2.2–2.3 Kelvin–Voigt (load with c, unload with e·c): the rebound returns √e.
 TEST(Restitution, ThesisKelvinVoigtReturnsSquareRootOfE) {
   for (double e : {0.25, 0.64}) {

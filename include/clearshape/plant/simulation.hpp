@@ -12,7 +12,9 @@
 // (`zeno_events` onsets within `zeno_window_s`) switches to persistent contact (continuous laws:
 // χ = 0 and the onset/separation roots replaced by a release root δ + release_gap = 0;
 // impulse laws: lock).
-// A start exactly on the boundary at rest is in contact if the link accelerates into the stop.
+// A start exactly on the boundary at rest is in contact if the link accelerates into the stop;
+// an onset or separation the root finder could not see (a root function exactly 0 at a
+// restart) is processed at the next output time.
 // Default tolerances (rtol 1e-7, 1e-10 rad, 1e-8 rad/s) resolve the thesis-scale responses far
 // below the sensors' quantization; the physics tests tighten them.
 //
