@@ -192,7 +192,9 @@ nlohmann::ordered_json to_json(const sig::ParameterValue& v) {
 
 void run(const State& st) {
   const sig::Signal signal = build_signal(st);
-  cs::require_in_open("--rate", st.rate_hz, 0.0, 1e6 + 1e-9, "Give the sample rate in Hz, e.g. 1000");
+  if (!(st.rate_hz > 0.0 && st.rate_hz <= 1e6)) {
+    cs::throw_invalid("--rate", st.rate_hz, "(0, 1e6] Hz", "Give the sample rate in Hz, e.g. 1000");
+  }
   cs::require_non_negative("--duration", st.duration_s, "Give the duration in s, e.g. 5");
   if (st.rate_hz * st.duration_s > 1e7) {
     cs::throw_invalid("--rate x --duration", st.rate_hz * st.duration_s, "<= 1e7 samples",

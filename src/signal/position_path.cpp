@@ -31,12 +31,16 @@ double interpolate(const UniformSeries& s, double t_s) noexcept {
 // ---- PulseTrainConfig ----------------------------------------------------------------------
 
 void PulseTrainConfig::validate() const {
-  require_in_open("update_rate_hz", update_rate_hz, 0.0, 10000.0 + 1e-9,
+  if (!(update_rate_hz > 0.0 && update_rate_hz <= 10000.0)) {
+    throw_invalid("update_rate_hz", update_rate_hz, "(0, 10000]",
                   "The thesis driver detects frequency changes at 30 Hz");
+  }
   require_positive("counts_per_rev", counts_per_rev, "The thesis encoder has 3000 P/R");
   require_positive("gear_ratio", gear_ratio, "Use 1 for no electronic gear");
-  require_in_open("max_pulse_frequency_hz", max_pulse_frequency_hz, 0.0, 1e9 + 1e-3,
+  if (!(max_pulse_frequency_hz > 0.0 && max_pulse_frequency_hz <= 1e9)) {
+    throw_invalid("max_pulse_frequency_hz", max_pulse_frequency_hz, "(0, 1e9]",
                   "The thesis driver accepts pulses up to 500 kHz");
+  }
   if (max_counts_per_update() < 1) {
     throw_invalid("max_pulse_frequency_hz", max_pulse_frequency_hz,
                   fmt::format(">= update_rate_hz = {} (one pulse per update)", update_rate_hz));
