@@ -12,8 +12,9 @@
 // (ratio R_s >= R), else the widest one, placed so that its band is centred on the requested
 // one. The band ratio is then moved from R_s to R in steps of at most 5 % (in log), re-solving
 // from the previous optimum; when a step is infeasible the largest impulse is split in two
-// (up to 40 impulses, or the count requested) and the step retried, else the step is halved.
-// Each solve starts with `constraint_points` evenly spaced frequencies; every local maximum of V
+// (at most twice per step; up to 40 impulses, or the count requested) and the step retried,
+// else the step is halved. A step whose optimum is over 25 % longer than the previous one counts
+// as failed (SLSQP left the branch). The constraints use Vtol·(1 − 1e-4). Each solve starts with `constraint_points` evenly spaced frequencies; every local maximum of V
 // on the band (a 40× denser grid, refined by golden-section search) above Vtol is then added and
 // the problem solved again, so the result meets V <= Vtol·(1 + 1e-6) everywhere on the band.
 #include <algorithm>
