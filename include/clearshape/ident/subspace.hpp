@@ -1,0 +1,54 @@
+#pragma once
+// Subspace identification with Eigen's SVD:
+//  * N4SID (Van Overschee & De Moor 1994, "N4SID: subspace algorithms for the identification of
+//    combined deterministic-stochastic systems", Automatica 30(1)): oblique projection of the
+//    future outputs along the future inputs onto the past, its SVD gives the extended
+//    observability matrix Γᵢ → C (first row) and A (shift invariance); B, D and x0 then follow
+//    by linear least squares on the SIMULATED output (they enter it linearly).
+//  * ERA / Ho–Kalman (Ho & Kalman 1966; Juang & Pappa 1985) on a free (or impulse) response
+//    y[k] = C Aᵏ x0: SVD of the Hankel matrix of y, balanced factors → A, C, x0.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "clearshape/ident/experiment.hpp"
+#include "clearshape/lti/discretize.hpp"
+#include "clearshape/lti/state_space.hpp"
+
+namespace clearshape::ident {
+
+struct SubspaceOptions {
+  std::size_t block_rows = 0;           ///< past/future horizon i; 0 = max(2·order, 10), data permitting
+  bool feedthrough = true;              ///< estimate D (else D = 0)
+  bool estimate_initial_state = true;   ///< x0 in the B, D least squares (else x0 = 0)
+};
+
+struct SubspaceModel {
+  lti::DiscreteStateSpace model;        ///< at the experiment's sample time, Hold::zoh
+  Eigen::VectorXd initial_state;
+  std::vector<double> singular_values;  ///< of the oblique projection (order selection)
+};
+
+/// SISO N4SID of the given order. Throws InvalidArgument if order < 1 or the record is too
+/// short for the horizon (needs N ≥ 2i + 2·order + 10), RuntimeError on a rank-deficient result.
+SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const SubspaceOptions& options = {});
+
+struct FreeResponseModel {
+  Eigen::MatrixXd a;     ///< order × order
+  Eigen::RowVectorXd c;  ///< 1 × order
+  Eigen::VectorXd x0;    ///< order
+  std::vector<double> singular_values;  ///< of the Hankel matrix
+};
+
+/// ERA of a free response y[0..N): Hankel with `rows` rows (0 = min(N/3, max(4·order, 40))).
+/// Throws InvalidArgument if the record is shorter than 2·rows or order ≥ rows.
+FreeResponseModel era(std::span<const double> response, std::size_t order, std::size_t rows = 0);
+
+/// The continuous model whose ZOH discretization is `model` (inverse of lti::discretize):
+/// [A_c B_c; 0 0]·T = log [Φ Γ; 0 I] (principal matrix logarithm, Eigen MatrixFunctions).
+/// Throws RuntimeError when the logarithm is not real (a pole on the negative real axis).
+lti::StateSpace continuous_equivalent(const lti::DiscreteStateSpace& model);
+
+}  // namespace clearshape::ident

@@ -1,0 +1,193 @@
+#include "clearshape/ident/subspace.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <string>
+
+// Eigen's Schur–Parlett matrix logarithm trips a false -Wnull-dereference in GCC 12 (the
+// diagnostic is located in the header, so it is silenced for the header's text only).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wnull-dereference"
+#include <unsupported/Eigen/MatrixFunctions>
+#pragma GCC diagnostic pop
+
+#include "clearshape/core/error.hpp"
+
+namespace clearshape::ident {
+
+namespace {
+
+double rms(std::span<const double> v) {
+  double s = 0.0;
+  for (double x : v) s += x * x;
+  return v.empty() ? 0.0 : std::sqrt(s / static_cast<double>(v.size()));
+}
+
+// Block Hankel (SISO): H(r, c) = v[first + r + c], rows × cols.
+Eigen::MatrixXd hankel(std::span<const double> v, std::size_t first, std::size_t rows, std::size_t cols) {
+  Eigen::MatrixXd h(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c) h(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = v[first + r + c];
+  return h;
+}
+
+// A and C from an extended observability matrix Γ (rows = horizon): C = Γ₀, A = Γ↑⁺ Γ↓.
+void shift_invariance(const Eigen::MatrixXd& gamma, Eigen::MatrixXd& a, Eigen::RowVectorXd& c) {
+  const Eigen::Index i = gamma.rows();
+  c = gamma.row(0);
+  a = gamma.topRows(i - 1).completeOrthogonalDecomposition().solve(gamma.bottomRows(i - 1));
+}
+
+}  // namespace
+
+SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const SubspaceOptions& options) {
+  validate(experiment);
+  if (order < 1) throw_invalid("n4sid order", 0.0, ">= 1");
+  const std::size_t n_samples = experiment.size();
+  const std::size_t i = options.block_rows > 0 ? options.block_rows : std::max<std::size_t>(2 * order, 10);
+  if (i <= order) {
+    throw_invalid("n4sid block_rows", static_cast<double>(i), "> order (" + std::to_string(order) + ")",
+                  "The horizon must exceed the model order.");
+  }
+  if (n_samples < 2 * i + 2 * order + 10) {
+    throw InvalidArgument("n4sid: experiment \"" + experiment.name + "\" has " + std::to_string(n_samples) +
+                          " samples; a horizon of " + std::to_string(i) + " and order " + std::to_string(order) +
+                          " need at least " + std::to_string(2 * i + 2 * order + 10) + ". Use a longer record.");
+  }
+  // Scale u and y to unit RMS for conditioning; the scales are undone at the end.
+  const double su = rms(experiment.input) > 0.0 ? rms(experiment.input) : 1.0;
+  const double sy = rms(experiment.output) > 0.0 ? rms(experiment.output) : 1.0;
+  std::vector<double> u(n_samples), y(n_samples);
+  for (std::size_t k = 0; k < n_samples; ++k) {
+    u[k] = experiment.input[k] / su;
+    y[k] = experiment.output[k] / sy;
+  }
+  const std::size_t j = n_samples - 2 * i + 1;
+  const auto ii = static_cast<Eigen::Index>(i);
+  const Eigen::MatrixXd up = hankel(u, 0, i, j), uf = hankel(u, i, i, j);
+  const Eigen::MatrixXd yp = hankel(y, 0, i, j), yf = hankel(y, i, i, j);
+  // Yf ≈ Lw Wp + Lu Uf (least squares, QR of the regressor); the oblique projection of Yf along
+  // Uf onto Wp = [Up; Yp] is Oᵢ = Lw Wp (Van Overschee & De Moor 1996, Thm. 2).
+  Eigen::MatrixXd z(3 * ii, static_cast<Eigen::Index>(j));
+  z << up, yp, uf;
+  const Eigen::MatrixXd theta = z.transpose().colPivHouseholderQr().solve(yf.transpose()).transpose();
+  const Eigen::MatrixXd lw = theta.leftCols(2 * ii);
+  Eigen::MatrixXd wp(2 * ii, static_cast<Eigen::Index>(j));
+  wp << up, yp;
+  // Oᵢ = Lw Wp = Lw Rᵀ Qᵀ with Wpᵀ = Q R: its left singular vectors are those of Lw Rᵀ.
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(wp.transpose());
+  const Eigen::MatrixXd r = qr.matrixQR().topRows(2 * ii).triangularView<Eigen::Upper>();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(lw * r.transpose(), Eigen::ComputeThinU);
+  SubspaceModel out;
+  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
+  const auto n = static_cast<Eigen::Index>(order);
+  if (!(svd.singularValues()(n - 1) > 1e-12 * svd.singularValues()(0))) {
+    throw RuntimeError("n4sid: the data do not support order " + std::to_string(order) +
+                       " (singular value " + std::to_string(n) + " is zero); choose a lower order or a richer input.");
+  }
+  const Eigen::MatrixXd gamma = svd.matrixU().leftCols(n) * svd.singularValues().head(n).cwiseSqrt().asDiagonal();
+  Eigen::MatrixXd a;
+  Eigen::RowVectorXd c;
+  shift_invariance(gamma, a, c);
+
+  // x0, B, D by least squares on y[k] = C Aᵏ x0 + Σ_{m<k} C A^(k−1−m) B u[m] + D u[k].
+  const bool with_x0 = options.estimate_initial_state;
+  const Eigen::Index cols = (with_x0 ? n : 0) + n + (options.feedthrough ? 1 : 0);
+  Eigen::MatrixXd phi(static_cast<Eigen::Index>(n_samples), cols);
+  Eigen::RowVectorXd cak = c;                   // C Aᵏ
+  Eigen::MatrixXd xb = Eigen::MatrixXd::Zero(n, n);  // state of (A, e_l) driven by u
+  for (std::size_t k = 0; k < n_samples; ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    Eigen::Index col = 0;
+    if (with_x0) {
+      phi.block(kk, 0, 1, n) = cak;
+      col += n;
+    }
+    phi.block(kk, col, 1, n) = c * xb;
+    col += n;
+    if (options.feedthrough) phi(kk, col) = u[k];
+    cak = cak * a;
+    xb = a * xb;
+    xb.diagonal().array() += u[k];  // + e_l u[k] for every column l
+  }
+  const Eigen::VectorXd yv = Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(n_samples));
+  const Eigen::VectorXd sol = phi.colPivHouseholderQr().solve(yv);
+  Eigen::Index col = 0;
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n);
+  if (with_x0) {
+    x0 = sol.head(n);
+    col += n;
+  }
+  const Eigen::VectorXd b = sol.segment(col, n);
+  col += n;
+  const double d = options.feedthrough ? sol(col) : 0.0;
+
+  out.model.a = a;
+  out.model.b = b / su;
+  out.model.c = c * sy;
+  out.model.d = Eigen::MatrixXd::Constant(1, 1, d * sy / su);
+  out.model.sample_time_s = experiment.sample_time_s;
+  out.model.hold = lti::Hold::zoh;
+  out.initial_state = x0;
+  return out;
+}
+
+FreeResponseModel era(std::span<const double> response, std::size_t order, std::size_t rows) {
+  const std::size_t n_samples = response.size();
+  if (order < 1) throw_invalid("era order", 0.0, ">= 1");
+  const std::size_t r = rows > 0 ? rows : std::min(n_samples / 3, std::max<std::size_t>(4 * order, 40));
+  if (r <= order || n_samples < 2 * r) {
+    throw InvalidArgument("era: a free response of " + std::to_string(n_samples) + " samples cannot support order " +
+                          std::to_string(order) + " with " + std::to_string(r) +
+                          " Hankel rows (needs rows > order and N >= 2·rows); use a longer record or a lower order.");
+  }
+  for (std::size_t k = 0; k < n_samples; ++k) {
+    if (!std::isfinite(response[k])) {
+      throw InvalidArgument("era: sample " + std::to_string(k) + " of the response is not finite; repair the record.");
+    }
+  }
+  const std::size_t cols = n_samples - r + 1;
+  const Eigen::MatrixXd h = hankel(response, 0, r, cols);  // H(a, b) = y[a + b] = C A^(a+b) x0
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  FreeResponseModel out;
+  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
+  const auto n = static_cast<Eigen::Index>(order);
+  if (!(svd.singularValues()(n - 1) > 1e-13 * svd.singularValues()(0))) {
+    throw RuntimeError("era: the response does not support order " + std::to_string(order) +
+                       " (Hankel singular value " + std::to_string(order) + " is zero); ask for fewer modes.");
+  }
+  const Eigen::VectorXd s_half = svd.singularValues().head(n).cwiseSqrt();
+  const Eigen::MatrixXd gamma = svd.matrixU().leftCols(n) * s_half.asDiagonal();  // balanced factors
+  const Eigen::MatrixXd x = s_half.asDiagonal() * svd.matrixV().leftCols(n).transpose();
+  shift_invariance(gamma, out.a, out.c);
+  out.x0 = x.col(0);
+  return out;
+}
+
+lti::StateSpace continuous_equivalent(const lti::DiscreteStateSpace& model) {
+  const Eigen::Index n = model.a.rows();
+  const Eigen::Index m = model.b.cols();
+  require_positive("continuous_equivalent sample_time_s", model.sample_time_s);
+  Eigen::MatrixXd aug = Eigen::MatrixXd::Identity(n + m, n + m);
+  aug.topLeftCorner(n, n) = model.a;
+  aug.topRightCorner(n, m) = model.b;
+  Eigen::EigenSolver<Eigen::MatrixXd> es(model.a, false);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const std::complex<double> z = es.eigenvalues()(k);
+    if (std::abs(z.imag()) <= 1e-12 * std::abs(z) && z.real() <= 0.0) {
+      throw RuntimeError("continuous_equivalent: discrete pole " + std::to_string(z.real()) +
+                         " lies on the non-positive real axis; no real continuous model has this ZOH "
+                         "equivalent (the sampling is too slow for that pole).");
+    }
+  }
+  const Eigen::MatrixXd l = aug.log() / model.sample_time_s;  // [A_c B_c; 0 0]
+  lti::StateSpace out;
+  out.a = l.topLeftCorner(n, n);
+  out.b = l.topRightCorner(n, m);
+  out.c = model.c;
+  out.d = model.d;
+  return out;
+}
+
+}  // namespace clearshape::ident
