@@ -1,0 +1,114 @@
+// `clearshape study`: runs a study protocol (studies/*.toml — the thesis's programme, Chapters
+// 4–5 and Appendix B) against the simulated thesis rig and writes results.json, tables.md,
+// figures.json, the figures' data and every run (CSV + JSON sidecar) under --out.
+// Progress on stderr; the tables (or a JSON summary with --json) on stdout.
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/rig/sim_rig.hpp"
+#include "clearshape/rig/truth.hpp"
+#include "clearshape/study/protocol.hpp"
+#include "clearshape/study/runner.hpp"
+#include "command.hpp"
+#include "rig_config.hpp"
+
+namespace clearshape::cli {
+namespace {
+
+struct StudyCliOptions {
+  std::string protocol;
+  std::string out_dir;
+  bool quick = false;
+  bool fresh = false;
+  bool json = false;
+  int threads = 0;
+  std::string rig_config;
+};
+
+std::string file_hash(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a 64
+  for (const unsigned char c : ss.str()) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+// A simulated rig with the truth of a `clearshape simulate` configuration file (what-if studies).
+study::RigFactory configured_sim_rig(const std::filesystem::path& path) {
+  const RigConfig config = load_rig_config(path);
+  auto truth = std::make_shared<rig::RigTruth>(config.truth);
+  const bool contact_set = config.contact_model || config.has_stiffness || config.has_exponent ||
+                           config.has_damping || config.has_restitution || config.has_static_rate;
+  if (contact_set) {
+    const rig::ContactModel model = config.contact_model.value_or(rig::ContactModel::thesis);
+    truth->position_contact = resolve_contact(config, model, rig::CommandMode::position);
+    truth->speed_contact = resolve_contact(config, model, rig::CommandMode::speed);
+  }
+  truth->validate();
+  study::RigFactory f;
+  f.description = fmt::format("sim (rig::SimRig, truth from {} {})", path.filename().string(), file_hash(path));
+  f.parallel_runs = 64;
+  f.make = [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
+    rig::SimRigOptions o;
+    o.mode = mode;
+    o.sample_rate_hz = rate_hz;
+    o.seed = seed;
+    return rig::make_sim_rig_with_truth(o, *truth);
+  };
+  return f;
+}
+
+void run(const StudyCliOptions& o) {
+  study::Protocol protocol = study::load_protocol(o.protocol);
+  if (o.quick) protocol = study::quick_variant(protocol);
+  study::StudyOptions options;
+  options.out_dir = o.out_dir.empty() ? std::filesystem::path("out") / (protocol.name + (o.quick ? "-quick" : ""))
+                                      : std::filesystem::path(o.out_dir);
+  options.fresh = o.fresh;
+  options.threads = o.threads;
+  options.progress = &std::cerr;
+  if (!o.rig_config.empty()) options.rig = configured_sim_rig(o.rig_config);
+  const study::StudyResult result = study::run_study(protocol, options);
+  if (o.json) {
+    auto summary = result.summary();
+    summary["out_dir"] = options.out_dir.string();
+    print_json(summary);
+  } else {
+    std::cout << result.tables_markdown;
+    std::cout << fmt::format("\nWritten: {}/results.json, tables.md, figures.json, data/, runs/\n",
+                             options.out_dir.string());
+  }
+}
+
+const bool registered = register_command(
+    {"study", "Run a study protocol (the thesis's programme) against the simulated rig", 50,
+     [](CLI::App& sub) {
+       auto o = std::make_shared<StudyCliOptions>();
+       sub.add_option("protocol", o->protocol, "Study protocol (TOML), e.g. studies/thesis-position.toml")
+           ->required();
+       sub.add_option("--out", o->out_dir, "Output folder (default: out/<study name>)");
+       sub.add_flag("--quick", o->quick, "Run the protocol's [quick] reduction (fewer repetitions, shorter records)");
+       sub.add_flag("--fresh", o->fresh, "Discard finished runs under --out and run everything again");
+       sub.add_flag("--json", o->json, "Print a JSON summary on stdout instead of the tables");
+       sub.add_option("--threads", o->threads, "Parallel runs (default: the machine's hardware threads)")
+           ->check(CLI::Range(1, 256));
+       sub.add_option("--rig-config", o->rig_config,
+                      "Run against a simulated rig with this truth (a `clearshape simulate --config` file) "
+                      "instead of the built-in thesis rig");
+       sub.callback([o] { run(*o); });
+     }});
+
+}  // namespace
+}  // namespace clearshape::cli

@@ -1,0 +1,75 @@
+#pragma once
+// The study runner: executes a protocol against a rig and writes its outputs.
+//
+//   const auto protocol = study::load_protocol("studies/thesis-position.toml");
+//   study::StudyOptions options;
+//   options.out_dir = "out/thesis-position";
+//   const study::StudyResult result = study::run_study(protocol, options);
+//
+// Stages, in the thesis's order (each prints one line per stage and per run on `progress`):
+//   1. unshaped runs + consistency   Eq. 4.1 per run and mean (Tables 4.1 / 4.2)
+//   2. identification                Eq. 4.2 per input from the encoder (speed mode through the
+//                                    §3.3 chain), cross-validation, the best model → ωn, ζ
+//   3. link mode                     the link's residual mode from the gyro's free response
+//   4. clearance                     Eq. 4.3 contact parameters fitted so that the model's link
+//                                    rate matches the gyro record; Eq. 4.1 agreement
+//   5. simulation                    every input, unshaped and shaped (each shaper × mode source)
+//   6. rig tests                     repeated trials per table column (Tables 5.1, B.1–B.5),
+//                                    summaries (5.2, B.6)
+// The runner only ever sees measurements: the rig comes from a RigFactory (the default builds
+// the simulated thesis rig, whose true parameters stay hidden inside it).
+//
+// Resumable: each finished run is written atomically under <out>/runs/ (CSV + JSON sidecar);
+// on restart a run whose sidecar carries the same protocol hash is read back instead of run.
+// Deterministic: the same protocol and seed give the same bytes in every output except
+// timing.json (wall-clock times). Outputs: results.json, tables.md, figures.json, data/*.csv,
+// runs/*, timing.json — formats in docs/study-outputs.md.
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "clearshape/study/protocol.hpp"
+#include "clearshape/study/record.hpp"
+
+namespace clearshape::study {
+
+inline constexpr int kResultsSchemaVersion = 1;
+
+/// The built-in simulated thesis rig (rig::SimRig with its built-in truth), any number of
+/// parallel runs.
+RigFactory sim_rig_factory();
+
+struct StudyOptions {
+  std::filesystem::path out_dir = "out/study";
+  bool fresh = false;        ///< discard finished runs (<out>/runs) before starting
+  RigFactory rig = sim_rig_factory();
+  int threads = 0;           ///< parallel runs; 0 = min(rig.parallel_runs, hardware threads)
+  std::ostream* progress = nullptr;  ///< one line per stage and run (nullptr: silent)
+};
+
+struct StageTiming {
+  std::string stage;
+  double seconds = 0.0;
+  int runs_executed = 0;
+  int runs_reused = 0;
+};
+
+struct StudyResult {
+  nlohmann::ordered_json results;  ///< the content of results.json
+  std::string tables_markdown;     ///< tables.md
+  nlohmann::ordered_json figures;  ///< figures.json
+  std::vector<StageTiming> timing;
+  /// A short summary for `clearshape study --json`: name, out_dir, key numbers, timing.
+  nlohmann::ordered_json summary() const;
+  /// One table of results["tables"] by id; throws InvalidArgument when absent.
+  const nlohmann::ordered_json& table(std::string_view id) const;
+};
+
+/// Runs the study and writes its outputs. Throws InvalidArgument for a protocol the rig
+/// cannot run, RuntimeError when a run or a stage fails.
+StudyResult run_study(const Protocol& protocol, const StudyOptions& options);
+
+}  // namespace clearshape::study

@@ -1,0 +1,96 @@
+#pragma once
+// Shared state of one study run (internal): the protocol, the run cache, the stage results
+// and the JSON being assembled.
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "clearshape/ident/process_fit.hpp"
+#include "clearshape/shaping/shaper.hpp"
+#include "clearshape/study/model.hpp"
+#include "clearshape/study/protocol.hpp"
+#include "clearshape/study/record.hpp"
+#include "clearshape/study/runner.hpp"
+
+namespace clearshape::study::detail {
+
+using json = nlohmann::ordered_json;
+
+struct ModeResult {
+  bool available = false;
+  shaping::Mode mode{};
+  std::string note;  ///< why it is unavailable, or how it was obtained
+};
+
+struct Context {
+  Context(const Protocol& protocol, const StudyOptions& options);
+
+  const Protocol& p;
+  const StudyOptions& options;
+  std::string hash;
+  std::filesystem::path out;
+  std::filesystem::path runs_dir;
+  std::filesystem::path data_dir;
+  std::chrono::steady_clock::time_point start;
+  std::mutex progress_mutex;
+  int threads = 1;
+
+  // Stage results.
+  std::map<std::string, std::vector<Record>> unshaped;  ///< by input name
+  std::optional<ident::ProcessEstimate> drive;          ///< the selected drive model
+  std::string drive_input;
+  ModeResult drive_mode;
+  ModeResult link_mode;
+  std::optional<ClearanceModel> model;
+
+  // Output assembly.
+  json tables = json::array();
+  json figures = json::array();
+  json sections = json::object();  ///< per-stage detail (identification, link_mode, …)
+  std::vector<StageTiming> timing;
+
+  void log(const std::string& line);
+  double elapsed_s() const;
+  /// Runs (or reads back) the requests, in parallel; results in request order.
+  std::vector<Record> run_all(const std::vector<RunRequest>& requests, const std::string& stage);
+  /// Unshaped runs of an input (repetitions of them), cached.
+  const std::vector<Record>& unshaped_runs(const std::string& input);
+  /// The command of an input sampled at the protocol's rate over the record.
+  UniformSeries command_of(const InputSpec& input, double record_s) const;
+  /// A data file under <out>/data/ (relative name for figures.json).
+  std::string data_file(const std::string& name) const { return "data/" + name; }
+  StageTiming& begin_stage(const std::string& name);
+};
+
+void stage_consistency(Context& c);
+void stage_identification(Context& c);
+void stage_link_mode(Context& c);
+void stage_clearance(Context& c);
+void stage_simulation(Context& c);
+void stage_rig_tests(Context& c);
+
+/// Designs `method` for a mode source; nullopt + reason when it cannot be designed.
+std::optional<shaping::Shaper> design_for(const Context& c, const std::string& method,
+                                          const std::string& mode_source, std::string& reason);
+
+/// A uniform table record for results.json.
+json make_table(const std::string& id, const std::string& kind, const std::string& title,
+                const std::string& unit);
+
+/// Writes a CSV under <out>/data/.
+void write_data_csv(const Context& c, const std::string& name, const std::vector<std::string>& columns,
+                    const std::vector<const std::vector<double>*>& data);
+
+/// Every ambiguity the study settles (results.json "ambiguities", tables.md).
+json ambiguities(const Protocol& p);
+
+/// tables.md from results.json.
+std::string render_tables_markdown(const json& results);
+
+}  // namespace clearshape::study::detail

@@ -1,0 +1,109 @@
+#include "clearshape/study/model.hpp"
+
+#include <cmath>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/plant/command.hpp"
+#include "clearshape/plant/drive.hpp"
+#include "clearshape/plant/joint.hpp"
+#include "clearshape/plant/simulation.hpp"
+#include "clearshape/signal/position_path.hpp"
+#include "clearshape/signal/speed_path.hpp"
+
+namespace clearshape::study {
+
+namespace {
+
+// The command on the output grid: held between samples, held after the end.
+UniformSeries on_grid(const UniformSeries& command, std::size_t n, double ts) {
+  UniformSeries out;
+  out.sample_time_s = ts;
+  out.values.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) * ts;
+    const double r = (t - command.start_s) / command.sample_time_s;
+    std::size_t i = 0;
+    if (r > 0.0) i = static_cast<std::size_t>(std::floor(r + 1e-9));
+    out.values[k] = command.values.empty() ? 0.0 : command.values[std::min(i, command.values.size() - 1)];
+  }
+  return out;
+}
+
+}  // namespace
+
+ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSeries& drive_command,
+                                     double duration_s) {
+  require_positive("duration_s", duration_s);
+  require_positive("drive_command.sample_time_s", drive_command.sample_time_s);
+  const double ts = drive_command.sample_time_s;
+  const std::size_t n = sample_count(duration_s, ts);
+  const UniformSeries u = on_grid(drive_command, n, ts);
+
+  plant::PlantModel model;
+  model.drive = plant::DriveModel::from_process_model(
+      m.mode == rig::CommandMode::position ? plant::DriveMode::position : plant::DriveMode::speed,
+      m.drive);
+  model.link.inertia_kg_m2 = m.link_inertia_kg_m2;
+  plant::TorsionalClearance joint;
+  const bool rigid = !(m.play_rad > 0.0);
+  joint.half_play_rad = rigid ? 1e3 : 0.5 * m.play_rad;  // rigid: a free link, copied below
+  joint.law = plant::ContactLaw::hertz_dashpot(m.stiffness, m.exponent, m.damping,
+                                               plant::DampingPolicy::clamped);
+  model.joint = joint;
+
+  plant::SimulationOptions options;
+  options.duration_s = static_cast<double>(n - 1) * ts;
+  options.output_rate_hz = 1.0 / ts;
+  options.record_events = false;
+  options.initial.drive_state = Eigen::VectorXd::Zero(model.drive.order());
+  const plant::Command command(u, plant::Interpolation::zero_order_hold);
+  const plant::Simulation sim = plant::simulate(model, command, options);
+
+  ModelResponse r;
+  r.sample_time_s = ts;
+  const std::size_t count = sim.size();
+  r.time_s = sim.time_s;
+  r.drive_command.assign(u.values.begin(), u.values.begin() + static_cast<std::ptrdiff_t>(std::min(count, n)));
+  r.drive_command.resize(count, u.values.back());
+  r.motor_angle_deg.resize(count);
+  r.motor_rate_deg_s.resize(count);
+  r.link_angle_deg.resize(count);
+  r.link_rate_deg_s.resize(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    r.motor_angle_deg[k] = rad_to_deg(sim.motor_angle_rad[k]);
+    r.motor_rate_deg_s[k] = rad_to_deg(sim.motor_rate_rad_s[k]);
+    r.link_angle_deg[k] = rigid ? r.motor_angle_deg[k] : rad_to_deg(sim.link_angle_rad[k] - sim.link_angle_rad[0]);
+    r.link_rate_deg_s[k] = rigid ? r.motor_rate_deg_s[k] : rad_to_deg(sim.link_rate_rad_s[k]);
+  }
+  return r;
+}
+
+ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& command, double duration_s) {
+  require_positive("duration_s", duration_s);
+  const double ts = command.sample_time_s;
+  const std::size_t n = sample_count(duration_s, ts);
+  UniformSeries requested = on_grid(command, n, ts);
+  UniformSeries drive;
+  if (m.mode == rig::CommandMode::position) {
+    const signal::PulseTrainConfig pulses{};  // §3.2 published settings
+    // One update period of latency: a target written at t is programmed at the next update.
+    const auto delay = static_cast<std::size_t>(std::llround(pulses.update_period_s() / ts));
+    UniformSeries delayed = requested;
+    for (std::size_t k = n; k-- > 0;) {
+      delayed.values[k] = k >= delay ? requested.values[k - delay] : 0.0;
+    }
+    for (double& v : delayed.values) v = deg_to_rad(v);
+    const signal::PositionPathResult path = signal::apply_position_path(delayed, pulses, 0.0);
+    drive = path.commanded_rad;
+    for (double& v : drive.values) v = rad_to_deg(v);
+  } else {
+    const signal::SpeedPathResult path = signal::apply_speed_path(requested, signal::AnalogOutputConfig{});
+    drive = path.commanded;
+  }
+  drive.start_s = 0.0;
+  drive.sample_time_s = ts;
+  return simulate_drive_command(m, drive, duration_s);
+}
+
+}  // namespace clearshape::study

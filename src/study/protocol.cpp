@@ -1,0 +1,583 @@
+#include "clearshape/study/protocol.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/shaping/design.hpp"
+#include "clearshape/signal/parameters.hpp"
+#include "toml_reader.hpp"
+
+namespace clearshape::study {
+
+using detail::TomlSection;
+using json = nlohmann::ordered_json;
+
+std::string_view to_string(MdSignal signal) noexcept {
+  return signal == MdSignal::link_angle_deg ? "link_angle_deg" : "link_rate_deg_s";
+}
+
+std::string RigColumn::key() const {
+  return shaper == "none" ? std::string("none") : fmt::format("{}@{}", shaper, mode_source);
+}
+
+const InputSpec& Protocol::input(std::string_view input_name) const {
+  for (const auto& in : inputs) {
+    if (in.name == input_name) return in;
+  }
+  throw InvalidArgument(fmt::format("protocol '{}' has no input '{}'", name, input_name));
+}
+
+const RigTable& Protocol::table(std::string_view id) const {
+  for (const auto& t : rig_tests.tables) {
+    if (t.id == id) return t;
+  }
+  throw InvalidArgument(fmt::format("protocol '{}' has no rig-test table '{}'", name, id));
+}
+
+std::string_view Protocol::command_unit() const noexcept {
+  return mode == rig::CommandMode::position ? "deg" : "V";
+}
+
+namespace {
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+// Protocol key → signal parameter name (units in the key; command unit u = deg | v).
+std::optional<std::string> signal_key(std::string_view key, std::string_view u) {
+  const std::string suffix = fmt::format("_{}", u);
+  for (const char* base : {"amplitude", "second_amplitude", "offset", "limit", "levels"}) {
+    if (key == std::string(base) + suffix) return std::string(base);
+  }
+  if (key == fmt::format("slope_{}_per_s", u)) return std::string("slope_per_s");
+  if (key == fmt::format("acceleration_{}_per_s2", u)) return std::string("acceleration_per_s2");
+  for (const char* plain : {"start_s", "rise_s", "hold_s", "fall_s", "dwell_s", "second_start_s",
+                            "bit_period_s", "frequency_hz", "phase_rad", "order", "seed",
+                            "rise_shape", "repeat"}) {
+    if (key == plain) return std::string(plain);
+  }
+  return std::nullopt;
+}
+
+// The key a signal parameter takes in the protocol.
+std::string protocol_key(std::string_view param, std::string_view u) {
+  if (param == "slope_per_s") return fmt::format("slope_{}_per_s", u);
+  if (param == "acceleration_per_s2") return fmt::format("acceleration_{}_per_s2", u);
+  for (const char* base : {"amplitude", "second_amplitude", "offset", "limit", "levels"}) {
+    if (param == base) return fmt::format("{}_{}", param, u);
+  }
+  return std::string(param);
+}
+
+// Start of the last change of a command signal (for the Eq. 5.1 search).
+double last_move_start(const signal::Signal& s) {
+  return std::visit(
+      [](const auto& spec) -> double {
+        using T = std::decay_t<decltype(spec)>;
+        if constexpr (std::is_same_v<T, signal::DoubleStep>) {
+          return spec.second_start_s;
+        } else if constexpr (std::is_same_v<T, signal::StackedSteps>) {
+          return spec.start_s + spec.dwell_s * static_cast<double>(spec.levels.size() - 1);
+        } else if constexpr (std::is_same_v<T, signal::Trapezoid>) {
+          return spec.start_s + spec.rise_s + spec.hold_s;
+        } else {
+          return spec.start_s;
+        }
+      },
+      s.spec());
+}
+
+InputSpec parse_input(const TomlSection& t, rig::CommandMode mode) {
+  const std::string u = mode == rig::CommandMode::position ? "deg" : "v";
+  InputSpec in;
+  in.name = t.text("name");
+  if (in.name.empty()) t.fail("name", "must not be empty");
+  in.label = t.text("label", in.name);
+  const std::string type = t.text("type");
+  std::span<const std::string_view> allowed_params;
+  try {
+    allowed_params = signal::parameter_names(type);
+  } catch (const InvalidArgument& e) {
+    t.fail("type", e.what());
+  }
+  std::vector<std::string> allowed_keys{"name", "label", "type"};
+  for (const auto p : allowed_params) allowed_keys.push_back(protocol_key(p, u));
+  signal::SignalParameters params;
+  in.parameters["type"] = type;
+  for (const auto& key : t.keys()) {
+    if (key == "name" || key == "label" || key == "type") continue;
+    const auto param = signal_key(key, u);
+    const bool known = param && std::find(allowed_params.begin(), allowed_params.end(), *param) !=
+                                    allowed_params.end();
+    if (!known) {
+      t.fail(key, fmt::format("unknown key for a {} input in {} mode; allowed: {}", type,
+                              rig::to_string(mode), joined(allowed_keys)));
+    }
+    const toml::node& n = *t.node(key);
+    if (n.is_boolean()) {
+      params[*param] = *n.value<bool>();
+      in.parameters[key] = *n.value<bool>();
+    } else if (n.is_string()) {
+      params[*param] = *n.value<std::string>();
+      in.parameters[key] = *n.value<std::string>();
+    } else if (n.is_array()) {
+      const auto values = t.numbers(key);
+      params[*param] = values;
+      in.parameters[key] = values;
+    } else if (n.is_integer() || n.is_floating_point()) {
+      const double v = t.number(key);
+      params[*param] = v;
+      in.parameters[key] = v;
+    } else {
+      t.fail(key, "must be a number, a string, a boolean or an array of numbers");
+    }
+  }
+  try {
+    in.signal = signal::make_signal(type, params);
+  } catch (const InvalidArgument& e) {
+    throw InputError(t.file(), t.line(), t.key_path("type"), e.what());
+  }
+  in.last_move_start_s = last_move_start(in.signal);
+  return in;
+}
+
+ThesisColumn parse_column(const TomlSection& t, std::string_view values_key, std::string_view mean_key,
+                          std::string label) {
+  ThesisColumn c;
+  c.label = std::move(label);
+  c.values = t.numbers(values_key);
+  if (t.has(mean_key)) c.mean = t.number(mean_key);
+  return c;
+}
+
+void check_input(const Protocol& p, const TomlSection& t, std::string_view key, const std::string& name) {
+  for (const auto& in : p.inputs) {
+    if (in.name == name) return;
+  }
+  std::vector<std::string> names;
+  for (const auto& in : p.inputs) names.push_back(in.name);
+  t.fail(key, fmt::format("refers to input '{}', which is not defined; defined: {}", name, joined(names)));
+}
+
+void check_shaper(const TomlSection& t, std::string_view key, const std::string& name, bool allow_none) {
+  if (allow_none && name == "none") return;
+  try {
+    const auto method = shaping::method_from_string(name);
+    if (method == shaping::Method::custom || method == shaping::Method::si) {
+      t.fail(key, fmt::format("shaper '{}' needs parameters a protocol cannot give; use zv, zvd, "
+                              "zvdd, zvddd, mzv, ei, ei2, ei3 or um-zv", name));
+    }
+  } catch (const InvalidArgument& e) {
+    t.fail(key, e.what());
+  }
+}
+
+void check_mode_source(const TomlSection& t, std::string_view key, const std::string& s) {
+  if (s != "drive-model" && s != "link-mode") {
+    t.fail(key, fmt::format("'{}' is not a mode source; allowed: drive-model, link-mode", s));
+  }
+}
+
+}  // namespace
+
+Protocol parse_protocol(std::string_view text, const std::filesystem::path& source) {
+  const std::string file = source.string();
+  toml::table root;
+  try {
+    root = toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "",
+                     std::string(e.description()));
+  }
+  const TomlSection top(root, "", file);
+  Protocol p;
+  p.source = source;
+  const std::string format = top.text("format");
+  if (format != kProtocolFormat) {
+    top.fail("format", fmt::format("is '{}'; this clearshape reads '{}'", format, kProtocolFormat));
+  }
+
+  const auto study = top.table("study");
+  if (!study) top.fail("", "missing table [study]");
+  p.name = study->text("name");
+  p.title = study->text("title", p.name);
+  try {
+    p.mode = rig::command_mode_from_string(study->text("mode"));
+  } catch (const InvalidArgument& e) {
+    study->fail("mode", e.what());
+  }
+  p.seed = static_cast<std::uint64_t>(study->integer("seed", 1, 0, INT64_MAX));
+  p.sample_rate_hz = study->positive("sample_rate_hz", 1000.0);
+  p.record_s = study->positive("record_s", 5.0);
+  p.repetitions = static_cast<int>(study->integer("repetitions", 10, 2, 1000));
+  study->finish("name, title, mode, seed, sample_rate_hz, record_s, repetitions");
+
+  if (const auto m = top.table("measure")) {
+    const std::string s = m->text("md_signal", p.mode == rig::CommandMode::position
+                                                   ? "link_angle_deg" : "link_rate_deg_s");
+    if (s == "link_angle_deg") {
+      p.measure.md_signal = MdSignal::link_angle_deg;
+    } else if (s == "link_rate_deg_s") {
+      p.measure.md_signal = MdSignal::link_rate_deg_s;
+    } else {
+      m->fail("md_signal", fmt::format("'{}' is not a signal; allowed: link_angle_deg, link_rate_deg_s", s));
+    }
+    p.measure.bias_window_s = m->positive("bias_window_s", 0.4);
+    p.measure.md_final_window_fraction = m->positive("md_final_window_fraction", 0.2);
+    if (p.measure.md_final_window_fraction > 1.0) m->fail("md_final_window_fraction", "must be in (0, 1]");
+    m->finish("md_signal, bias_window_s, md_final_window_fraction");
+  } else {
+    p.measure.md_signal = p.mode == rig::CommandMode::position ? MdSignal::link_angle_deg
+                                                               : MdSignal::link_rate_deg_s;
+  }
+
+  for (const auto& t : top.tables("input")) {
+    InputSpec in = parse_input(t, p.mode);
+    for (const auto& other : p.inputs) {
+      if (other.name == in.name) t.fail("name", fmt::format("input '{}' is defined twice", in.name));
+    }
+    if (in.last_move_start_s < p.measure.bias_window_s) {
+      t.fail("start_s", fmt::format("the move starts at {} s, before the end of the gyro-bias "
+                                    "window ({} s); start it later", in.last_move_start_s,
+                                    p.measure.bias_window_s));
+    }
+    p.inputs.push_back(std::move(in));
+  }
+  if (p.inputs.empty()) top.fail("", "no [[input]] defined");
+
+  if (const auto c = top.table("consistency")) {
+    p.consistency.table = c->text("table", "4.1");
+    p.consistency.inputs = c->texts("inputs");
+    for (const auto& name : p.consistency.inputs) check_input(p, *c, "inputs", name);
+    p.consistency.signal = c->text("signal", p.mode == rig::CommandMode::position ? "motor_angle_deg"
+                                                                                  : "motor_speed_deg_s");
+    if (p.consistency.signal != "motor_angle_deg" && p.consistency.signal != "motor_speed_deg_s") {
+      c->fail("signal", "allowed: motor_angle_deg, motor_speed_deg_s");
+    }
+    if (const auto th = c->table("thesis")) {
+      for (const auto& key : th->keys()) {
+        check_input(p, *th, key, key);
+        const auto col = th->table(key);
+        p.consistency.thesis[key] = parse_column(*col, "values", "mean", col->text("label", key));
+        col->finish("label, values, mean");
+      }
+    }
+    c->finish("table, inputs, signal, thesis");
+  }
+
+  if (const auto s = top.table("identification")) {
+    p.identification.structure = s->text("structure", "P3UZ");
+    p.identification.inputs = s->texts("inputs");
+    for (const auto& name : p.identification.inputs) check_input(p, *s, "inputs", name);
+    p.identification.speed_chain = s->text("speed_chain", "causal");
+    if (p.identification.speed_chain != "causal" && p.identification.speed_chain != "zero-phase") {
+      s->fail("speed_chain", "allowed: causal, zero-phase");
+    }
+    if (const auto th = s->table("thesis")) {
+      auto& m = p.identification.thesis;
+      m.selected_input = th->text("selected_input", "");
+      m.kp = th->number("kp");
+      m.tz_s = th->number("tz_s");
+      m.zeta = th->number("zeta");
+      m.tw_s = th->number("tw_s");
+      m.tp3_s = th->number("tp3_s");
+      th->finish("selected_input, kp, tz_s, zeta, tw_s, tp3_s");
+    }
+    s->finish("structure, inputs, speed_chain, thesis");
+  }
+
+  if (const auto s = top.table("link_mode")) {
+    p.link_mode.input = s->text("input");
+    check_input(p, *s, "input", p.link_mode.input);
+    p.link_mode.settle_after_move_s = s->number("settle_after_move_s", 0.05);
+    p.link_mode.window_s = s->positive("window_s", 1.5);
+    p.link_mode.max_damping_ratio = s->positive("max_damping_ratio", 0.7);
+    s->finish("input, settle_after_move_s, window_s, max_damping_ratio");
+  }
+
+  if (const auto s = top.table("clearance")) {
+    auto& c = p.clearance;
+    c.input = s->text("input");
+    check_input(p, *s, "input", c.input);
+    c.exponent = s->positive("exponent", 1.5);
+    c.link_inertia_kg_m2 = s->positive("link_inertia_kg_m2", 5e-3);
+    c.play_deg = s->positive("play_deg", 0.1);
+    c.stiffness_n_m_per_rad_pow_n = s->positive("stiffness_n_m_per_rad_pow_n", 1e4);
+    c.damping_n_m_s_per_rad = s->number("damping_n_m_s_per_rad", 300.0);
+    if (c.damping_n_m_s_per_rad < 0.0) s->fail("damping_n_m_s_per_rad", "must be >= 0");
+    c.fit = s->texts("fit");
+    for (const auto& f : c.fit) {
+      if (f != "stiffness" && f != "damping" && f != "play") {
+        s->fail("fit", fmt::format("'{}' cannot be fitted; allowed: stiffness, damping, play", f));
+      }
+    }
+    c.window_s = s->positive("window_s", 2.0);
+    c.max_evaluations = static_cast<int>(s->integer("max_evaluations", 150, 1, 100000));
+    if (const auto th = s->table("thesis")) {
+      c.thesis_stiffness = th->number("stiffness", 0.0);
+      c.thesis_damping = th->number("damping", 0.0);
+      c.thesis_agreement = th->number("agreement", 0.0);
+      th->finish("stiffness, damping, agreement");
+    }
+    s->finish("input, exponent, link_inertia_kg_m2, play_deg, stiffness_n_m_per_rad_pow_n, "
+              "damping_n_m_s_per_rad, fit, window_s, max_evaluations, thesis");
+  }
+
+  if (const auto s = top.table("simulation")) {
+    auto& m = p.simulation;
+    m.inputs = s->texts("inputs");
+    for (const auto& name : m.inputs) check_input(p, *s, "inputs", name);
+    m.shapers = s->texts("shapers");
+    for (const auto& name : m.shapers) check_shaper(*s, "shapers", name, false);
+    m.mode_sources = s->texts("mode_sources");
+    for (const auto& src : m.mode_sources) check_mode_source(*s, "mode_sources", src);
+    m.record_s = s->positive("record_s", p.record_s);
+    s->finish("inputs, shapers, mode_sources, record_s");
+  }
+
+  if (const auto s = top.table("rig_tests")) {
+    for (const auto& t : s->tables("table")) {
+      RigTable table;
+      table.id = t.text("id");
+      table.title = t.text("title", table.id);
+      table.input = t.text("input");
+      check_input(p, t, "input", table.input);
+      for (const auto& c : t.tables("column")) {
+        RigColumn col;
+        col.shaper = c.text("shaper", "none");
+        check_shaper(c, "shaper", col.shaper, true);
+        if (col.shaper != "none") {
+          col.mode_source = c.text("mode_source");
+          check_mode_source(c, "mode_source", col.mode_source);
+        }
+        col.label = c.text("label", col.key());
+        col.thesis = parse_column(c, "thesis", "thesis_mean", col.label);
+        for (const auto& other : table.columns) {
+          if (other.key() == col.key()) c.fail("shaper", fmt::format("column '{}' appears twice", col.key()));
+        }
+        c.finish("shaper, mode_source, label, thesis, thesis_mean");
+        table.columns.push_back(std::move(col));
+      }
+      if (table.columns.empty()) t.fail("column", "a table needs at least one [[rig_tests.table.column]]");
+      for (const auto& other : p.rig_tests.tables) {
+        if (other.id == table.id) t.fail("id", fmt::format("table '{}' is defined twice", table.id));
+      }
+      t.finish("id, title, input, column");
+      p.rig_tests.tables.push_back(std::move(table));
+    }
+    for (const auto& t : s->tables("summary")) {
+      RigSummary sum;
+      sum.id = t.text("id");
+      sum.title = t.text("title", sum.id);
+      sum.kind = t.text("kind");
+      if (sum.kind != "combine" && sum.kind != "improvement") t.fail("kind", "allowed: combine, improvement");
+      sum.tables = t.texts("tables");
+      for (const auto& id : sum.tables) {
+        const bool found = std::any_of(p.rig_tests.tables.begin(), p.rig_tests.tables.end(),
+                                       [&](const RigTable& x) { return x.id == id; });
+        if (!found) t.fail("tables", fmt::format("refers to table '{}', which is not defined", id));
+      }
+      sum.column = t.text("column", "");
+      if (sum.kind == "improvement") {
+        if (sum.column.empty()) t.fail("column", "an improvement summary names the shaped column");
+        for (const auto& id : sum.tables) {
+          const auto& table = p.table(id);
+          const bool has = std::any_of(table.columns.begin(), table.columns.end(),
+                                       [&](const RigColumn& c) { return c.key() == sum.column; });
+          const bool has_none = std::any_of(table.columns.begin(), table.columns.end(),
+                                            [&](const RigColumn& c) { return c.key() == "none"; });
+          if (!has || !has_none) {
+            t.fail("column", fmt::format("table '{}' needs columns 'none' and '{}'", id, sum.column));
+          }
+        }
+      }
+      sum.thesis = t.numbers("thesis");
+      if (!sum.thesis.empty() && sum.thesis.size() != sum.tables.size()) {
+        t.fail("thesis", "needs one value per table");
+      }
+      t.finish("id, title, kind, tables, column, thesis");
+      p.rig_tests.summaries.push_back(std::move(sum));
+    }
+    s->finish("table, summary");
+  }
+
+  if (const auto q = top.table("quick")) {
+    auto& r = p.quick_reduction;
+    r.repetitions = static_cast<int>(q->integer("repetitions", 3, 2, 1000));
+    r.record_s = q->positive("record_s", 3.0);
+    r.simulation_inputs = q->texts("simulation_inputs");
+    for (const auto& name : r.simulation_inputs) check_input(p, *q, "simulation_inputs", name);
+    r.simulation_shapers = q->texts("simulation_shapers");
+    for (const auto& name : r.simulation_shapers) check_shaper(*q, "simulation_shapers", name, false);
+    r.clearance_max_evaluations = static_cast<int>(q->integer("clearance_max_evaluations", 40, 1, 100000));
+    q->finish("repetitions, record_s, simulation_inputs, simulation_shapers, clearance_max_evaluations");
+  }
+
+  for (const auto& in : p.inputs) {
+    if (in.last_move_start_s >= p.record_s) {
+      throw InputError(file, 0, "input " + in.name,
+                       fmt::format("the last move starts at {} s, after the record ends ({} s)",
+                                   in.last_move_start_s, p.record_s));
+    }
+  }
+  top.finish("format, study, measure, input, consistency, identification, link_mode, clearance, "
+             "simulation, rig_tests, quick");
+  return p;
+}
+
+Protocol load_protocol(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), 0, "", "cannot read the protocol file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_protocol(ss.str(), path);
+}
+
+Protocol quick_variant(const Protocol& protocol) {
+  Protocol p = protocol;
+  if (p.quick) return p;
+  const auto& r = p.quick_reduction;
+  p.quick = true;
+  p.repetitions = std::min(p.repetitions, r.repetitions);
+  p.record_s = std::min(p.record_s, r.record_s);
+  p.simulation.record_s = std::min(p.simulation.record_s, r.record_s);
+  if (!r.simulation_inputs.empty()) p.simulation.inputs = r.simulation_inputs;
+  if (!r.simulation_shapers.empty()) p.simulation.shapers = r.simulation_shapers;
+  p.clearance.max_evaluations = std::min(p.clearance.max_evaluations, r.clearance_max_evaluations);
+  p.clearance.window_s = std::min(p.clearance.window_s, p.record_s);
+  return p;
+}
+
+namespace {
+json column_json(const ThesisColumn& c) {
+  json j;
+  j["label"] = c.label;
+  j["values"] = c.values;
+  j["mean"] = c.mean ? json(*c.mean) : json(nullptr);
+  return j;
+}
+}  // namespace
+
+json to_json(const Protocol& p) {
+  json j;
+  j["format"] = kProtocolFormat;
+  j["source"] = p.source.filename().string();
+  j["name"] = p.name;
+  j["title"] = p.title;
+  j["mode"] = rig::to_string(p.mode);
+  j["command_unit"] = p.command_unit();
+  j["seed"] = p.seed;
+  j["sample_rate_hz"] = p.sample_rate_hz;
+  j["record_s"] = p.record_s;
+  j["repetitions"] = p.repetitions;
+  j["quick"] = p.quick;
+  j["measure"] = {{"md_signal", to_string(p.measure.md_signal)},
+                  {"bias_window_s", p.measure.bias_window_s},
+                  {"md_final_window_fraction", p.measure.md_final_window_fraction}};
+  json inputs = json::array();
+  for (const auto& in : p.inputs) {
+    json i;
+    i["name"] = in.name;
+    i["label"] = in.label;
+    for (const auto& [k, v] : in.parameters.items()) i[k] = v;
+    i["last_move_start_s"] = in.last_move_start_s;
+    inputs.push_back(i);
+  }
+  j["inputs"] = inputs;
+  json cons;
+  cons["table"] = p.consistency.table;
+  cons["inputs"] = p.consistency.inputs;
+  cons["signal"] = p.consistency.signal;
+  json th = json::object();
+  for (const auto& [k, v] : p.consistency.thesis) th[k] = column_json(v);
+  cons["thesis"] = th;
+  j["consistency"] = cons;
+  const auto& id = p.identification;
+  j["identification"] = {{"structure", id.structure},
+                         {"inputs", id.inputs},
+                         {"speed_chain", id.speed_chain},
+                         {"thesis",
+                          {{"selected_input", id.thesis.selected_input},
+                           {"kp", id.thesis.kp},
+                           {"tz_s", id.thesis.tz_s},
+                           {"zeta", id.thesis.zeta},
+                           {"tw_s", id.thesis.tw_s},
+                           {"tp3_s", id.thesis.tp3_s}}}};
+  j["link_mode"] = {{"input", p.link_mode.input},
+                    {"settle_after_move_s", p.link_mode.settle_after_move_s},
+                    {"window_s", p.link_mode.window_s},
+                    {"max_damping_ratio", p.link_mode.max_damping_ratio}};
+  const auto& c = p.clearance;
+  j["clearance"] = {{"input", c.input},
+                    {"exponent", c.exponent},
+                    {"link_inertia_kg_m2", c.link_inertia_kg_m2},
+                    {"play_deg", c.play_deg},
+                    {"stiffness_n_m_per_rad_pow_n", c.stiffness_n_m_per_rad_pow_n},
+                    {"damping_n_m_s_per_rad", c.damping_n_m_s_per_rad},
+                    {"fit", c.fit},
+                    {"window_s", c.window_s},
+                    {"max_evaluations", c.max_evaluations},
+                    {"thesis",
+                     {{"stiffness", c.thesis_stiffness},
+                      {"damping", c.thesis_damping},
+                      {"agreement", c.thesis_agreement}}}};
+  j["simulation"] = {{"inputs", p.simulation.inputs},
+                     {"shapers", p.simulation.shapers},
+                     {"mode_sources", p.simulation.mode_sources},
+                     {"record_s", p.simulation.record_s}};
+  json tables = json::array();
+  for (const auto& t : p.rig_tests.tables) {
+    json tj;
+    tj["id"] = t.id;
+    tj["title"] = t.title;
+    tj["input"] = t.input;
+    json cols = json::array();
+    for (const auto& col : t.columns) {
+      cols.push_back({{"key", col.key()},
+                      {"shaper", col.shaper},
+                      {"mode_source", col.mode_source},
+                      {"label", col.label},
+                      {"thesis", column_json(col.thesis)}});
+    }
+    tj["columns"] = cols;
+    tables.push_back(tj);
+  }
+  json sums = json::array();
+  for (const auto& s : p.rig_tests.summaries) {
+    sums.push_back({{"id", s.id},
+                    {"title", s.title},
+                    {"kind", s.kind},
+                    {"tables", s.tables},
+                    {"column", s.column},
+                    {"thesis", s.thesis}});
+  }
+  j["rig_tests"] = {{"tables", tables}, {"summaries", sums}};
+  return j;
+}
+
+std::string protocol_hash(const Protocol& protocol, std::string_view rig_description) {
+  // FNV-1a 64 (Fowler, Noll, Vo): a stable content hash, not a cryptographic one.
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  auto feed = [&h](std::string_view s) {
+    for (const unsigned char ch : s) {
+      h ^= ch;
+      h *= 0x100000001b3ULL;
+    }
+  };
+  json j = to_json(protocol);
+  j.erase("source");
+  feed(j.dump());
+  feed("\n");
+  feed(rig_description);
+  return fmt::format("{:016x}", h);
+}
+
+}  // namespace clearshape::study

@@ -1,0 +1,194 @@
+// The settled ambiguities and tables.md (human tables with the thesis beside ours).
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "clearshape/rig/types.hpp"
+#include "context.hpp"
+
+namespace clearshape::study::detail {
+
+json ambiguities(const Protocol& p) {
+  const bool position = p.mode == rig::CommandMode::position;
+  json a = json::array();
+  auto add = [&a](const char* id, const char* question, std::string settled, const char* why) {
+    a.push_back({{"id", id}, {"question", question}, {"settled", std::move(settled)}, {"why", why}});
+  };
+  add("md-signal", "On which signal is the mean deviation (Eq. 5.1) computed?",
+      position ? "Position mode: on the link angle in degrees, the gyro rate integrated after its bias "
+                 "(mean at rest before the move) is removed."
+               : "Speed mode: on the link rate in deg/s from the gyroscope.",
+      "The thesis does not say. Position mode: Fig. 5.19 plots the link's angular position, the "
+      "unshaped MDs grow in proportion to the step (0.085, 0.141, 0.303 deg for 5, 10, 20 deg), and "
+      "the shaped MDs (0.007–0.040) lie below the gyro's rate-noise floor (about 0.1–0.2 deg/s) but "
+      "above the integrated-angle floor. Speed mode: the controlled quantity is a speed and the "
+      "angle has no steady state.");
+  add("md-start", "Where does the steady state of Eq. 5.1 begin?",
+      "At the first sample, after the start of the input's last move, where the response meets its "
+      "own steady-state mean; M and the start are iterated to a fixed point (metrics/mean_deviation.hpp).",
+      "§5.1.2: 'the first coincide point of the system response and the mean data is taken as a start point'.");
+  add("which-mode", "Which mode are the shapers designed for?",
+      "Both, side by side: the drive model's ωn = 1/Tw, ζ = Zeta (the thesis's choice, §3.3) and the "
+      "link's residual mode identified from the gyro's free response (DESIGN.md §2). The tables name "
+      "the source of every shaped column.",
+      "The position-mode drive model has ζ = 0.9968: its ZV-family shapers collapse to one impulse and "
+      "cannot give the published improvement; the vibration that matters is the link's.");
+  add("identification-data", "What are the identification input and output?",
+      position ? "Input: the position the driver received (the 30 Hz pulse train — a ramp for a step, "
+                 "§4.1.2), output: the encoder angle."
+               : "Input: the D/A output (V), output: the encoder angle differentiated and filtered by the "
+                 "4th-order 30 rad/s Butterworth (§3.3), causal as a real-time chain; the filter is part "
+                 "of the identified model (§4.2).",
+      "The thesis identified 'angular position input and angular position output' (position) and "
+      "notes that the speed-mode model includes the low-pass filter.");
+  add("model-selection", "How is the best model chosen?",
+      "Each input's model is simulated on every input's record (fit %, zero initial state); the model "
+      "with the best mean fit on the other records is selected.",
+      "§4.2: every identified transfer function is tested on every input; the thesis selected the step model.");
+  add("contact-units", "In which units are the contact parameters?",
+      "Torsional play: K in N·m/rad^n, D in N·m·s/rad, δ in rad; the model's link inertia is fixed "
+      "(only K/J and D/J are identifiable from the gyro).",
+      "The thesis gives K and D without units (DESIGN.md §2).");
+  add("input-timing", "What exactly were the inputs?",
+      position ? "Steps start at 0.5 s (after a rest window for the gyro bias); the 56 deg 'low jerk' step "
+                 "rises as an S-curve and the 16 deg double step is 8 + 8 deg — their timing is in the "
+                 "protocol and is ours."
+               : "The speed-mode inputs' amplitudes (in V) and timing are in the protocol and are ours.",
+      "The thesis gives the experimental amplitudes (Appendix B) but not the timing, the rise of the "
+      "low-jerk step or the spacing of the double step.");
+  add("rig-truth", "What is the simulated rig?",
+      "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
+      "unshaped responses reproduce the thesis's 'without is' means and the spread of its trials; "
+      "the study never reads that truth, and the shaped results are predictions.",
+      "DESIGN.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
+  return a;
+}
+
+namespace {
+
+std::string num(const json& v) {
+  if (v.is_null()) return "";
+  if (!v.is_number()) return v.is_string() ? v.get<std::string>() : v.dump();
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) return "—";
+  if (x == 0.0) return "0";
+  const double ax = std::abs(x);
+  if (ax >= 1e4 || ax < 1e-3) return fmt::format("{:.3e}", x);
+  return fmt::format("{:.4g}", x);
+}
+
+bool has_values(const json& col, const char* key) {
+  return col.contains(key) && col.at(key).is_array() && !col.at(key).empty();
+}
+
+void row(std::ostringstream& out, const std::vector<std::string>& cells) {
+  out << "|";
+  for (const auto& c : cells) out << " " << c << " |";
+  out << "\n";
+}
+
+void render_table(std::ostringstream& out, const json& t) {
+  out << fmt::format("### Table {} — {}\n\n", t.at("id").get<std::string>(), t.at("title").get<std::string>());
+  const std::string unit = t.value("unit", std::string());
+  if (!unit.empty()) out << fmt::format("Unit: {}.\n\n", unit);
+  const json& cols = t.at("columns");
+  const json rows = t.value("row_labels", json::array());
+  const std::string kind = t.value("kind", std::string());
+  std::vector<std::string> header{""};
+  struct Cell {
+    const json* col;
+    const char* key;
+  };
+  std::vector<Cell> cells;
+  for (const auto& col : cols) {
+    const std::string label = col.value("label", col.value("key", std::string()));
+    if (has_values(col, "ours")) {
+      header.push_back(cols.size() > 1 || has_values(col, "thesis") ? label + " — ours" : label);
+      cells.push_back({&col, "ours"});
+    }
+    if (has_values(col, "thesis")) {
+      header.push_back(label + " — thesis");
+      cells.push_back({&col, "thesis"});
+    }
+  }
+  row(out, header);
+  std::vector<std::string> sep(header.size(), "---");
+  row(out, sep);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    std::vector<std::string> line{rows[r].is_string() ? rows[r].get<std::string>() : rows[r].dump()};
+    for (const auto& c : cells) {
+      const json& v = c.col->at(c.key);
+      line.push_back(r < v.size() ? num(v[r]) : "");
+    }
+    row(out, line);
+  }
+  if (kind == "consistency" || kind == "mean-deviation") {
+    std::vector<std::string> mean{"**mean**"};
+    std::vector<std::string> sd{"std (ours)"};
+    std::vector<std::string> imp{"improvement %"};
+    bool any_imp = false;
+    for (const auto& c : cells) {
+      const bool ours = std::string(c.key) == "ours";
+      mean.push_back("**" + num(c.col->value(ours ? "ours_mean" : "thesis_mean", json(nullptr))) + "**");
+      sd.push_back(ours ? num(c.col->value("ours_std", json(nullptr))) : "");
+      const char* ik = ours ? "improvement_percent" : "thesis_improvement_percent";
+      if (c.col->contains(ik)) any_imp = true;
+      imp.push_back(num(c.col->value(ik, json(nullptr))));
+    }
+    if (kind == "mean-deviation" && rows.size() > 0 && rows[0].is_string() && rows[0].get<std::string>() == "1") {
+      row(out, mean);
+      row(out, sd);
+      if (any_imp) row(out, imp);
+    } else if (kind == "consistency") {
+      row(out, mean);
+    }
+  }
+  out << "\n";
+  for (const auto& col : cols) {
+    if (col.contains("note")) {
+      out << fmt::format("- {}: {}\n", col.value("label", std::string()), col.at("note").get<std::string>());
+    }
+  }
+  // Where we differ: means and improvements next to the thesis's.
+  for (const auto& col : cols) {
+    const json om = col.value("ours_mean", json(nullptr));
+    const json tm = col.value("thesis_mean", json(nullptr));
+    if (om.is_number() && tm.is_number() && tm.get<double>() != 0.0) {
+      const double o = om.get<double>(), th = tm.get<double>();
+      out << fmt::format("- {}: ours {} vs thesis {} ({:+.0f} %).\n", col.value("label", std::string()), num(om),
+                         num(tm), 100.0 * (o - th) / std::abs(th));
+    }
+    const json oi = col.value("improvement_percent", json(nullptr));
+    const json ti = col.value("thesis_improvement_percent", json(nullptr));
+    if (oi.is_number() && ti.is_number()) {
+      out << fmt::format("- {}: improvement ours {} % vs thesis {} %.\n", col.value("label", std::string()), num(oi),
+                         num(ti));
+    }
+  }
+  if (t.contains("note")) out << "\n" << t.at("note").get<std::string>() << "\n";
+  out << "\n";
+}
+
+}  // namespace
+
+std::string render_tables_markdown(const json& results) {
+  std::ostringstream out;
+  const json& s = results.at("study");
+  out << fmt::format("# {} — tables\n\n", s.at("name").get<std::string>());
+  out << fmt::format("{}. Mode: {}{}. Rig: {}. Protocol hash {}. Every table shows our numbers and, "
+                     "where the thesis published them, the thesis's beside them.\n\n",
+                     s.at("title").get<std::string>(), s.at("mode").get<std::string>(),
+                     s.at("quick").get<bool>() ? " (quick variant: fewer repetitions, shorter records)" : "",
+                     s.at("rig").get<std::string>(), s.at("protocol_hash").get<std::string>());
+  out << "## Ambiguities settled\n\n";
+  for (const auto& a : results.at("ambiguities")) {
+    out << fmt::format("- **{}** {} — {}\n", a.at("question").get<std::string>(), a.at("settled").get<std::string>(),
+                       a.at("why").get<std::string>());
+  }
+  out << "\n## Tables\n\n";
+  for (const auto& t : results.at("tables")) render_table(out, t);
+  return out.str();
+}
+
+}  // namespace clearshape::study::detail

@@ -1,0 +1,280 @@
+#include "clearshape/study/runner.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <ostream>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/io/json.hpp"
+#include "clearshape/io/atomic_file.hpp"
+#include "clearshape/io/table.hpp"
+#include "clearshape/rig/sim_rig.hpp"
+#include "clearshape/signal/signal.hpp"
+#include "context.hpp"
+
+namespace clearshape::study {
+
+using json = nlohmann::ordered_json;
+
+RigFactory sim_rig_factory() {
+  RigFactory f;
+  f.description = "sim (rig::SimRig, built-in thesis truth)";
+  f.parallel_runs = 64;
+  f.make = [](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
+    rig::SimRigOptions o;
+    o.mode = mode;
+    o.sample_rate_hz = rate_hz;
+    o.seed = seed;
+    return std::make_unique<rig::SimRig>(o);
+  };
+  return f;
+}
+
+const json& StudyResult::table(std::string_view id) const {
+  for (const auto& t : results.at("tables")) {
+    if (t.at("id").get<std::string>() == id) return t;
+  }
+  throw InvalidArgument(fmt::format("the study has no table '{}'", id));
+}
+
+json StudyResult::summary() const {
+  json s = io::make_document();
+  s["study"] = results.at("study");
+  json key = json::array();
+  for (const auto& t : results.at("tables")) {
+    json row;
+    row["id"] = t.at("id");
+    row["title"] = t.at("title");
+    if (t.contains("headline")) row["headline"] = t.at("headline");
+    key.push_back(row);
+  }
+  s["tables"] = key;
+  json timing_json = json::array();
+  for (const auto& t : timing) {
+    timing_json.push_back({{"stage", t.stage}, {"seconds", t.seconds},
+                           {"runs_executed", t.runs_executed}, {"runs_reused", t.runs_reused}});
+  }
+  s["timing"] = timing_json;
+  return s;
+}
+
+namespace detail {
+
+Context::Context(const Protocol& protocol, const StudyOptions& opts)
+    : p(protocol), options(opts), start(std::chrono::steady_clock::now()) {
+  hash = protocol_hash(p, opts.rig.description);
+  out = opts.out_dir;
+  runs_dir = out / "runs";
+  data_dir = out / "data";
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = opts.threads > 0 ? opts.threads : std::min(std::max(1, opts.rig.parallel_runs), hw);
+}
+
+void Context::log(const std::string& line) {
+  if (!options.progress) return;
+  const std::lock_guard<std::mutex> lock(progress_mutex);
+  *options.progress << fmt::format("[{} {:7.1f} s] {}\n", p.name, elapsed_s(), line);
+  options.progress->flush();
+}
+
+double Context::elapsed_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+StageTiming& Context::begin_stage(const std::string& name) {
+  timing.push_back(StageTiming{name, 0.0, 0, 0});
+  log(fmt::format("stage {}", name));
+  return timing.back();
+}
+
+UniformSeries Context::command_of(const InputSpec& input, double record_s) const {
+  return signal::sample(input.signal, p.sample_rate_hz, record_s);
+}
+
+std::vector<Record> Context::run_all(const std::vector<RunRequest>& requests, const std::string& stage) {
+  std::vector<std::optional<Record>> found(requests.size());
+  std::vector<std::size_t> pending;
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    found[i] = options.fresh ? std::nullopt : read_record(runs_dir, requests[i], p.mode, hash);
+    if (!found[i]) pending.push_back(i);
+  }
+  const int reused = static_cast<int>(requests.size() - pending.size());
+  if (!timing.empty()) {
+    timing.back().runs_reused += reused;
+    timing.back().runs_executed += static_cast<int>(pending.size());
+  }
+  if (reused > 0) log(fmt::format("{}: reused {} finished run(s) from {}", stage, reused, runs_dir.string()));
+  if (!pending.empty()) {
+    std::filesystem::create_directories(runs_dir);
+    std::atomic<std::size_t> next{0};
+    std::atomic<std::size_t> done{0};
+    std::mutex error_mutex;
+    std::exception_ptr error;
+    auto worker = [&]() {
+      while (true) {
+        const std::size_t j = next.fetch_add(1);
+        if (j >= pending.size()) return;
+        {
+          const std::lock_guard<std::mutex> lock(error_mutex);
+          if (error) return;
+        }
+        const RunRequest& req = requests[pending[j]];
+        try {
+          const auto t0 = std::chrono::steady_clock::now();
+          std::unique_ptr<rig::Rig> rig = options.rig.make(p.mode, p.sample_rate_hz, req.seed);
+          Record rec = execute_run(*rig, req);
+          const auto& cnt = rig->counters();
+          const json counters = {{"reads", cnt.reads},
+                                 {"writes", cnt.writes},
+                                 {"failed_reads", cnt.failed_reads},
+                                 {"failed_writes", cnt.failed_writes}};
+          write_record(runs_dir, rec, req, hash, options.rig.description, counters);
+          const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          const std::size_t d = done.fetch_add(1) + 1;
+          log(fmt::format("{}: {} done in {:.2f} s ({}/{})", stage, req.id, dt, d, pending.size()));
+          found[pending[j]] = std::move(rec);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(error_mutex);
+          if (!error) error = std::current_exception();
+        }
+      }
+    };
+    const int n = std::min<int>(threads, static_cast<int>(pending.size()));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+  }
+  std::vector<Record> records;
+  records.reserve(found.size());
+  for (auto& r : found) records.push_back(std::move(*r));
+  return records;
+}
+
+const std::vector<Record>& Context::unshaped_runs(const std::string& input) {
+  const auto it = unshaped.find(input);
+  if (it != unshaped.end()) return it->second;
+  const InputSpec& in = p.input(input);
+  const UniformSeries command = command_of(in, p.record_s);
+  std::vector<RunRequest> requests;
+  for (int r = 1; r <= p.repetitions; ++r) {
+    RunRequest req;
+    req.id = fmt::format("unshaped/{}/r{:02d}", input, r);
+    req.stage = "unshaped";
+    req.input = input;
+    req.repetition = r;
+    req.seed = run_seed(p.seed, req.id);
+    req.command = command;
+    req.record_s = p.record_s;
+    requests.push_back(std::move(req));
+  }
+  return unshaped.emplace(input, run_all(requests, "unshaped")).first->second;
+}
+
+json make_table(const std::string& id, const std::string& kind, const std::string& title,
+                const std::string& unit) {
+  json t;
+  t["id"] = id;
+  t["kind"] = kind;
+  t["title"] = title;
+  t["unit"] = unit;
+  return t;
+}
+
+void write_data_csv(const Context& c, const std::string& name, const std::vector<std::string>& columns,
+                    const std::vector<const std::vector<double>*>& data) {
+  io::write_csv(c.data_dir / name, columns, data);
+}
+
+}  // namespace detail
+
+StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
+  if (!options.rig.make) throw InvalidArgument("StudyOptions.rig.make is empty; give a rig factory");
+  detail::Context c(protocol, options);
+  if (options.fresh) {
+    std::error_code ec;
+    std::filesystem::remove_all(c.runs_dir, ec);
+    std::filesystem::remove_all(c.data_dir, ec);
+  }
+  std::filesystem::create_directories(c.data_dir);
+  c.log(fmt::format("study '{}' ({} mode{}), protocol hash {}, rig {}, {} parallel run(s), out {}",
+                    protocol.name, rig::to_string(protocol.mode), protocol.quick ? ", quick" : "",
+                    c.hash, options.rig.description, c.threads, c.out.string()));
+
+  using Stage = void (*)(detail::Context&);
+  const std::pair<const char*, Stage> stages[] = {
+      {"consistency", detail::stage_consistency},   {"identification", detail::stage_identification},
+      {"link-mode", detail::stage_link_mode},       {"clearance", detail::stage_clearance},
+      {"simulation", detail::stage_simulation},     {"rig-tests", detail::stage_rig_tests},
+  };
+  for (const auto& [name, fn] : stages) {
+    const double t0 = c.elapsed_s();
+    c.begin_stage(name);
+    fn(c);
+    auto& st = c.timing.back();
+    st.seconds = c.elapsed_s() - t0;
+    c.log(fmt::format("stage {} finished in {:.1f} s ({} run(s) executed, {} reused)", name, st.seconds,
+                      st.runs_executed, st.runs_reused));
+  }
+
+  StudyResult result;
+  json doc = io::make_document();
+  doc["results_schema_version"] = kResultsSchemaVersion;
+  doc["study"] = {{"name", protocol.name},
+                  {"title", protocol.title},
+                  {"mode", rig::to_string(protocol.mode)},
+                  {"quick", protocol.quick},
+                  {"protocol_hash", c.hash},
+                  {"seed", protocol.seed},
+                  {"rig", options.rig.description}};
+  doc["protocol"] = to_json(protocol);
+  doc["units"] = {{"time", "s"},
+                  {"command", protocol.command_unit()},
+                  {"motor_angle", "deg"},
+                  {"motor_speed", "deg/s"},
+                  {"link_rate", "deg/s"},
+                  {"link_angle", "deg"},
+                  {"mean_deviation", protocol.measure.md_signal == MdSignal::link_angle_deg ? "deg" : "deg/s"},
+                  {"consistency_error", "dimensionless (Eq. 4.1)"},
+                  {"improvement", "%"},
+                  {"natural_frequency", "rad/s"},
+                  {"contact_stiffness", "N·m/rad^n"},
+                  {"contact_damping", "N·m·s/rad"}};
+  doc["ambiguities"] = detail::ambiguities(protocol);
+  doc["sections"] = c.sections;
+  doc["tables"] = c.tables;
+  doc["figures_index"] = "figures.json";
+  result.results = doc;
+  result.tables_markdown = detail::render_tables_markdown(doc);
+  json figs = io::make_document();
+  figs["study"] = protocol.name;
+  figs["figures"] = c.figures;
+  result.figures = figs;
+  result.timing = c.timing;
+
+  io::write_json(c.out / "results.json", result.results);
+  io::write_text_atomic(c.out / "tables.md", result.tables_markdown);
+  io::write_json(c.out / "figures.json", result.figures);
+  json timing = io::make_document();
+  json stages_json = json::array();
+  double total = 0.0;
+  for (const auto& t : c.timing) {
+    stages_json.push_back({{"stage", t.stage}, {"seconds", t.seconds},
+                           {"runs_executed", t.runs_executed}, {"runs_reused", t.runs_reused}});
+    total += t.seconds;
+  }
+  timing["stages"] = stages_json;
+  timing["total_s"] = total;
+  timing["parallel_runs"] = c.threads;
+  io::write_json(c.out / "timing.json", timing);
+  c.log(fmt::format("done in {:.1f} s: {}, {}, {}", c.elapsed_s(), (c.out / "results.json").string(),
+                    (c.out / "tables.md").string(), (c.out / "figures.json").string()));
+  return result;
+}
+
+}  // namespace clearshape::study

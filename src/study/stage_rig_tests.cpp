@@ -1,0 +1,227 @@
+// Stage 6: rig tests (thesis §5.1.2, §5.2.2, Appendix B): repeated trials of each table column on
+// the rig, Eq. 5.1 per trial, means, improvements (Table 5.1, 5.2, B.1–B.6).
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/metrics/improvement.hpp"
+#include "clearshape/shaping/apply.hpp"
+#include "clearshape/study/measures.hpp"
+#include "context.hpp"
+
+namespace clearshape::study::detail {
+
+namespace {
+
+struct Planned {
+  const RigTable* table;
+  const RigColumn* column;
+  std::optional<shaping::Shaper> shaper;
+  std::string note;
+  std::size_t first = 0;  // index of its first request
+};
+
+std::optional<double> improvement(double without, double with) {
+  if (!(without > 0.0) || !std::isfinite(with)) return std::nullopt;
+  return metrics::improvement_percent(without, with);
+}
+
+json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+
+}  // namespace
+
+void stage_rig_tests(Context& c) {
+  const auto& rt = c.p.rig_tests;
+  if (rt.tables.empty()) return;
+  const std::string md_unit = c.p.measure.md_signal == MdSignal::link_angle_deg ? "deg" : "deg/s";
+  std::vector<Planned> plan;
+  std::vector<RunRequest> requests;
+  for (const auto& table : rt.tables) {
+    const InputSpec& in = c.p.input(table.input);
+    const UniformSeries command = c.command_of(in, c.p.record_s);
+    for (const auto& col : table.columns) {
+      Planned pl{&table, &col, std::nullopt, "", requests.size()};
+      if (col.shaper != "none") {
+        pl.shaper = design_for(c, col.shaper, col.mode_source, pl.note);
+        if (!pl.shaper) pl.note = "identity shaper (runs unshaped): " + pl.note;
+      }
+      const UniformSeries shaped = pl.shaper ? shaping::shape_offline(*pl.shaper, command, false) : command;
+      for (int r = 1; r <= c.p.repetitions; ++r) {
+        RunRequest req;
+        req.id = fmt::format("rig/{}/{}/r{:02d}", table.id, col.key(), r);
+        req.stage = "rig-tests";
+        req.input = table.input;
+        req.column = col.key();
+        req.repetition = r;
+        req.seed = run_seed(c.p.seed, req.id);
+        req.shaper = pl.shaper;
+        req.command = shaped;
+        req.record_s = c.p.record_s;
+        requests.push_back(std::move(req));
+      }
+      plan.push_back(std::move(pl));
+    }
+  }
+  const std::vector<Record> records = c.run_all(requests, "rig-tests");
+
+  std::map<std::string, std::map<std::string, std::vector<double>>> md;  // table → column → MD
+  std::map<std::string, json> table_json;
+  for (const auto& table : rt.tables) {
+    const InputSpec& in = c.p.input(table.input);
+    json t = make_table(table.id, "mean-deviation", table.title, md_unit);
+    json rows = json::array();
+    for (int r = 1; r <= c.p.repetitions; ++r) rows.push_back(std::to_string(r));
+    t["row_labels"] = rows;
+    json cols = json::array();
+    json headline = json::object();
+    double without_mean = std::numeric_limits<double>::quiet_NaN();
+    std::optional<double> thesis_without;
+    // Figure data: trial 1 of every column (command, link rate, MD signal).
+    std::vector<std::string> names{"time_s"};
+    std::vector<std::vector<double>> fig;
+    json fig_series = json::array(), cmd_series = json::array(), annotations = json::object();
+    for (const auto& pl : plan) {
+      if (pl.table != &table) continue;
+      std::vector<double> values;
+      for (int r = 0; r < c.p.repetitions; ++r) {
+        values.push_back(run_mean_deviation(records[pl.first + static_cast<std::size_t>(r)], c.p.measure, in).mean_deviation);
+      }
+      md[table.id][pl.column->key()] = values;
+      const MeanStd ms = mean_std(values);
+      json col;
+      col["key"] = pl.column->key();
+      col["label"] = pl.column->label;
+      col["ours"] = values;
+      col["ours_mean"] = ms.mean;
+      col["ours_std"] = ms.std;
+      col["thesis"] = pl.column->thesis.values;
+      col["thesis_mean"] = opt(pl.column->thesis.mean);
+      if (!pl.note.empty()) col["note"] = pl.note;
+      if (pl.shaper) {
+        json imps = json::array();
+        for (const auto& i : pl.shaper->impulses()) imps.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
+        col["shaper"] = {{"method", pl.shaper->method()}, {"impulses", imps}};
+      }
+      if (pl.column->key() == "none") {
+        without_mean = ms.mean;
+        thesis_without = pl.column->thesis.mean;
+      } else {
+        const auto ours = improvement(without_mean, ms.mean);
+        std::optional<double> thesis;
+        if (thesis_without && pl.column->thesis.mean) thesis = improvement(*thesis_without, *pl.column->thesis.mean);
+        col["improvement_percent"] = opt(ours);
+        col["thesis_improvement_percent"] = opt(thesis);
+        headline[pl.column->key()] = {{"ours_mean", ms.mean}, {"thesis_mean", opt(pl.column->thesis.mean)},
+                                      {"improvement_percent", opt(ours)}, {"thesis_improvement_percent", opt(thesis)}};
+      }
+      if (pl.column->key() == "none") {
+        headline["none"] = {{"ours_mean", ms.mean}, {"thesis_mean", opt(pl.column->thesis.mean)}};
+      }
+      cols.push_back(col);
+
+      const Record& first = records[pl.first];
+      if (fig.empty()) fig.push_back(first.time_s);
+      const UniformSeries s = md_series(first, c.p.measure);
+      names.push_back(fmt::format("command_{}", pl.column->key()));
+      fig.push_back(first.command);
+      cmd_series.push_back({{"column", names.back()}, {"label", pl.column->label}});
+      names.push_back(fmt::format("link_rate_deg_s_{}", pl.column->key()));
+      fig.push_back(first.link_rate_deg_s);
+      names.push_back(fmt::format("md_signal_{}", pl.column->key()));
+      fig.push_back(s.values);
+      fig_series.push_back({{"column", names.back()}, {"label", pl.column->label}});
+      const auto mdr = run_mean_deviation(first, c.p.measure, in);
+      annotations[pl.column->key()] = {{"steady_mean", mdr.steady_mean}, {"start_time_s", mdr.start_time_s},
+                                       {"mean_deviation", mdr.mean_deviation}};
+    }
+    t["columns"] = cols;
+    t["headline"] = headline;
+    t["note"] = fmt::format("Eq. 5.1 on the {} ({}), steady state from the first crossing of its mean after "
+                            "the last move starts ({} s). Trials on the simulated rig; shaped columns are "
+                            "predictions, not fitted.",
+                            c.p.measure.md_signal == MdSignal::link_angle_deg ? "link angle (gyro integrated)"
+                                                                              : "link rate (gyro)",
+                            md_unit, in.last_move_start_s);
+    table_json[table.id] = t;
+    c.tables.push_back(t);
+
+    std::vector<const std::vector<double>*> data;
+    for (const auto& v : fig) data.push_back(&v);
+    const std::string file = fmt::format("rig_{}.csv", table.id);
+    write_data_csv(c, file, names, data);
+    const bool speed = c.p.mode == rig::CommandMode::speed;
+    const std::string type(in.signal.type());
+    c.figures.push_back({{"id", fmt::format("rig-{}", table.id)},
+                         {"thesis_figure", speed ? "5.8" : (type == "double-step" ? "5.20" : "5.19")},
+                         {"kind", "time-series"},
+                         {"title", fmt::format("Rig trial 1, {}: {} ({})", in.label,
+                                               speed ? "link rate" : "link angle", md_unit)},
+                         {"file", c.data_file(file)},
+                         {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
+                         {"y_label", speed ? "link rate (deg/s)" : "link angle (deg)"},
+                         {"series", fig_series},
+                         {"mean_deviation", annotations}});
+    c.figures.push_back({{"id", fmt::format("rig-inputs-{}", table.id)},
+                         {"thesis_figure", speed ? "5.3" : "5.18"},
+                         {"kind", "time-series"},
+                         {"title", fmt::format("Unshaped and shaped commands, {}", in.label)},
+                         {"file", c.data_file(file)},
+                         {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
+                         {"y_label", fmt::format("command ({})", c.p.command_unit())},
+                         {"series", cmd_series}});
+    if (&table == &rt.tables.front()) {
+      const auto& a = annotations["none"];
+      c.figures.push_back({{"id", "mean-deviation-illustration"},
+                           {"thesis_figure", "5.9"},
+                           {"kind", "mean-deviation"},
+                           {"title", fmt::format("Eq. 5.1 on trial 1 of the {} without shaping: steady-state mean M "
+                                                 "and its first crossing", in.label)},
+                           {"file", c.data_file(file)},
+                           {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
+                           {"y_label", fmt::format("{} ({})", speed ? "link rate" : "link angle", md_unit)},
+                           {"series", {{{"column", "md_signal_none"}, {"label", "response"}}}},
+                           {"steady_mean", a.at("steady_mean")},
+                           {"start_time_s", a.at("start_time_s")}});
+    }
+  }
+
+  for (const auto& s : rt.summaries) {
+    if (s.kind == "combine") {
+      json t = make_table(s.id, "mean-deviation", s.title, md_unit);
+      t["row_labels"] = table_json.at(s.tables.front())["row_labels"];
+      json cols = json::array();
+      for (const auto& id : s.tables) {
+        for (auto col : table_json.at(id)["columns"]) {
+          col["key"] = fmt::format("{}:{}", id, col["key"].get<std::string>());
+          col["label"] = fmt::format("{} — {}", c.p.input(c.p.table(id).input).label, col["label"].get<std::string>());
+          cols.push_back(col);
+        }
+      }
+      t["columns"] = cols;
+      t["note"] = fmt::format("The same trials as Tables {} (the thesis prints them twice).", fmt::format("{}", s.tables.front()) +
+                                                                                                   (s.tables.size() > 1 ? " and " + s.tables.back() : ""));
+      c.tables.push_back(t);
+    } else {
+      json t = make_table(s.id, "improvement", s.title, "%");
+      json rows = json::array();
+      std::vector<json> ours, thesis;
+      for (std::size_t i = 0; i < s.tables.size(); ++i) {
+        const auto& id = s.tables[i];
+        rows.push_back(c.p.input(c.p.table(id).input).label);
+        const MeanStd w = mean_std(md[id]["none"]);
+        const MeanStd v = mean_std(md[id][s.column]);
+        ours.push_back(opt(improvement(w.mean, v.mean)));
+        thesis.push_back(i < s.thesis.size() ? json(s.thesis[i]) : json(nullptr));
+      }
+      t["row_labels"] = rows;
+      t["columns"] = {{{"key", "improvement"}, {"label", fmt::format("improvement ({})", s.column)},
+                       {"ours", ours}, {"thesis", thesis}}};
+      t["headline"] = {{"ours", ours}, {"thesis", thesis}};
+      t["note"] = "improvement = (without − with)/without · 100 (Appendix B), from the mean MDs.";
+      c.tables.push_back(t);
+    }
+  }
+}
+
+}  // namespace clearshape::study::detail

@@ -1,0 +1,259 @@
+// Stage 5: simulated tests (thesis §5.1.1, §5.2.1): every input on the study's calibrated model,
+// unshaped and with each shaper designed from each mode source; Eq. 5.1, the delay each shaper
+// adds, and the shapers' sensitivity curves.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/metrics/residual.hpp"
+#include "clearshape/shaping/apply.hpp"
+#include "clearshape/shaping/design.hpp"
+#include "clearshape/shaping/residual.hpp"
+#include "clearshape/study/measures.hpp"
+#include "context.hpp"
+
+namespace clearshape::study::detail {
+
+std::optional<shaping::Shaper> design_for(const Context& c, const std::string& method,
+                                          const std::string& mode_source, std::string& reason) {
+  const ModeResult& m = mode_source == "drive-model" ? c.drive_mode : c.link_mode;
+  if (!m.available) {
+    reason = m.note.empty() ? fmt::format("no {} mode", mode_source) : m.note;
+    return std::nullopt;
+  }
+  try {
+    shaping::DesignRequest request;
+    request.method = shaping::method_from_string(method);
+    request.mode = m.mode;
+    return shaping::design(request);
+  } catch (const std::exception& e) {
+    reason = e.what();
+    return std::nullopt;
+  }
+}
+
+namespace {
+
+std::string figure_for(const Context& c, const InputSpec& in) {
+  const std::string type(in.signal.type());
+  if (c.p.mode == rig::CommandMode::speed) {
+    return type == "step" ? "5.4" : type == "ramp" ? "5.5" : type == "sine" ? "5.6" : type == "prbs" ? "5.7" : "";
+  }
+  if (type == "step") return "5.12";
+  if (type == "ramp") return "5.13";
+  if (type == "stacked-steps") return "5.14";
+  if (type == "double-step") return "5.15";
+  if (type == "parabolic") return "5.16";
+  if (type == "trapezoid") return "5.17";
+  return "";
+}
+
+std::vector<double> md_values(const Context& c, const ModelResponse& r) {
+  return c.p.measure.md_signal == MdSignal::link_angle_deg ? r.link_angle_deg : r.link_rate_deg_s;
+}
+
+}  // namespace
+
+void stage_simulation(Context& c) {
+  const auto& sim = c.p.simulation;
+  if (sim.inputs.empty() || !c.model) {
+    c.log("simulation: skipped (no inputs or no calibrated model)");
+    return;
+  }
+  const bool position = c.p.mode == rig::CommandMode::position;
+  const std::string md_unit = c.p.measure.md_signal == MdSignal::link_angle_deg ? "deg" : "deg/s";
+  const std::string md_name = c.p.measure.md_signal == MdSignal::link_angle_deg ? "link_angle_deg" : "link_rate_deg_s";
+  const std::string u = position ? "deg" : "v";
+
+  // Column keys: none, then shaper@source for every source and shaper.
+  struct Col {
+    std::string key, label;
+    std::optional<shaping::Shaper> shaper;
+    std::string reason;
+  };
+  std::vector<Col> cols{{"none", "unshaped", std::nullopt, ""}};
+  for (const auto& src : sim.mode_sources) {
+    for (const auto& method : sim.shapers) {
+      Col col;
+      col.key = fmt::format("{}@{}", method, src);
+      col.label = fmt::format("{} ({})", method, src);
+      col.shaper = design_for(c, method, src, col.reason);
+      cols.push_back(std::move(col));
+    }
+  }
+
+  std::vector<std::vector<double>> md(cols.size()), delay(cols.size());
+  std::vector<std::vector<double>> unshaped_motor, unshaped_link;
+  std::vector<double> unshaped_time;
+  for (const auto& name : sim.inputs) {
+    const InputSpec& in = c.p.input(name);
+    const UniformSeries command = c.command_of(in, sim.record_s);
+    std::vector<std::string> names{"time_s", fmt::format("command_{}", u)};
+    std::vector<std::vector<double>> columns;
+    ModelResponse base;
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      const Col& col = cols[j];
+      if (j > 0 && !col.shaper) {
+        md[j].push_back(std::numeric_limits<double>::quiet_NaN());
+        delay[j].push_back(std::numeric_limits<double>::quiet_NaN());
+        continue;
+      }
+      const UniformSeries shaped = j == 0 ? command : shaping::shape_offline(*col.shaper, command, false);
+      const ModelResponse r = simulate_command(*c.model, shaped, sim.record_s);
+      UniformSeries s;
+      s.sample_time_s = r.sample_time_s;
+      s.values = md_values(c, r);
+      md[j].push_back(series_mean_deviation(s, c.p.measure, in.last_move_start_s).mean_deviation);
+      if (j == 0) {
+        base = r;
+        delay[j].push_back(0.0);
+        columns.push_back(r.time_s);
+        columns.push_back(command.values);
+        columns.back().resize(r.time_s.size(), command.values.back());
+        unshaped_time = r.time_s;
+        unshaped_motor.push_back(position ? r.motor_angle_deg : r.motor_rate_deg_s);
+        unshaped_link.push_back(r.link_rate_deg_s);
+      } else {
+        UniformSeries a, b;
+        a.sample_time_s = b.sample_time_s = r.sample_time_s;
+        a.values = md_values(c, base);
+        b.values = s.values;
+        const double d = metrics::shaping_delay_s(a, b, 0.5, 0.0);
+        delay[j].push_back(d);
+        std::vector<double> sc = shaped.values;
+        sc.resize(r.time_s.size(), shaped.values.back());
+        names.push_back(fmt::format("command_{}_{}", u, col.key));
+        columns.push_back(std::move(sc));
+      }
+      names.push_back(fmt::format("{}_{}", md_name, col.key));
+      columns.push_back(s.values);
+    }
+    std::vector<const std::vector<double>*> data;
+    for (const auto& v : columns) data.push_back(&v);
+    const std::string file = fmt::format("simulation_{}.csv", name);
+    write_data_csv(c, file, names, data);
+    // The thesis's figure per input: unshaped and the shapers it used (ZV/ZVD/ZVDD from the drive
+    // model in speed mode; ZVDD in position mode, here from the link mode).
+    json series = json::array();
+    series.push_back({{"column", fmt::format("{}_none", md_name)}, {"label", "unshaped"}});
+    for (std::size_t j = 1; j < cols.size(); ++j) {
+      if (!cols[j].shaper) continue;
+      const bool thesis_like = position ? cols[j].key == "zvdd@link-mode"
+                                        : (cols[j].key == "zv@drive-model" || cols[j].key == "zvd@drive-model" ||
+                                           cols[j].key == "zvdd@drive-model");
+      if (thesis_like) series.push_back({{"column", fmt::format("{}_{}", md_name, cols[j].key)}, {"label", cols[j].label}});
+    }
+    c.figures.push_back({{"id", fmt::format("simulation-{}", name)},
+                         {"thesis_figure", figure_for(c, in)},
+                         {"kind", "time-series"},
+                         {"title", fmt::format("Simulation with clearance, {}: unshaped and shaped", in.label)},
+                         {"file", c.data_file(file)},
+                         {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
+                         {"y_label", position ? "link angle (deg)" : "link rate (deg/s)"},
+                         {"series", series},
+                         {"all_columns_prefix", md_name + "_"}});
+  }
+
+  // Figures 5.1/5.2 (speed) and 5.10/5.11 (position): every input unshaped, encoder and gyro.
+  {
+    std::vector<std::string> names{"time_s"};
+    std::vector<const std::vector<double>*> data{&unshaped_time};
+    json motor_series = json::array(), link_series = json::array();
+    for (std::size_t i = 0; i < sim.inputs.size(); ++i) {
+      unshaped_motor[i].resize(unshaped_time.size());
+      unshaped_link[i].resize(unshaped_time.size());
+      names.push_back(fmt::format("motor_{}_{}", position ? "angle_deg" : "speed_deg_s", sim.inputs[i]));
+      data.push_back(&unshaped_motor[i]);
+      motor_series.push_back({{"column", names.back()}, {"label", c.p.input(sim.inputs[i]).label}});
+    }
+    for (std::size_t i = 0; i < sim.inputs.size(); ++i) {
+      names.push_back(fmt::format("link_rate_deg_s_{}", sim.inputs[i]));
+      data.push_back(&unshaped_link[i]);
+      link_series.push_back({{"column", names.back()}, {"label", c.p.input(sim.inputs[i]).label}});
+    }
+    write_data_csv(c, "simulation_unshaped.csv", names, data);
+    c.figures.push_back({{"id", "simulation-unshaped-encoder"},
+                         {"thesis_figure", position ? "5.10" : "5.1"},
+                         {"kind", "time-series"},
+                         {"title", "Simulation with clearance, unshaped inputs, motor (encoder)"},
+                         {"file", c.data_file("simulation_unshaped.csv")},
+                         {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
+                         {"y_label", position ? "motor angle (deg)" : "motor speed (deg/s)"},
+                         {"series", motor_series}});
+    c.figures.push_back({{"id", "simulation-unshaped-gyro"},
+                         {"thesis_figure", position ? "5.11" : "5.2"},
+                         {"kind", "time-series"},
+                         {"title", "Simulation with clearance, unshaped inputs, link (gyroscope)"},
+                         {"file", c.data_file("simulation_unshaped.csv")},
+                         {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
+                         {"y_label", "link rate (deg/s)"},
+                         {"series", link_series}});
+  }
+
+  json table = make_table(position ? "5.2-simulation" : "5.1-simulation", "mean-deviation",
+                          "Simulated tests on the calibrated model: Eq. 5.1 per input, unshaped and shaped", md_unit);
+  json rows = json::array();
+  for (const auto& name : sim.inputs) rows.push_back(c.p.input(name).label);
+  table["row_labels"] = rows;
+  json tcols = json::array();
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    json col = {{"key", cols[j].key}, {"label", cols[j].label}, {"ours", md[j]}, {"delay_s", delay[j]}};
+    if (!cols[j].shaper && j > 0) col["note"] = cols[j].reason;
+    if (cols[j].shaper) col["shaper_duration_s"] = cols[j].shaper->duration_s();
+    tcols.push_back(col);
+  }
+  table["columns"] = tcols;
+  table["note"] = "Model predictions (no sensor noise). The thesis shows these tests as figures only "
+                  "(Fig. 5.4–5.7, 5.12–5.17); the delay is the extra time to reach half of the final "
+                  "value of the unshaped response.";
+  c.tables.push_back(table);
+
+  // Shaper sensitivity curves V(ω/ωm) (Eq. 2.19) of every designed shaper.
+  std::vector<std::string> names{"frequency_ratio"};
+  std::vector<std::vector<double>> curves;
+  json series = json::array();
+  const std::size_t points = 251;
+  std::vector<double> ratio(points);
+  for (std::size_t k = 0; k < points; ++k) ratio[k] = 2.5 * static_cast<double>(k) / static_cast<double>(points - 1);
+  for (std::size_t j = 1; j < cols.size(); ++j) {
+    if (!cols[j].shaper) continue;
+    const std::string src = cols[j].key.substr(cols[j].key.find('@') + 1);
+    const shaping::Mode mode = src == "drive-model" ? c.drive_mode.mode : c.link_mode.mode;
+    const auto curve = shaping::sensitivity_curve(*cols[j].shaper, mode, 0.0, 2.5, points);
+    std::vector<double> v(points);
+    for (std::size_t k = 0; k < points; ++k) v[k] = curve[k].residual;
+    curves.push_back(std::move(v));
+    names.push_back(fmt::format("residual_{}", cols[j].key));
+    series.push_back({{"column", names.back()}, {"label", cols[j].label}});
+  }
+  if (!curves.empty()) {
+    std::vector<const std::vector<double>*> data{&ratio};
+    for (const auto& v : curves) data.push_back(&v);
+    write_data_csv(c, "sensitivity.csv", names, data);
+    c.figures.push_back({{"id", "shaper-sensitivity"},
+                         {"thesis_figure", nullptr},
+                         {"kind", "sensitivity"},
+                         {"title", "Shaper sensitivity: residual vibration V vs frequency ratio ω/ωm (Eq. 2.19)"},
+                         {"file", c.data_file("sensitivity.csv")},
+                         {"x", {{"column", "frequency_ratio"}, {"label", "ω / ωm"}}},
+                         {"y_label", "residual vibration V"},
+                         {"series", series}});
+  }
+  json designs = json::array();
+  for (std::size_t j = 1; j < cols.size(); ++j) {
+    json d = {{"key", cols[j].key}};
+    if (cols[j].shaper) {
+      json imps = json::array();
+      for (const auto& i : cols[j].shaper->impulses()) imps.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
+      d["impulses"] = imps;
+      d["duration_s"] = cols[j].shaper->duration_s();
+    } else {
+      d["unavailable"] = cols[j].reason;
+    }
+    designs.push_back(d);
+  }
+  c.sections["shapers"] = designs;
+}
+
+}  // namespace clearshape::study::detail
