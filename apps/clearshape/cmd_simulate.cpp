@@ -1,0 +1,490 @@
+// clearshape simulate: one run of the simulated rig (drive + link with clearance + sensors)
+// under a command signal, optionally input-shaped — the thesis's simulation tests (§5.1.1,
+// §5.2.1) with the rig's truth chosen explicitly (rig/truth.hpp; flags and a TOML file).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/io/json.hpp"
+#include "clearshape/io/table.hpp"
+#include "clearshape/metrics/mean_deviation.hpp"
+#include "clearshape/rig/offline.hpp"
+#include "clearshape/shaping/apply.hpp"
+#include "clearshape/shaping/design.hpp"
+#include "clearshape/signal/parameters.hpp"
+#include "clearshape/signal/signal.hpp"
+#include "command.hpp"
+#include "rig_config.hpp"
+
+namespace cs = clearshape;
+namespace sig = clearshape::signal;
+namespace rig = clearshape::rig;
+
+namespace {
+
+struct NumberOption {
+  const char* names;
+  const char* key;  // parameter name of clearshape/signal/parameters.hpp
+  const char* help;
+};
+
+// The same signal options as `clearshape signal` (command units: deg in position mode, V in
+// speed mode).
+constexpr NumberOption kSignalOptions[] = {
+    {"--amplitude", "amplitude", "Step/sine/trapezoid amplitude; PRBS half swing (deg or V)"},
+    {"--start-s", "start_s", "Start time (s)"},
+    {"--rise-s", "rise_s", "Rise time of a step, double step, staircase or trapezoid (s); 0 = ideal"},
+    {"--slope-per-s", "slope_per_s", "Ramp slope (deg/s or V/s)"},
+    {"--limit", "limit", "Ramp saturation level"},
+    {"--frequency-hz", "frequency_hz", "Sine frequency (Hz)"},
+    {"--phase-deg", "phase_rad", "Sine phase (deg)"},
+    {"--offset", "offset", "Sine or PRBS offset"},
+    {"--order", "order", "PRBS register length n in [2, 31]"},
+    {"--bit-period-s", "bit_period_s", "PRBS bit period (s)"},
+    {"--seed", "seed", "PRBS initial register state in [1, 2^n - 1]"},
+    {"--second-amplitude", "second_amplitude", "Double step: second step (signed)"},
+    {"--second-start-s", "second_start_s", "Double step: start of the second step (s)"},
+    {"--dwell-s", "dwell_s", "Stacked steps: time on each level (s)"},
+    {"--acceleration-per-s2", "acceleration_per_s2", "Parabolic: acceleration (per s^2)"},
+    {"--hold-s", "hold_s", "Trapezoid: time at the amplitude (s)"},
+    {"--fall-s", "fall_s", "Trapezoid: fall time (s)"},
+};
+
+struct State {
+  std::string mode = "position";
+  std::string type = "step";
+  double numbers[std::size(kSignalOptions)] = {};
+  CLI::Option* number_options[std::size(kSignalOptions)] = {};
+  std::string rise_shape;
+  CLI::Option* rise_shape_option = nullptr;
+  std::string levels;
+  CLI::Option* levels_option = nullptr;
+  bool repeat = false;
+  CLI::Option* repeat_option = nullptr;
+
+  std::string shaper;
+  double shaper_frequency_hz = 0.0;
+  double shaper_zeta = 0.0;
+  CLI::Option* shaper_frequency_option = nullptr;
+  CLI::Option* shaper_zeta_option = nullptr;
+
+  double clearance_deg = 0.0;
+  CLI::Option* clearance_option = nullptr;
+  std::string contact;
+  double restitution = 0.0;
+  CLI::Option* restitution_option = nullptr;
+  std::string config;
+  double duration_s = 0.0;
+  CLI::Option* duration_option = nullptr;
+  double rate_hz = 0.0;
+  CLI::Option* rate_option = nullptr;
+  double initial_play = 0.0;
+  CLI::Option* initial_play_option = nullptr;
+  std::uint64_t noise_seed = 0;
+  CLI::Option* noise_seed_option = nullptr;
+  bool no_noise = false;
+  std::string output;
+  bool json = false;
+};
+
+std::vector<double> parse_levels(const std::string& text) {
+  std::vector<double> levels;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', pos), text.size());
+    const std::string item = text.substr(pos, comma - pos);
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size()) {
+      throw cs::InvalidArgument(fmt::format(
+          "--levels = '{}': item '{}' is not a number; allowed: comma-separated numbers", text, item));
+    }
+    levels.push_back(value);
+    pos = comma + 1;
+  }
+  return levels;
+}
+
+sig::Signal build_signal(const State& st) {
+  const auto names = sig::parameter_names(st.type);
+  const auto takes = [&](std::string_view key) {
+    return std::find(names.begin(), names.end(), key) != names.end();
+  };
+  const auto reject = [&](std::string_view option) {
+    throw cs::InvalidArgument(fmt::format("{} does not apply to --signal {}", option, st.type));
+  };
+  sig::SignalParameters p;
+  for (std::size_t i = 0; i < std::size(kSignalOptions); ++i) {
+    if (st.number_options[i]->count() == 0) continue;
+    const auto& o = kSignalOptions[i];
+    if (!takes(o.key)) reject(o.names);
+    p[o.key] = std::string_view(o.key) == "phase_rad" ? cs::deg_to_rad(st.numbers[i]) : st.numbers[i];
+  }
+  if (st.rise_shape_option->count() > 0) {
+    if (!takes("rise_shape")) reject("--rise-shape");
+    p["rise_shape"] = st.rise_shape;
+  }
+  if (st.levels_option->count() > 0) {
+    if (!takes("levels")) reject("--levels");
+    p["levels"] = parse_levels(st.levels);
+  }
+  if (st.repeat_option->count() > 0) {
+    if (!takes("repeat")) reject("--repeat");
+    p["repeat"] = st.repeat;
+  }
+  return sig::make_signal(st.type, p);
+}
+
+std::filesystem::path sidecar_path(const std::string& output) {
+  std::filesystem::path p(output);
+  p.replace_extension(".json");
+  return p;
+}
+
+nlohmann::ordered_json contact_json(const rig::ContactSpec& c) {
+  nlohmann::ordered_json j = {{"model", std::string(rig::to_string(c.model))}};
+  switch (c.model) {
+    case rig::ContactModel::thesis:
+      j["stiffness_n_m_per_rad_pow_n"] = c.stiffness;
+      j["exponent"] = c.exponent;
+      j["damping_n_m_s_per_rad"] = c.damping;
+      j["damping_policy"] = "clamped";
+      break;
+    case rig::ContactModel::kelvin_voigt:
+      j["stiffness_n_m_per_rad"] = c.stiffness;
+      j["restitution"] = c.restitution;
+      break;
+    case rig::ContactModel::impulse:
+      j["restitution"] = c.restitution;
+      j["static_rate_rad_s"] = c.static_rate_rad_s;
+      break;
+    default:
+      j["stiffness_n_m_per_rad_pow_n"] = c.stiffness;
+      j["exponent"] = c.exponent;
+      j["restitution"] = c.restitution;
+  }
+  return j;
+}
+
+nlohmann::ordered_json truth_json(const rig::RigTruth& t, rig::CommandMode mode) {
+  const auto& drive = t.drive(mode);
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (Eigen::Index i = 0; i < drive.a().rows(); ++i) {
+    nlohmann::ordered_json row = nlohmann::ordered_json::array();
+    for (Eigen::Index j = 0; j < drive.a().cols(); ++j) row.push_back(drive.a()(i, j));
+    a.push_back(row);
+  }
+  return {
+      {"drive", {{"mode", std::string(rig::to_string(mode))},
+                 {"dc_gain", cs::rad_to_deg(drive.dc_gain())},
+                 {"dc_gain_unit", mode == rig::CommandMode::position ? "deg/deg" : "(deg/s)/V"},
+                 {"delay_s", drive.delay_s()},
+                 {"order", drive.order()},
+                 {"a_matrix_cascade_realization", a}}},
+      {"clearance_deg", cs::rad_to_deg(t.clearance_rad)},
+      {"contact", contact_json(t.contact(mode))},
+      {"link", {{"inertia_kg_m2", t.link.inertia_kg_m2},
+                {"mass_kg", t.link.mass_kg},
+                {"com_distance_m", t.link.com_distance_m},
+                {"axis_tilt_deg", cs::rad_to_deg(t.link.axis_tilt_rad)},
+                {"ground_viscous_n_m_s_per_rad", t.link.ground_viscous_n_m_s_per_rad}}},
+      {"joint_friction", {{"viscous_n_m_s_per_rad", t.joint_friction.viscous},
+                          {"coulomb_n_m", t.joint_friction.coulomb}}},
+      {"encoder", {{"lines_per_revolution", t.encoder.lines_per_revolution},
+                   {"decoding", static_cast<int>(t.encoder.decoding)}}},
+      {"gyroscope", {{"sensitivity_lsb_per_dps", t.gyro.sensitivity_lsb_per_dps},
+                     {"full_scale_dps", t.gyro.full_scale_dps},
+                     {"noise_density_dps_per_rthz", t.gyro.noise_density_dps_per_rthz},
+                     {"bias_dps", t.gyro.bias_dps},
+                     {"low_pass_hz", cs::plant::bandwidth_hz(t.gyro.low_pass)},
+                     {"latency_samples", t.gyro.latency_samples}}},
+      {"position_path", {{"update_rate_hz", t.pulse_train.update_rate_hz},
+                         {"counts_per_rev", t.pulse_train.counts_per_rev},
+                         {"gear_ratio", t.pulse_train.gear_ratio},
+                         {"max_pulse_frequency_hz", t.pulse_train.max_pulse_frequency_hz}}},
+      {"speed_path", {{"volts_per_unit", t.analog_output.volts_per_unit},
+                      {"resolution_bits", t.analog_output.resolution_bits},
+                      {"full_scale_v", t.analog_output.full_scale_v}}},
+      {"solver", {{"integrator", t.solver.integrator == cs::plant::Integrator::bdf ? "bdf" : "adams"},
+                  {"relative_tolerance", t.solver.relative_tolerance},
+                  {"angle_tolerance_rad", t.solver.angle_tolerance_rad},
+                  {"rate_tolerance_rad_s", t.solver.rate_tolerance_rad_s}}},
+  };
+}
+
+nlohmann::ordered_json md_json(const cs::metrics::MeanDeviationResult& r) {
+  return {{"mean_deviation", r.mean_deviation},
+          {"steady_mean", r.steady_mean},
+          {"start_s", r.start_time_s},
+          {"samples", r.samples},
+          {"converged", r.converged}};
+}
+
+void run(const State& st) {
+  const rig::CommandMode mode = rig::command_mode_from_string(st.mode);
+  const bool position = mode == rig::CommandMode::position;
+
+  // Truth: built-in thesis rig < config file < flags.
+  cs::cli::RigConfig config = st.config.empty() ? cs::cli::RigConfig{} : cs::cli::load_rig_config(st.config);
+  rig::RigTruth truth = config.truth;
+  rig::RunOptions options = config.run;
+  if (st.duration_option->count() > 0) options.duration_s = st.duration_s;
+  if (st.rate_option->count() > 0) options.output_rate_hz = st.rate_hz;
+  if (st.initial_play_option->count() > 0) options.initial_play_fraction = st.initial_play;
+  if (st.noise_seed_option->count() > 0) options.seed = st.noise_seed;
+  if (st.no_noise) options.sensor_noise = false;
+  if (st.clearance_option->count() > 0) {
+    cs::require_non_negative("--clearance-deg", st.clearance_deg, "0 means a rigid joint");
+    truth.clearance_rad = cs::deg_to_rad(st.clearance_deg);
+  }
+  const rig::ContactModel model = !st.contact.empty()
+                                      ? rig::contact_model_from_string(st.contact)
+                                      : config.contact_model.value_or(rig::ContactModel::thesis);
+  rig::ContactSpec contact = cs::cli::resolve_contact(config, model, mode);
+  if (st.restitution_option->count() > 0) {
+    if (model == rig::ContactModel::thesis) {
+      throw cs::InvalidArgument("--restitution does not apply to --contact thesis (it has K and D); "
+                                "choose kelvin-voigt, hunt-crossley, lankarani-nikravesh, flores or impulse");
+    }
+    contact.restitution = st.restitution;
+  }
+  (position ? truth.position_contact : truth.speed_contact) = contact;
+  options.validate();
+  if (options.output_rate_hz * options.duration_s > 1e7) {
+    cs::throw_invalid("--rate x --duration", options.output_rate_hz * options.duration_s,
+                      "<= 1e7 samples", "Lower the rate or shorten the duration");
+  }
+
+  // Command: signal (deg or V) → optional shaper → rig units (rad or V).
+  const sig::Signal signal = build_signal(st);
+  cs::UniformSeries command = sig::sample(signal, options.output_rate_hz, options.duration_s);
+  std::optional<cs::shaping::Shaper> shaper;
+  if (!st.shaper.empty()) {
+    if (st.shaper_frequency_option->count() == 0 || st.shaper_zeta_option->count() == 0) {
+      throw cs::InvalidArgument("--shaper needs --shaper-frequency-hz and --shaper-zeta (the mode to cancel)");
+    }
+    cs::require_positive("--shaper-frequency-hz", st.shaper_frequency_hz);
+    cs::shaping::DesignRequest request;
+    request.method = cs::shaping::method_from_string(st.shaper);
+    request.mode = cs::shaping::Mode::from_hz(st.shaper_frequency_hz, st.shaper_zeta);
+    shaper = cs::shaping::design(request);
+    command = cs::shaping::shape_offline(*shaper, command, false);
+  } else if (st.shaper_frequency_option->count() > 0 || st.shaper_zeta_option->count() > 0) {
+    throw cs::InvalidArgument("--shaper-frequency-hz and --shaper-zeta need --shaper METHOD");
+  }
+  cs::UniformSeries rig_command = command;
+  if (position) {
+    for (double& v : rig_command.values) v = cs::deg_to_rad(v);
+  }
+
+  const auto begin = std::chrono::steady_clock::now();
+  const rig::RunRecord run = rig::simulate_run(truth, mode, rig_command, options);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+
+  const auto& s = run.simulation;
+  const std::size_t n = s.size();
+  const auto deg = [](const std::vector<double>& v) {
+    std::vector<double> out(v.size());
+    std::transform(v.begin(), v.end(), out.begin(), [](double x) { return cs::rad_to_deg(x); });
+    return out;
+  };
+  std::vector<double> requested(command.values.begin(), command.values.end());
+  requested.resize(n, requested.empty() ? 0.0 : requested.back());
+  const std::vector<double> motor_deg = deg(s.motor_angle_rad), motor_deg_s = deg(s.motor_rate_rad_s),
+                            link_deg = deg(s.link_angle_rad), link_deg_s = deg(s.link_rate_rad_s),
+                            penetration_deg = deg(s.penetration), encoder_deg = deg(run.encoder_angle_rad),
+                            gyro_deg_s = deg(run.gyro_rate_rad_s);
+  const std::string unit = position ? "deg" : "v";
+  const std::vector<std::string> names = {
+      "time_s", "command_" + unit, "drive_command_" + unit, "motor_deg", "motor_deg_s", "link_deg",
+      "link_deg_s", "contact_torque_n_m", "penetration_deg", "encoder_deg", "gyro_deg_s"};
+  const std::vector<const std::vector<double>*> columns = {
+      &s.time_s, &requested, &run.command_drive, &motor_deg, &motor_deg_s, &link_deg, &link_deg_s,
+      &s.contact_torque_n_m, &penetration_deg, &encoder_deg, &gyro_deg_s};
+
+  // Summary.
+  const double ts = 1.0 / options.output_rate_hz;
+  const auto series = [&](const std::vector<double>& v) { return cs::UniformSeries{0.0, ts, v}; };
+  const auto md_link_rate = cs::metrics::mean_deviation(series(link_deg_s));
+  const auto md_gyro = cs::metrics::mean_deviation(series(gyro_deg_s));
+  const auto md_link_angle = cs::metrics::mean_deviation(series(link_deg));
+  double peak_torque = 0.0;
+  double max_penetration_deg = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    peak_torque = std::max(peak_torque, std::abs(s.contact_torque_n_m[k]));
+    max_penetration_deg = std::max(max_penetration_deg, penetration_deg[k]);
+  }
+  auto summary = nlohmann::ordered_json{
+      {"samples", n},
+      {"duration_s", s.time_s.empty() ? 0.0 : s.time_s.back()},
+      {"events", s.stats.events},
+      {"mean_deviation_eq_5_1", {{"link_rate_deg_s", md_json(md_link_rate)},
+                                 {"gyro_deg_s", md_json(md_gyro)},
+                                 {"link_angle_deg", md_json(md_link_angle)}}},
+      {"peak_contact_torque_n_m", peak_torque},
+      {"max_penetration_deg", max_penetration_deg},
+      {"limited_commands", run.limited_commands},
+      {"rigid", run.rigid},
+      {"wall_time_s", wall_s},
+      {"real_time_factor", wall_s > 0.0 ? (s.time_s.empty() ? 0.0 : s.time_s.back()) / wall_s : 0.0},
+      {"solver", {{"steps", s.stats.steps},
+                  {"rhs_evaluations", s.stats.rhs_evaluations},
+                  {"jacobian_evaluations", s.stats.jacobian_evaluations},
+                  {"restarts", s.stats.restarts},
+                  {"command_stops", s.stats.command_stops}}}};
+
+  nlohmann::ordered_json signal_json = nlohmann::ordered_json::object();
+  for (const auto& [key, value] : sig::parameters_of(signal)) {
+    signal_json[key] = std::visit([](const auto& x) { return nlohmann::ordered_json(x); }, value);
+  }
+  nlohmann::ordered_json shaper_json = nullptr;
+  if (shaper) {
+    nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
+    for (const auto& i : shaper->impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
+    shaper_json = {{"method", shaper->method()},
+                   {"frequency_hz", st.shaper_frequency_hz},
+                   {"damping_ratio", st.shaper_zeta},
+                   {"duration_s", shaper->duration_s()},
+                   {"impulses", impulses}};
+  }
+
+  if (!st.output.empty()) {
+    cs::io::write_csv(st.output, names, columns);
+    auto doc = cs::io::make_document();
+    doc["command"] = "simulate";
+    doc["csv"] = st.output;
+    doc["columns"] = names;
+    doc["units"] = {{"command", position ? "deg (motor-angle target)" : "V (driver speed input)"},
+                    {"drive_command", position ? "deg (after the 30 Hz pulse train)" : "V (after the 12-bit D/A)"},
+                    {"angles", "deg"},
+                    {"rates", "deg/s"},
+                    {"contact_torque", "N·m (on the link)"},
+                    {"penetration", "deg (< 0 inside the play)"}};
+    doc["configuration"] = {{"mode", st.mode},
+                            {"signal", {{"type", st.type}, {"parameters", signal_json}}},
+                            {"shaper", shaper_json},
+                            {"config_file", st.config.empty() ? nlohmann::ordered_json(nullptr)
+                                                              : nlohmann::ordered_json(st.config)},
+                            {"duration_s", options.duration_s},
+                            {"output_rate_hz", options.output_rate_hz},
+                            {"initial_play_fraction", options.initial_play_fraction},
+                            {"noise_seed", options.seed},
+                            {"sensor_noise", options.sensor_noise},
+                            {"rig", truth_json(truth, mode)}};
+    doc["summary"] = summary;
+    nlohmann::ordered_json events = nlohmann::ordered_json::array();
+    for (const auto& e : s.events) {
+      events.push_back({{"time_s", e.time_s}, {"kind", std::string(cs::plant::to_string(e.kind))},
+                        {"side", e.side}, {"rate_rad_s", e.rate}});
+      if (events.size() >= 1000) break;
+    }
+    doc["events_first_1000"] = events;
+    cs::io::write_json(sidecar_path(st.output), doc);
+    fmt::print(stderr, "clearshape simulate: wrote {} ({} rows) and {}\n", st.output, n,
+               sidecar_path(st.output).string());
+  }
+  if (run.limited_commands > 0) {
+    fmt::print(stderr, "clearshape simulate: warning: {} command sample(s)/update(s) were limited by the "
+                       "command path (D/A range or pulse-rate cap)\n", run.limited_commands);
+  }
+
+  if (st.json) {
+    auto doc = cs::io::make_document();
+    doc["command"] = "simulate";
+    doc["mode"] = st.mode;
+    doc["signal"] = st.type;
+    doc["shaper"] = shaper ? nlohmann::ordered_json(shaper->method()) : nlohmann::ordered_json(nullptr);
+    doc["clearance_deg"] = cs::rad_to_deg(truth.clearance_rad);
+    doc["contact"] = contact_json(contact);
+    for (const auto& [k, v] : summary.items()) doc[k] = v;
+    doc["output"] = st.output.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(st.output);
+    cs::cli::print_json(doc);
+    return;
+  }
+  const std::vector<std::pair<std::string, std::string>> rows = {
+      {"mode", st.mode},
+      {"signal", st.type},
+      {"shaper", shaper ? shaper->method() : "none"},
+      {"clearance", fmt::format("{} deg ({})", cs::rad_to_deg(truth.clearance_rad),
+                                run.rigid ? "rigid" : std::string(rig::to_string(contact.model)))},
+      {"samples", fmt::format("{} ({} Hz)", n, options.output_rate_hz)},
+      {"events", fmt::format("{}", s.stats.events)},
+      {"MD link rate", fmt::format("{:.6g} deg/s (Eq. 5.1, from {:.4g} s)", md_link_rate.mean_deviation,
+                                   md_link_rate.start_time_s)},
+      {"MD gyro", fmt::format("{:.6g} deg/s", md_gyro.mean_deviation)},
+      {"MD link angle", fmt::format("{:.6g} deg", md_link_angle.mean_deviation)},
+      {"peak contact torque", fmt::format("{:.6g} N·m", peak_torque)},
+      {"wall time", fmt::format("{:.4g} s ({:.0f}x real time)", wall_s,
+                                summary["real_time_factor"].get<double>())}};
+  for (const auto& [k, v] : rows) fmt::print("{:<22}{}\n", k, v);
+  if (!st.output.empty()) fmt::print("{:<22}{}\n", "output", st.output);
+}
+
+void setup(CLI::App& sub) {
+  auto st = std::make_shared<State>();
+  sub.add_option("--mode", st->mode, "Drive mode: position (pulse train, deg) or speed (analog, V)")
+      ->check(CLI::IsMember({"position", "speed"}))
+      ->capture_default_str();
+  std::string types;
+  for (const auto t : sig::signal_types()) types += (types.empty() ? "" : "|") + std::string(t);
+  sub.add_option("--signal", st->type, "Command signal: " + types)
+      ->check(CLI::IsMember(std::vector<std::string>(sig::signal_types().begin(), sig::signal_types().end())))
+      ->capture_default_str();
+  for (std::size_t i = 0; i < std::size(kSignalOptions); ++i) {
+    st->number_options[i] = sub.add_option(kSignalOptions[i].names, st->numbers[i], kSignalOptions[i].help);
+  }
+  st->rise_shape_option = sub.add_option("--rise-shape", st->rise_shape, "linear or s-curve")
+                              ->check(CLI::IsMember({"linear", "s-curve"}));
+  st->levels_option = sub.add_option("--levels", st->levels, "Stacked steps: comma-separated levels");
+  st->repeat_option = sub.add_flag("--repeat", st->repeat, "Stacked steps: repeat the sequence");
+
+  sub.add_option("--shaper", st->shaper, "Input shaper method (zv, zvd, zvdd, zvddd, mzv, ei, ei2, ei3, um-zv)");
+  st->shaper_frequency_option =
+      sub.add_option("--shaper-frequency-hz", st->shaper_frequency_hz, "Natural frequency of the mode to cancel (Hz)");
+  st->shaper_zeta_option = sub.add_option("--shaper-zeta", st->shaper_zeta, "Damping ratio of that mode, [0, 1)");
+
+  st->clearance_option = sub.add_option("--clearance-deg", st->clearance_deg,
+                                        "Total play of the joint (deg); 0 = rigid (default 1.0)");
+  sub.add_option("--contact", st->contact,
+                 "Contact law: thesis|kelvin-voigt|hunt-crossley|lankarani-nikravesh|flores|impulse")
+      ->check(CLI::IsMember({"thesis", "kelvin-voigt", "hunt-crossley", "lankarani-nikravesh", "flores", "impulse"}));
+  st->restitution_option = sub.add_option("--restitution", st->restitution,
+                                          "Coefficient of restitution e (not for the thesis law)");
+  sub.add_option("--config", st->config, "Rig configuration (TOML); flags override it");
+  st->duration_option = sub.add_option("--duration", st->duration_s, "Duration (s), default 5");
+  st->rate_option = sub.add_option("--rate", st->rate_hz, "Output sample rate (Hz), default 1000");
+  st->initial_play_option = sub.add_option("--initial-play", st->initial_play,
+                                           "Initial link position in the play, phi(0)/beta in [-1, 1]; default 0");
+  st->noise_seed_option = sub.add_option("--noise-seed", st->noise_seed, "Seed of the gyroscope noise (default 1)");
+  sub.add_flag("--no-noise", st->no_noise, "Noise-free gyroscope (quantization kept)");
+  sub.add_option("--output,-o", st->output, "CSV of the run; a JSON sidecar (same name, .json) holds the configuration");
+  sub.add_flag("--json", st->json, "Print a JSON summary on stdout");
+  sub.footer(
+      "Examples:\n"
+      "  clearshape simulate --mode position --signal step --amplitude 20 -o step.csv\n"
+      "  clearshape simulate --mode speed --signal step --amplitude 1 --shaper zvdd \\\n"
+      "      --shaper-frequency-hz 3.32 --shaper-zeta 0.288 -o zvdd.csv --json");
+  sub.callback([st] { run(*st); });
+}
+
+const bool registered = cs::cli::register_command(
+    {"simulate", "Simulate the rig (drive + joint with clearance + sensors) under a command", 40, setup});
+
+}  // namespace

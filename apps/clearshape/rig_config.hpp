@@ -1,0 +1,49 @@
+#pragma once
+// The rig configuration file of `clearshape simulate` (TOML, read with toml++). Every key is
+// optional; what is absent keeps the built-in thesis rig (rig/truth.hpp). Unknown tables or
+// keys, values of the wrong type and values out of range are InputErrors naming the file, the
+// line and the key. Schema (units in the key names; see README "clearshape simulate"):
+//   [run]            duration_s, output_rate_hz, initial_play_fraction, seed, sensor_noise
+//   [joint]          clearance_deg, friction_viscous_n_m_s_per_rad, friction_coulomb_n_m
+//   [contact]        model, stiffness, exponent, damping, restitution, static_rate_rad_s
+//   [link]           inertia_kg_m2, mass_kg, com_distance_m, axis_tilt_deg,
+//                    ground_viscous_n_m_s_per_rad
+//   [drive.position] [drive.speed]   kp, tz_s, zeta, tw_s, tp3_s, td_s (Eq. 4.2, P3UZ[D])
+//   [encoder]        lines_per_revolution, decoding (1, 2 or 4)
+//   [gyroscope]      sensitivity_lsb_per_dps, full_scale_dps, noise_density_dps_per_rthz,
+//                    bias_dps, low_pass_hz (0 = off, 256, 188, 98, 42, 20, 10, 5),
+//                    latency_samples
+//   [position_path]  update_rate_hz, counts_per_rev, gear_ratio, max_pulse_frequency_hz
+//   [speed_path]     volts_per_unit, resolution_bits, full_scale_v
+//   [solver]         integrator ("bdf" | "adams"), relative_tolerance, angle_tolerance_rad,
+//                    rate_tolerance_rad_s, max_step_s
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "clearshape/rig/contact.hpp"
+#include "clearshape/rig/offline.hpp"
+#include "clearshape/rig/truth.hpp"
+
+namespace clearshape::cli {
+
+/// What a config file sets, applied over the defaults in this order: file, then CLI flags.
+struct RigConfig {
+  rig::RigTruth truth = rig::thesis_rig_truth();
+  rig::RunOptions run{};
+  std::optional<rig::ContactModel> contact_model;  ///< [contact] model, if given
+  rig::ContactSpec contact_overrides{};            ///< [contact] numbers (see the flags below)
+  bool has_stiffness = false, has_exponent = false, has_damping = false,
+       has_restitution = false, has_static_rate = false;
+};
+
+/// Reads `path` over the defaults. Throws InputError (file, line, key).
+RigConfig load_rig_config(const std::filesystem::path& path);
+
+/// The contact spec for `mode`: the model's defaults (ContactSpec::defaults), then the
+/// config's numbers.
+rig::ContactSpec resolve_contact(const RigConfig& config, rig::ContactModel model,
+                                 rig::CommandMode mode);
+
+}  // namespace clearshape::cli
