@@ -63,6 +63,19 @@ TEST(SimRig, ReadAndWriteNeverAllocate) {
   }
   EXPECT_EQ(counter.allocations(), 0u);
   EXPECT_GT(r.contact_events(), 0u);
+
+  rig::SimRigOptions speed;
+  speed.mode = rig::CommandMode::speed;
+  rig::SimRig s(speed);
+  s.configure();
+  s.activate();
+  cs::testing::AllocationCounter speed_counter;
+  for (int k = 0; k < 1500; ++k) {  // D/A path, a step beyond the ±10 V range (clipped)
+    ASSERT_EQ(s.read(m), Status::ok);
+    s.write(rig::Command::speed_v(k >= 50 ? 12.0 : 0.0));
+  }
+  EXPECT_EQ(speed_counter.allocations(), 0u);
+  EXPECT_TRUE(m.has(rig::MeasurementFlag::command_limited));
 }
 
 TEST(SimRig, SeedsMakeRunsRepeatableAndDistinct) {
