@@ -370,6 +370,18 @@ ModalFit refine(const ModalModel& start, std::span<const double> input, std::spa
   ceres::Problem::Options po;
   ceres::Problem problem(po);
   problem.AddResidualBlock(new ModalCost(start, input, output, idx), nullptr, x.data());
+  // θ of each complex pair stays in (0, π): the cost is periodic in θ and even under θ → −θ
+  // (with the state reflected), so an unbounded step could land on an alias of the mode.
+  for (std::size_t i = 0; i < idx.size(); ++i) {
+    std::size_t p = 0;
+    for (const auto& b : start.blocks) {
+      if (b.complex && static_cast<std::size_t>(idx[i]) == p + 1) {
+        problem.SetParameterLowerBound(x.data(), static_cast<int>(i), 1e-9);
+        problem.SetParameterUpperBound(x.data(), static_cast<int>(i), std::numbers::pi - 1e-9);
+      }
+      p += block_parameters(b);
+    }
+  }
   ceres::Solver::Options so;
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   so.linear_solver_type = ceres::DENSE_QR;

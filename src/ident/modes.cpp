@@ -38,7 +38,8 @@ void check_options(const ModeOptions& options) {
 }
 
 // Block-averaging factor for the subspace step: ≥ 10 samples per period of the highest of the
-// dominant spectral peaks (Welch), and ≥ max(60, 6·order) averaged samples.
+// dominant spectral peaks (Welch, mean removed per segment), and ≥ max(60, 6·order) averaged
+// samples.
 std::size_t choose_decimation(const std::vector<double>& v, std::size_t modes, std::size_t order) {
   const std::size_t n = v.size();
   std::size_t seg = 1;
@@ -136,22 +137,17 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
   }
   const std::vector<double>& y = response.values;
   const std::size_t order = options.order > 0 ? options.order : 2 * options.modes + 2;
-  // Differencing removes a constant offset without moving the poles.
-  std::vector<double> base;
-  if (options.estimate_offset) {
-    for (std::size_t k = 1; k < n; ++k) base.push_back(y[k] - y[k - 1]);
-  } else {
-    base = y;
-  }
-  // Block averaging keeps the poles (zᵠ) of a sum of exponentials and shortens the Hankel matrix.
-  const std::size_t q = choose_decimation(base, options.modes, order);
+  // Block averaging keeps the poles (z^q) of a sum of exponentials and shortens the Hankel
+  // matrix; the offset is one more pole, at z = 1, which the offset parameter then replaces.
+  const std::size_t q = choose_decimation(y, options.modes, order);
   std::vector<double> averaged;
-  for (std::size_t k = 0; (k + 1) * q <= base.size(); ++k) {
+  for (std::size_t k = 0; (k + 1) * q <= n; ++k) {
     double s = 0.0;
-    for (std::size_t j = 0; j < q; ++j) s += base[k * q + j];
+    for (std::size_t j = 0; j < q; ++j) s += y[k * q + j];
     averaged.push_back(s / static_cast<double>(q));
   }
-  const FreeResponseModel era_model = era(averaged, std::min(order, averaged.size() / 3 - 1));
+  const std::size_t era_order = std::min(order + (options.estimate_offset ? 1 : 0), averaged.size() / 3 - 1);
+  const FreeResponseModel era_model = era(averaged, era_order);
   // Poles at the full rate: z = exp(log(z_q)/q).
   Eigen::EigenSolver<Eigen::MatrixXd> es(era_model.a, false);
   detail::ModalModel model;
@@ -167,6 +163,8 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
       blk.pole0 = std::log(std::abs(z));
       blk.pole1 = std::arg(z);
     } else if (std::abs(z.imag()) <= tol) {
+      // A real pole slower than the record is the constant offset when that is estimated.
+      if (options.estimate_offset && std::abs(1.0 - z.real()) < 1.0 / static_cast<double>(n)) continue;
       blk.complex = false;
       blk.pole0 = z.real();
     } else {
@@ -175,25 +173,28 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
     model.blocks.push_back(blk);
   }
   solve_amplitudes(model, y, options.estimate_offset);
-  // Keep the dominant blocks: the `modes` largest complex ones, others above 10 % of the largest.
-  std::vector<double> contribution;
-  double largest = 0.0;
+  // Keep the `modes` most energetic oscillatory blocks, and any other block whose energy Σ yᵢ²
+  // stands out of the noise (> 25 σ², σ² from the residual of this linear fit): spurious poles
+  // that only fit noise would leave the refinement without a unique optimum.
+  std::vector<double> fitted(n);
+  detail::simulate(model, {}, n, fitted.data(), nullptr);
+  double sse = 0.0;
+  for (std::size_t k = 0; k < n; ++k) sse += (y[k] - fitted[k]) * (y[k] - fitted[k]);
+  const double sigma2 = sse / static_cast<double>(n);
+  std::vector<double> energy;
   for (std::size_t b = 0; b < model.blocks.size(); ++b) {
-    contribution.push_back(rms(detail::block_output(model, b, {}, n)));
-    largest = std::max(largest, contribution.back());
+    const double r = rms(detail::block_output(model, b, {}, n));
+    energy.push_back(r * r * static_cast<double>(n));
   }
   std::vector<std::size_t> complex_order;
   for (std::size_t b = 0; b < model.blocks.size(); ++b)
     if (model.blocks[b].complex) complex_order.push_back(b);
   std::stable_sort(complex_order.begin(), complex_order.end(),
-                   [&](std::size_t a, std::size_t b) { return contribution[a] > contribution[b]; });
+                   [&](std::size_t a, std::size_t b) { return energy[a] > energy[b]; });
   std::vector<bool> keep(model.blocks.size(), false);
-  for (std::size_t i = 0; i < complex_order.size(); ++i) {
-    if (i < options.modes || contribution[complex_order[i]] > 0.1 * largest) keep[complex_order[i]] = true;
-  }
-  for (std::size_t b = 0; b < model.blocks.size(); ++b) {
-    if (!model.blocks[b].complex && contribution[b] > 0.1 * largest) keep[b] = true;
-  }
+  for (std::size_t i = 0; i < complex_order.size() && i < options.modes; ++i) keep[complex_order[i]] = true;
+  for (std::size_t b = 0; b < model.blocks.size(); ++b)
+    if (energy[b] > 25.0 * sigma2) keep[b] = true;
   detail::ModalModel kept;
   kept.has_input = false;
   for (std::size_t b = 0; b < model.blocks.size(); ++b)

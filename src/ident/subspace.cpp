@@ -67,23 +67,34 @@ SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const Subsp
   const auto ii = static_cast<Eigen::Index>(i);
   const Eigen::MatrixXd up = hankel(u, 0, i, j), uf = hankel(u, i, i, j);
   const Eigen::MatrixXd yp = hankel(y, 0, i, j), yf = hankel(y, i, i, j);
-  // Yf ≈ Lw Wp + Lu Uf (least squares, QR of the regressor); the oblique projection of Yf along
-  // Uf onto Wp = [Up; Yp] is Oᵢ = Lw Wp (Van Overschee & De Moor 1996, Thm. 2).
-  Eigen::MatrixXd z(3 * ii, static_cast<Eigen::Index>(j));
-  z << up, yp, uf;
-  const Eigen::MatrixXd theta = z.transpose().colPivHouseholderQr().solve(yf.transpose()).transpose();
-  const Eigen::MatrixXd lw = theta.leftCols(2 * ii);
   Eigen::MatrixXd wp(2 * ii, static_cast<Eigen::Index>(j));
   wp << up, yp;
-  // Oᵢ = Lw Wp = Lw Rᵀ Qᵀ with Wpᵀ = Q R: its left singular vectors are those of Lw Rᵀ.
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(wp.transpose());
-  const Eigen::MatrixXd r = qr.matrixQR().topRows(2 * ii).triangularView<Eigen::Upper>();
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(lw * r.transpose(), Eigen::ComputeThinU);
+  Eigen::MatrixXd basis;  // its left singular vectors span the extended observability matrix Γᵢ
+  if (options.method == SubspaceMethod::n4sid) {
+    // Yf ≈ Lw Wp + Lu Uf (least squares, QR of the regressor); the oblique projection of Yf
+    // along Uf onto Wp is Oᵢ = Lw Wp (Van Overschee & De Moor 1996, Thm. 2), whose left
+    // singular vectors are those of Lw Rᵀ with Wpᵀ = Q R.
+    Eigen::MatrixXd z(3 * ii, static_cast<Eigen::Index>(j));
+    z << up, yp, uf;
+    const Eigen::MatrixXd theta = z.transpose().colPivHouseholderQr().solve(yf.transpose()).transpose();
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(wp.transpose());
+    const Eigen::MatrixXd r = qr.matrixQR().topRows(2 * ii).triangularView<Eigen::Upper>();
+    basis = theta.leftCols(2 * ii) * r.transpose();
+  } else {
+    // PO-MOESP (Verhaegen 1994): LQ of [Uf; Wp; Yf] = L Qᵀ; the block L32 (Yf rows, Wp columns)
+    // is Yf projected orthogonally to Uf and correlated with the past: its column space is Γᵢ.
+    Eigen::MatrixXd h(4 * ii, static_cast<Eigen::Index>(j));
+    h << uf, wp, yf;
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(h.transpose());
+    const Eigen::MatrixXd l = qr.matrixQR().topRows(4 * ii).triangularView<Eigen::Upper>().transpose();
+    basis = l.block(3 * ii, ii, ii, 2 * ii);
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(basis, Eigen::ComputeThinU);
   SubspaceModel out;
   for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
   const auto n = static_cast<Eigen::Index>(order);
   if (!(svd.singularValues()(n - 1) > 1e-12 * svd.singularValues()(0))) {
-    throw RuntimeError("n4sid: the data do not support order " + std::to_string(order) +
+    throw RuntimeError("subspace identification: the data do not support order " + std::to_string(order) +
                        " (singular value " + std::to_string(n) + " is zero); choose a lower order or a richer input.");
   }
   const Eigen::MatrixXd gamma = svd.matrixU().leftCols(n) * svd.singularValues().head(n).cwiseSqrt().asDiagonal();
@@ -152,11 +163,11 @@ FreeResponseModel era(std::span<const double> response, std::size_t order, std::
   Eigen::BDCSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeThinU | Eigen::ComputeThinV);
   FreeResponseModel out;
   for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
-  const auto n = static_cast<Eigen::Index>(order);
-  if (!(svd.singularValues()(n - 1) > 1e-13 * svd.singularValues()(0))) {
-    throw RuntimeError("era: the response does not support order " + std::to_string(order) +
-                       " (Hankel singular value " + std::to_string(order) + " is zero); ask for fewer modes.");
-  }
+  // The order is capped at the numerical rank of the Hankel matrix (an exact response of fewer
+  // modes than asked for).
+  Eigen::Index n = 0;
+  while (n < static_cast<Eigen::Index>(order) && svd.singularValues()(n) > 1e-10 * svd.singularValues()(0)) ++n;
+  if (n == 0) throw RuntimeError("era: the response is identically zero; there is nothing to identify.");
   const Eigen::VectorXd s_half = svd.singularValues().head(n).cwiseSqrt();
   const Eigen::MatrixXd gamma = svd.matrixU().leftCols(n) * s_half.asDiagonal();  // balanced factors
   const Eigen::MatrixXd x = s_half.asDiagonal() * svd.matrixV().leftCols(n).transpose();

@@ -1,10 +1,12 @@
 #pragma once
 // Subspace identification with Eigen's SVD:
-//  * N4SID (Van Overschee & De Moor 1994, "N4SID: subspace algorithms for the identification of
-//    combined deterministic-stochastic systems", Automatica 30(1)): oblique projection of the
-//    future outputs along the future inputs onto the past, its SVD gives the extended
-//    observability matrix Γᵢ → C (first row) and A (shift invariance); B, D and x0 then follow
-//    by linear least squares on the SIMULATED output (they enter it linearly).
+//  * Input/output data: the block Hankel matrices of past and future inputs and outputs give
+//    the extended observability matrix Γᵢ — by the PO-MOESP projection (Verhaegen 1994,
+//    "Identification of the deterministic part of MIMO state space models given in innovations
+//    form from input-output data", Automatica 30(1)) or the N4SID oblique projection (Van
+//    Overschee & De Moor 1994, Automatica 30(1)); C is its first row and A follows from its
+//    shift invariance; B, D and x0 then follow by linear least squares on the SIMULATED output
+//    (they enter it linearly) — the "combined" scheme of SLICOT IB01/Octave n4sid.
 //  * ERA / Ho–Kalman (Ho & Kalman 1966; Juang & Pappa 1985) on a free (or impulse) response
 //    y[k] = C Aᵏ x0: SVD of the Hankel matrix of y, balanced factors → A, C, x0.
 #include <cstddef>
@@ -19,7 +21,13 @@
 
 namespace clearshape::ident {
 
+enum class SubspaceMethod {
+  moesp,  ///< PO-MOESP projection (Verhaegen 1994), robust to coloured noise — the default
+  n4sid,  ///< unweighted N4SID oblique projection (Van Overschee & De Moor 1994)
+};
+
 struct SubspaceOptions {
+  SubspaceMethod method = SubspaceMethod::moesp;
   std::size_t block_rows = 0;           ///< past/future horizon i; 0 = max(2·order, 10), data permitting
   bool feedthrough = true;              ///< estimate D (else D = 0)
   bool estimate_initial_state = true;   ///< x0 in the B, D least squares (else x0 = 0)
@@ -31,7 +39,7 @@ struct SubspaceModel {
   std::vector<double> singular_values;  ///< of the oblique projection (order selection)
 };
 
-/// SISO N4SID of the given order. Throws InvalidArgument if order < 1 or the record is too
+/// SISO subspace identification of the given order (named after the family; method in options). Throws InvalidArgument if order < 1 or the record is too
 /// short for the horizon (needs N ≥ 2i + 2·order + 10), RuntimeError on a rank-deficient result.
 SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const SubspaceOptions& options = {});
 
@@ -43,7 +51,9 @@ struct FreeResponseModel {
 };
 
 /// ERA of a free response y[0..N): Hankel with `rows` rows (0 = min(N/3, max(4·order, 40))).
-/// Throws InvalidArgument if the record is shorter than 2·rows or order ≥ rows.
+/// The order is capped at the Hankel matrix's numerical rank (singular values > 1e-10·σ₁), so
+/// an exact response of fewer modes gives a smaller model. Throws InvalidArgument if the record
+/// is shorter than 2·rows or order ≥ rows, RuntimeError if the response is zero.
 FreeResponseModel era(std::span<const double> response, std::size_t order, std::size_t rows = 0);
 
 /// The continuous model whose ZOH discretization is `model` (inverse of lti::discretize):

@@ -1,0 +1,55 @@
+#include "clearshape/ident/cross_validation.hpp"
+
+#include <limits>
+#include <string>
+
+#include "clearshape/core/error.hpp"
+
+namespace clearshape::ident {
+
+CrossValidation cross_validate(const lti::ProcessStructure& structure, std::span<const Experiment> experiments,
+                               const CrossValidationOptions& options) {
+  const std::size_t count = experiments.size();
+  if (count < 2) {
+    throw InvalidArgument("cross-validation needs at least 2 experiments (got " + std::to_string(count) +
+                          "); give one record per input type (step, ramp, sine, PRBS).");
+  }
+  CrossValidation cv;
+  const auto m = static_cast<Eigen::Index>(count);
+  cv.fit_percent.resize(m, m);
+  for (std::size_t i = 0; i < count; ++i) {
+    cv.names.push_back(experiments[i].name);
+    cv.estimates.push_back(estimate_process_model(structure, experiments.subspan(i, 1), options.fit));
+  }
+  CompareOptions co;
+  co.hold = options.fit.hold;
+  co.initial_state = options.validation_initial_state;
+  co.estimate_output_offset = options.fit.estimate_output_offset;
+  double best_mean = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < count; ++i) {
+    double sum = 0.0;
+    for (std::size_t j = 0; j < count; ++j) {
+      double f = 0.0;
+      if (i == j) {
+        f = cv.estimates[i].experiments[0].fit_percent;  // the estimation fit itself
+      } else {
+        f = compare(cv.estimates[i].model, experiments[j], co).fit_percent;
+        sum += f;
+      }
+      cv.fit_percent(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = f;
+    }
+    const double mean = sum / static_cast<double>(count - 1);
+    cv.mean_validation_fit_percent.push_back(mean);
+    if (mean > best_mean) {
+      best_mean = mean;
+      cv.best = i;
+    }
+  }
+  if (options.joint) {
+    cv.joint = estimate_process_model(structure, experiments, options.fit);
+    for (const auto& e : cv.joint->experiments) cv.joint_fit_percent.push_back(e.fit_percent);
+  }
+  return cv;
+}
+
+}  // namespace clearshape::ident
