@@ -239,6 +239,12 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
                                                                : MdSignal::link_rate_deg_s;
   }
 
+  if (const auto sh = top.table("shaping")) {
+    p.shaping.grid_hz = sh->number("grid_hz", 0.0);
+    if (p.shaping.grid_hz < 0.0) sh->fail("grid_hz", "must be >= 0 (0 = keep the designed impulse times)");
+    sh->finish("grid_hz");
+  }
+
   for (const auto& t : top.tables("input")) {
     InputSpec in = parse_input(t, p.mode);
     for (const auto& other : p.inputs) {
@@ -297,10 +303,14 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
   if (const auto s = top.table("link_mode")) {
     p.link_mode.input = s->text("input");
     check_input(p, *s, "input", p.link_mode.input);
+    p.link_mode.start = s->text("start", "after-settling");
+    if (p.link_mode.start != "after-settling" && p.link_mode.start != "after-command") {
+      s->fail("start", "allowed: after-settling, after-command");
+    }
     p.link_mode.settle_after_move_s = s->number("settle_after_move_s", 0.05);
     p.link_mode.window_s = s->positive("window_s", 1.5);
     p.link_mode.max_damping_ratio = s->positive("max_damping_ratio", 0.7);
-    s->finish("input, settle_after_move_s, window_s, max_damping_ratio");
+    s->finish("input, start, settle_after_move_s, window_s, max_damping_ratio");
   }
 
   if (const auto s = top.table("clearance")) {
@@ -315,10 +325,11 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
     if (c.damping_n_m_s_per_rad < 0.0) s->fail("damping_n_m_s_per_rad", "must be >= 0");
     c.fit = s->texts("fit");
     for (const auto& f : c.fit) {
-      if (f != "stiffness" && f != "damping" && f != "play") {
-        s->fail("fit", fmt::format("'{}' cannot be fitted; allowed: stiffness, damping, play", f));
+      if (f != "stiffness" && f != "damping" && f != "play" && f != "exponent") {
+        s->fail("fit", fmt::format("'{}' cannot be fitted; allowed: stiffness, damping, play, exponent", f));
       }
     }
+    c.filter_gyro = s->boolean("filter_gyro", false);
     c.window_s = s->positive("window_s", 2.0);
     c.max_evaluations = static_cast<int>(s->integer("max_evaluations", 150, 1, 100000));
     if (const auto th = s->table("thesis")) {
@@ -328,7 +339,7 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
       th->finish("stiffness, damping, agreement");
     }
     s->finish("input, exponent, link_inertia_kg_m2, play_deg, stiffness_n_m_per_rad_pow_n, "
-              "damping_n_m_s_per_rad, fit, window_s, max_evaluations, thesis");
+              "damping_n_m_s_per_rad, fit, filter_gyro, window_s, max_evaluations, thesis");
   }
 
   if (const auto s = top.table("simulation")) {
@@ -428,7 +439,7 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
                                    in.last_move_start_s, p.record_s));
     }
   }
-  top.finish("format, study, measure, input, consistency, identification, link_mode, clearance, "
+  top.finish("format, study, measure, shaping, input, consistency, identification, link_mode, clearance, "
              "simulation, rig_tests, quick");
   return p;
 }
@@ -482,6 +493,7 @@ json to_json(const Protocol& p) {
   j["measure"] = {{"md_signal", to_string(p.measure.md_signal)},
                   {"bias_window_s", p.measure.bias_window_s},
                   {"md_final_window_fraction", p.measure.md_final_window_fraction}};
+  j["shaping"] = {{"grid_hz", p.shaping.grid_hz}};
   json inputs = json::array();
   for (const auto& in : p.inputs) {
     json i;
@@ -512,6 +524,7 @@ json to_json(const Protocol& p) {
                            {"tw_s", id.thesis.tw_s},
                            {"tp3_s", id.thesis.tp3_s}}}};
   j["link_mode"] = {{"input", p.link_mode.input},
+                    {"start", p.link_mode.start},
                     {"settle_after_move_s", p.link_mode.settle_after_move_s},
                     {"window_s", p.link_mode.window_s},
                     {"max_damping_ratio", p.link_mode.max_damping_ratio}};
@@ -523,6 +536,7 @@ json to_json(const Protocol& p) {
                     {"stiffness_n_m_per_rad_pow_n", c.stiffness_n_m_per_rad_pow_n},
                     {"damping_n_m_s_per_rad", c.damping_n_m_s_per_rad},
                     {"fit", c.fit},
+                    {"filter_gyro", c.filter_gyro},
                     {"window_s", c.window_s},
                     {"max_evaluations", c.max_evaluations},
                     {"thesis",

@@ -21,7 +21,7 @@ json ambiguities(const Protocol& p) {
                : "Speed mode: on the link rate in deg/s from the gyroscope.",
       "The thesis does not say. Position mode: Fig. 5.19 plots the link's angular position, the "
       "unshaped MDs grow in proportion to the step (0.085, 0.141, 0.303 deg for 5, 10, 20 deg), and "
-      "the shaped MDs (0.007–0.040) lie below the gyro's rate-noise floor (about 0.1–0.2 deg/s) but "
+      "the shaped MDs (0.007–0.073) lie below the gyro's rate-noise floor (about 0.1–0.2 deg/s) but "
       "above the integrated-angle floor. Speed mode: the controlled quantity is a speed and the "
       "angle has no steady state.");
   add("md-start", "Where does the steady state of Eq. 5.1 begin?",
@@ -51,12 +51,12 @@ json ambiguities(const Protocol& p) {
       "(only K/J and D/J are identifiable from the gyro).",
       "The thesis gives K and D without units (DESIGN.md §2).");
   add("input-timing", "What exactly were the inputs?",
-      position ? "Steps start at 0.5 s (after a rest window for the gyro bias); the 56 deg 'low jerk' step "
-                 "rises as an S-curve and the 16 deg double step is 8 + 8 deg — their timing is in the "
-                 "protocol and is ours."
+      position ? "Moves start at 0.5 s (after a rest window for the gyro bias); a step is a ramp over one "
+                 "30 Hz pulse update, the 56 deg 'low jerk' step a ramp over 0.1 s (three updates), and "
+                 "the '16 deg double step' is read as two steps of 16 deg 0.5 s apart."
                : "The speed-mode inputs' amplitudes (in V) and timing are in the protocol and are ours.",
       "The thesis gives the experimental amplitudes (Appendix B) but not the timing, the rise of the "
-      "low-jerk step or the spacing of the double step.");
+      "low-jerk step or the spacing and size of the double step.");
   add("rig-truth", "What is the simulated rig?",
       "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
       "unshaped responses reproduce the thesis's 'without is' means and the spread of its trials; "

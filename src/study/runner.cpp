@@ -13,6 +13,7 @@
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/rig/sim_rig.hpp"
+#include "clearshape/study/calibrated_truth.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "context.hpp"
 
@@ -22,14 +23,16 @@ using json = nlohmann::ordered_json;
 
 RigFactory sim_rig_factory() {
   RigFactory f;
-  f.description = "sim (rig::SimRig, built-in thesis truth)";
+  f.description = "sim (rig::SimRig, calibrated thesis truth)";
   f.parallel_runs = 64;
-  f.make = [](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
+  // The truth is captured by the factory; the runner only receives rigs and their measurements.
+  auto truth = std::make_shared<const rig::RigTruth>(calibrated_thesis_rig_truth());
+  f.make = [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
     rig::SimRigOptions o;
     o.mode = mode;
     o.sample_rate_hz = rate_hz;
     o.seed = seed;
-    return std::make_unique<rig::SimRig>(o);
+    return rig::make_sim_rig_with_truth(o, *truth);
   };
   return f;
 }

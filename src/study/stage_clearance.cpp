@@ -12,6 +12,8 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
+#include "clearshape/dsp/encoder_speed.hpp"
+#include "clearshape/dsp/sosfilt.hpp"
 #include "clearshape/study/measures.hpp"
 #include "context.hpp"
 
@@ -25,6 +27,7 @@ struct FitData {
   std::vector<double> measured;  // mean gyro rate over the runs, deg/s
   double duration_s = 1.0;
   std::vector<std::string> names;
+  std::optional<dsp::SosDesign> filter;  // §3.3 filter applied to the measured gyro
   int evaluations = 0;
   double best = std::numeric_limits<double>::infinity();
 };
@@ -36,16 +39,23 @@ ClearanceModel with(const FitData& d, const double* x) {
     if (d.names[i] == "stiffness") m.stiffness = v;
     if (d.names[i] == "damping") m.damping = v;
     if (d.names[i] == "play") m.play_rad = v;
+    if (d.names[i] == "exponent") m.exponent = v;
   }
   return m;
 }
 
+// The model's link rate. (With filter_gyro the measurement is filtered instead: the identified
+// speed drive already contains the §3.3 filter, so the model's output is "filtered" too.)
+std::vector<double> model_rate(const FitData& d, const ClearanceModel& m) {
+  return simulate_drive_command(m, d.drive_command, d.duration_s).link_rate_deg_s;
+}
+
 double rms_error(const FitData& d, const ClearanceModel& m) {
-  const ModelResponse r = simulate_drive_command(m, d.drive_command, d.duration_s);
-  const std::size_t n = std::min(r.link_rate_deg_s.size(), d.measured.size());
+  const std::vector<double> rate = model_rate(d, m);
+  const std::size_t n = std::min(rate.size(), d.measured.size());
   double ss = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
-    const double e = r.link_rate_deg_s[k] - d.measured[k];
+    const double e = rate[k] - d.measured[k];
     ss += e * e;
   }
   return std::sqrt(ss / static_cast<double>(n));
@@ -105,14 +115,27 @@ void stage_clearance(Context& c) {
   for (const auto& r : runs) {
     for (std::size_t k = 0; k < n; ++k) d.measured[k] += r.link_rate_deg_s[k] / static_cast<double>(runs.size());
   }
+  if (cl.filter_gyro) {
+    d.filter = dsp::thesis_speed_filter(first.sample_time_s);
+    d.measured = dsp::sosfilt(*d.filter, d.measured);
+  }
   for (const auto& f : cl.fit) {
     if (f == "damping" && !(cl.damping_n_m_s_per_rad > 0.0)) continue;  // log-parametrised
     d.names.push_back(f);
   }
   std::vector<double> x, lo, hi;
   for (const auto& name : d.names) {
-    const double v = name == "stiffness" ? d.base.stiffness : name == "damping" ? d.base.damping : d.base.play_rad;
+    const double v = name == "stiffness" ? d.base.stiffness
+                     : name == "damping"  ? d.base.damping
+                     : name == "play"     ? d.base.play_rad
+                                          : d.base.exponent;
     x.push_back(std::log(v));
+    if (name == "exponent") {  // n in [1, 2.5]: linear to beyond Hertz
+      lo.push_back(0.0);
+      hi.push_back(std::log(2.5));
+      x.back() = std::clamp(x.back(), lo.back(), hi.back());
+      continue;
+    }
     const double span = name == "play" ? std::log(30.0) : std::log(1000.0);
     lo.push_back(std::log(v) - span);
     hi.push_back(std::log(v) + span);
@@ -127,7 +150,8 @@ void stage_clearance(Context& c) {
     nlopt_set_min_objective(opt, objective, &d);
     nlopt_set_maxeval(opt, cl.max_evaluations);
     nlopt_set_xtol_rel(opt, 1e-4);
-    std::vector<double> step(x.size(), 0.5);
+    std::vector<double> step(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) step[i] = std::min(0.5, 0.4 * (hi[i] - lo[i]));
     nlopt_set_initial_step(opt, step.data());
     double value = 0.0;
     const nlopt_result res = nlopt_optimize(opt, x.data(), &value);
@@ -137,36 +161,41 @@ void stage_clearance(Context& c) {
   }
   c.model = fitted;
   const ModelResponse r = simulate_drive_command(fitted, d.drive_command, d.duration_s);
-  const double e41 = agreement(d.measured, r.link_rate_deg_s);
+  const double e41 = agreement(d.measured, model_rate(d, fitted));
   c.log(fmt::format("clearance: K = {:.4g}, D = {:.4g}, play = {:.4g}°, Eq. 4.1 agreement {:.4f} ({})",
                     fitted.stiffness, fitted.damping, rad_to_deg(fitted.play_rad), e41, status));
 
   json table = make_table("4.3-clearance", "parameters",
                           fmt::format("Clearance model (Eq. 4.3, n = {}) calibrated to the gyro record of the {}",
                                       cl.exponent, c.p.input(cl.input).label), "");
-  table["row_labels"] = {"K (N·m/rad^n)", "D (N·m·s/rad)", "total play (deg)", "link inertia (kg·m²)",
-                         "Eq. 4.1 agreement", "RMS error (deg/s)"};
+  table["row_labels"] = {"K (N·m/rad^n)", "D (N·m·s/rad)", "exponent n", "total play (deg)",
+                         "link inertia (kg·m²)", "Eq. 4.1 agreement", "RMS error (deg/s)"};
   table["columns"] = {
       {{"key", "ours"}, {"label", "clearshape (fitted)"},
-       {"ours", {fitted.stiffness, fitted.damping, rad_to_deg(fitted.play_rad), fitted.link_inertia_kg_m2, e41,
-                 rms_error(d, fitted)}}},
+       {"ours", {fitted.stiffness, fitted.damping, fitted.exponent, rad_to_deg(fitted.play_rad),
+                 fitted.link_inertia_kg_m2, e41, rms_error(d, fitted)}}},
       {{"key", "start"}, {"label", "start values"},
-       {"ours", {d.base.stiffness, d.base.damping, rad_to_deg(d.base.play_rad), d.base.link_inertia_kg_m2,
-                 agreement(d.measured, simulate_drive_command(d.base, d.drive_command, d.duration_s).link_rate_deg_s),
+       {"ours", {d.base.stiffness, d.base.damping, d.base.exponent, rad_to_deg(d.base.play_rad),
+                 d.base.link_inertia_kg_m2,
+                 agreement(d.measured, model_rate(d, d.base)),
                  start_error}}},
       {{"key", "thesis"}, {"label", "thesis (units unstated)"},
-       {"thesis", {cl.thesis_stiffness, cl.thesis_damping, nullptr, nullptr, cl.thesis_agreement, nullptr}}}};
+       {"thesis", {cl.thesis_stiffness, cl.thesis_damping, 1.5, nullptr, nullptr, cl.thesis_agreement, nullptr}}}};
   table["headline"] = {{"agreement_ours", e41}, {"agreement_thesis", cl.thesis_agreement}};
   table["note"] = fmt::format(
-      "Fitted: {}; {}. The thesis states K and D without units and with a link of unknown "
+      "Fitted: {}; {}.{} The thesis states K and D without units and with a link of unknown "
       "inertia, so only the agreement is comparable; our model fixes the link inertia at {} kg·m² "
       "(only K/J and D/J are identifiable from the gyro).",
       d.names.empty() ? std::string("nothing") : fmt::format("{}", fmt::join(d.names, ", ")), status,
+      cl.filter_gyro ? " The gyro record passes through the 30 rad/s filter of §3.3 before the comparison: "
+                       "the identified speed model contains that filter (§4.2), so its link rate is a filtered one."
+                     : "",
       cl.link_inertia_kg_m2);
   c.tables.push_back(table);
   c.sections["clearance"] = {{"stiffness_n_m_per_rad_pow_n", fitted.stiffness},
                              {"damping_n_m_s_per_rad", fitted.damping},
                              {"exponent", fitted.exponent},
+                             {"gyro_filtered", cl.filter_gyro},
                              {"play_deg", rad_to_deg(fitted.play_rad)},
                              {"link_inertia_kg_m2", fitted.link_inertia_kg_m2},
                              {"agreement", e41},
@@ -175,14 +204,14 @@ void stage_clearance(Context& c) {
 
   // Figures 4.19/4.20.
   std::vector<double> time(r.time_s.begin(), r.time_s.end());
-  std::vector<double> model_rate = r.link_rate_deg_s;
+  std::vector<double> model_rate_deg_s = model_rate(d, fitted);
   std::vector<double> measured = d.measured;
-  const std::size_t m = std::min({time.size(), model_rate.size(), measured.size()});
+  const std::size_t m = std::min({time.size(), model_rate_deg_s.size(), measured.size()});
   time.resize(m);
-  model_rate.resize(m);
+  model_rate_deg_s.resize(m);
   measured.resize(m);
   write_data_csv(c, "clearance_fit.csv", {"time_s", "gyro_mean_deg_s", "model_link_rate_deg_s"},
-                 {&time, &measured, &model_rate});
+                 {&time, &measured, &model_rate_deg_s});
   c.figures.push_back({{"id", "clearance-fit"},
                        {"thesis_figure", c.p.mode == rig::CommandMode::speed ? "4.19" : "4.20"},
                        {"kind", "time-series"},

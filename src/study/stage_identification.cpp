@@ -311,7 +311,9 @@ void stage_link_mode(Context& c) {
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const Record& r = runs[i];
     const std::vector<double> motor = speed_mode(c) ? motor_speed_deg_s(r, true) : r.motor_angle_deg;
-    const double t0 = settle_time_s(motor, r.sample_time_s, in.last_move_start_s) + lm.settle_after_move_s;
+    const double t0 = (lm.start == "after-command" ? in.last_move_start_s
+                                                   : settle_time_s(motor, r.sample_time_s, in.last_move_start_s)) +
+                      lm.settle_after_move_s;
     const auto k0 = static_cast<std::size_t>(std::llround(t0 / r.sample_time_s));
     const auto k1 = std::min(r.size(), k0 + static_cast<std::size_t>(std::llround(lm.window_s / r.sample_time_s)));
     if (k1 <= k0 + 50) continue;

@@ -9,6 +9,7 @@
 //                      repetitions
 //   [measure]          md_signal ("link_angle_deg" | "link_rate_deg_s"), bias_window_s,
 //                      md_final_window_fraction
+//   [shaping]          grid_hz (round impulse times to the drive's update grid; 0 = off)
 //   [[input]]          name, label, type (signal::signal_types()) and the signal's parameters:
 //                      amplitude_deg, second_amplitude_deg, offset_deg, limit_deg, levels_deg,
 //                      slope_deg_per_s, acceleration_deg_per_s2 (…_v… in speed mode), start_s,
@@ -18,10 +19,11 @@
 //                      [consistency.thesis.<input>] label, values, mean   (Eq. 4.1 columns)
 //   [identification]   structure, inputs, speed_chain ("causal" | "zero-phase");
 //                      [identification.thesis] selected_input, kp, tz_s, zeta, tw_s, tp3_s
-//   [link_mode]        input, settle_after_move_s, window_s, max_damping_ratio
+//   [link_mode]        input, start ("after-settling" | "after-command"), settle_after_move_s,
+//                      window_s, max_damping_ratio
 //   [clearance]        input, exponent, link_inertia_kg_m2, play_deg,
-//                      stiffness_n_m_per_rad_pow_n, damping_n_m_s_per_rad, fit, window_s,
-//                      max_evaluations; [clearance.thesis] stiffness, damping, agreement
+//                      stiffness_n_m_per_rad_pow_n, damping_n_m_s_per_rad, fit, filter_gyro,
+//                      window_s, max_evaluations; [clearance.thesis] stiffness, damping, agreement
 //   [simulation]       inputs, shapers, mode_sources ("drive-model" | "link-mode"), record_s
 //   [rig_tests]        [[rig_tests.table]] id, title, input, [[rig_tests.table.column]]
 //                      shaper ("none" | a shaping method), mode_source, label, thesis,
@@ -78,6 +80,13 @@ struct MeasureSpec {
   double md_final_window_fraction = 0.2;  ///< metrics::MeanDeviationOptions
 };
 
+struct ShapingSpec {
+  /// Position mode: the driver takes a new velocity only at its pulse-train updates (§3.2,
+  /// 30 Hz), so impulse times are rounded to that grid (nearest update; impulses falling on the
+  /// same update are merged). 0 = keep the designed times.
+  double grid_hz = 0.0;
+};
+
 struct ConsistencyStage {
   std::string table = "4.2";
   std::vector<std::string> inputs;
@@ -100,7 +109,11 @@ struct IdentificationStage {
 
 struct LinkModeStage {
   std::string input;
-  double settle_after_move_s = 0.05;  ///< skip after the motor has settled
+  /// Where the free-response window starts: "after-settling" (the motor within 2 % of its final
+  /// value — position mode) or "after-command" (the last command change — speed mode, where the
+  /// drive's own oscillation is part of the free response).
+  std::string start = "after-settling";
+  double settle_after_move_s = 0.05;  ///< skipped after that instant
   double window_s = 1.5;              ///< length of the free-response window
   double max_damping_ratio = 0.7;
 };
@@ -112,7 +125,10 @@ struct ClearanceStage {
   double play_deg = 0.1;                 ///< total play 2β (start value when fitted)
   double stiffness_n_m_per_rad_pow_n = 1e4;  ///< K (start value when fitted)
   double damping_n_m_s_per_rad = 300.0;      ///< D (start value when fitted)
-  std::vector<std::string> fit{"stiffness", "damping"};  ///< of stiffness, damping, play
+  std::vector<std::string> fit{"stiffness", "damping"};  ///< of stiffness, damping, play, exponent
+  /// Compare the model with the gyro passed through the §3.3 filter (speed mode: the identified
+  /// drive contains that filter, §4.2, so the measurement is filtered alike).
+  bool filter_gyro = false;
   double window_s = 2.0;                 ///< record length compared (from the input's start)
   int max_evaluations = 150;
   double thesis_stiffness = 0.0;  ///< thesis §4.2 (units unstated)
@@ -176,6 +192,7 @@ struct Protocol {
   int repetitions = 10;
   bool quick = false;  ///< the [quick] reduction has been applied
   MeasureSpec measure;
+  ShapingSpec shaping;
   std::vector<InputSpec> inputs;
   ConsistencyStage consistency;
   IdentificationStage identification;

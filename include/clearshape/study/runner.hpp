@@ -38,8 +38,8 @@ namespace clearshape::study {
 
 inline constexpr int kResultsSchemaVersion = 1;
 
-/// The built-in simulated thesis rig (rig::SimRig with its built-in truth), any number of
-/// parallel runs.
+/// The simulated thesis rig: a rig::SimRig with the calibrated truth (calibrated_truth.hpp),
+/// any number of parallel runs.
 RigFactory sim_rig_factory();
 
 struct StudyOptions {
