@@ -1,0 +1,80 @@
+// Running a command on a rig and the run files: the loop contract (a command written after
+// read k holds from t_k), the CSV + sidecar round trip (bit-exact) and reuse by protocol hash.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/rig/loopback_rig.hpp"
+#include "clearshape/study/record.hpp"
+
+namespace cs = clearshape;
+namespace st = clearshape::study;
+
+namespace {
+
+st::RunRequest step_request() {
+  st::RunRequest req;
+  req.id = "unshaped/step/r01";
+  req.stage = "unshaped";
+  req.input = "step";
+  req.record_s = 0.1;
+  req.command.sample_time_s = 1e-3;
+  req.command.values.assign(101, 0.0);
+  for (std::size_t k = 20; k < 101; ++k) req.command.values[k] = 1.0 / 3.0 + static_cast<double>(k) * 0.1;
+  return req;
+}
+
+std::filesystem::path temp_dir(const char* name) {
+  const auto dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST(Record, ExecutesTheCommandOnTheRig) {
+  cs::rig::LoopbackConfig config;  // position mode, 1 kHz: reports the commanded angle
+  cs::rig::LoopbackRig rig(config);
+  const st::RunRequest req = step_request();
+  const st::Record r = st::execute_run(rig, req);
+  ASSERT_EQ(r.size(), 101u);
+  EXPECT_EQ(rig.state(), cs::rig::LifecycleState::inactive);
+  EXPECT_DOUBLE_EQ(r.time_s[100], 0.1);
+  for (std::size_t k = 0; k < r.size(); ++k) EXPECT_EQ(r.command[k], req.command.values[k]);
+  // The loopback reports at t_k the command written after read k−1.
+  for (std::size_t k = 1; k < r.size(); ++k) {
+    EXPECT_NEAR(r.command_applied[k], req.command.values[k - 1], 1e-12) << k;
+    EXPECT_NEAR(r.motor_angle_deg[k], req.command.values[k - 1], 360.0 / 12000.0) << k;
+  }
+}
+
+TEST(Record, RejectsAMismatchedSampleTime) {
+  cs::rig::LoopbackConfig config;
+  config.sample_rate_hz = 500.0;
+  cs::rig::LoopbackRig rig(config);
+  EXPECT_THROW(st::execute_run(rig, step_request()), cs::InvalidArgument);
+}
+
+TEST(Record, RoundTripIsBitExactAndKeyedByTheProtocolHash) {
+  cs::rig::LoopbackRig rig(cs::rig::LoopbackConfig{});
+  const st::RunRequest req = step_request();
+  const st::Record r = st::execute_run(rig, req);
+  const auto dir = temp_dir("clearshape_test_record");
+  st::write_record(dir, r, req, "hash-a", "loopback", {{"reads", 101}});
+  EXPECT_TRUE(std::filesystem::exists(dir / "unshaped__step__r01.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "unshaped__step__r01.json"));
+  const auto back = st::read_record(dir, req, cs::rig::CommandMode::position, "hash-a");
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->command, r.command);
+  EXPECT_EQ(back->command_applied, r.command_applied);
+  EXPECT_EQ(back->motor_angle_deg, r.motor_angle_deg);
+  EXPECT_EQ(back->link_rate_deg_s, r.link_rate_deg_s);
+  EXPECT_EQ(back->time_s, r.time_s);
+  EXPECT_FALSE(st::read_record(dir, req, cs::rig::CommandMode::position, "hash-b").has_value());
+  // A damaged CSV means the run is run again, not an error.
+  std::ofstream(dir / "unshaped__step__r01.csv") << "time_s,garbage\n1,2\n";
+  EXPECT_FALSE(st::read_record(dir, req, cs::rig::CommandMode::position, "hash-a").has_value());
+  std::filesystem::remove_all(dir);
+}

@@ -1,0 +1,129 @@
+// Integration: the quick studies run on the simulated thesis rig and their tables hold the
+// thesis's qualitative results (issue "The thesis study end to end"):
+//   * ZVDD (designed from the link's identified mode) reduces the 20° step's MD by > 80 %;
+//   * ZVDD designed from the ζ ≈ 1 position drive model alone does almost nothing (< 5 %);
+//   * larger steps benefit more (B.6: 20° > 10° > 5°);
+//   * speed mode: ZV, ZVD, ZVDD from the drive model each reduce the MD, ZVDD the most.
+// And the runner's contracts: same protocol + seed → same bytes; a restart reuses finished runs
+// and gives the same bytes again.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "clearshape/study/protocol.hpp"
+#include "clearshape/study/runner.hpp"
+#include "study_paths.hpp"
+
+namespace st = clearshape::study;
+using clearshape::testing::studies_path;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const json& column(const json& table, const std::string& key) {
+  for (const auto& c : table.at("columns")) {
+    if (c.at("key") == key) return c;
+  }
+  throw std::runtime_error("no column " + key);
+}
+
+double improvement(const json& table, const std::string& key) {
+  return column(table, key).at("improvement_percent").get<double>();
+}
+
+st::StudyResult run(const std::string& protocol, const std::filesystem::path& out, bool fresh = true) {
+  st::StudyOptions options;
+  options.out_dir = out;
+  options.fresh = fresh;
+  options.threads = 2;
+  return st::run_study(st::quick_variant(st::load_protocol(studies_path(protocol))), options);
+}
+
+std::filesystem::path temp_dir(const char* name) {
+  const auto dir = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST(StudyQuick, PositionModeReproducesTheThesisQualitatively) {
+  const auto out = temp_dir("clearshape_study_quick_position");
+  const st::StudyResult r = run("thesis-position.toml", out);
+
+  const json& b1 = r.table("B.1");
+  EXPECT_GT(improvement(b1, "zvdd@link-mode"), 80.0);
+  EXPECT_LT(std::abs(improvement(b1, "zvdd@drive-model")), 5.0);
+  EXPECT_LT(std::abs(improvement(r.table("B.5"), "zvdd@drive-model")), 5.0);
+  const double i20 = improvement(b1, "zvdd@link-mode");
+  const double i10 = improvement(r.table("B.2"), "zvdd@link-mode");
+  const double i5 = improvement(r.table("B.3"), "zvdd@link-mode");
+  EXPECT_GT(i20, i10);
+  EXPECT_GT(i10, i5);
+  const json& b6 = r.table("B.6");
+  EXPECT_NEAR(b6.at("columns")[0].at("ours")[0].get<double>(), i20, 1e-9);
+  // The drive model is identified close to Eq. 4.2 (the rig's position drive is the thesis's).
+  const json& eq42 = r.table("4.2-model").at("headline").at("ours");
+  EXPECT_NEAR(eq42.at("kp").get<double>(), 0.9959, 0.01);
+  EXPECT_NEAR(1.0 / eq42.at("tw_s").get<double>(), 98.0, 15.0);
+  // Every output exists, and the figures index names existing data files.
+  for (const char* f : {"results.json", "tables.md", "figures.json", "timing.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(out / f)) << f;
+  }
+  for (const auto& fig : r.figures.at("figures")) {
+    EXPECT_TRUE(std::filesystem::exists(out / fig.at("file").get<std::string>())) << fig.at("id");
+  }
+  EXPECT_NE(r.tables_markdown.find("thesis"), std::string::npos);
+  EXPECT_EQ(r.results.at("ambiguities").size(), 8u);
+}
+
+TEST(StudyQuick, SpeedModeShapersFromTheDriveModelReduceTheMd) {
+  const auto out = temp_dir("clearshape_study_quick_speed");
+  const st::StudyResult r = run("thesis-speed.toml", out);
+  const json& t = r.table("5.1");
+  const double zv = improvement(t, "zv@drive-model");
+  const double zvd = improvement(t, "zvd@drive-model");
+  const double zvdd = improvement(t, "zvdd@drive-model");
+  EXPECT_GT(zv, 20.0);
+  EXPECT_GT(zvdd, zv);
+  EXPECT_GT(zvd, 20.0);
+  // Identified through the §3.3 chain, the speed model lands near the thesis's Eq. 4.2.
+  const json& ours = r.table("4.2-model").at("headline").at("ours");
+  EXPECT_NEAR(ours.at("kp").get<double>(), 25.47, 1.0);
+  EXPECT_NEAR(ours.at("zeta").get<double>(), 0.288, 0.06);
+  EXPECT_NEAR(ours.at("tw_s").get<double>(), 0.0479, 0.006);
+}
+
+TEST(StudyQuick, DeterministicAndResumable) {
+  const auto a = temp_dir("clearshape_study_quick_a");
+  const auto b = temp_dir("clearshape_study_quick_b");
+  run("thesis-position.toml", a);
+  run("thesis-position.toml", b);
+  for (const char* f : {"results.json", "tables.md", "figures.json", "data/rig_B.1.csv",
+                        "runs/rig__B.1__none__r01.csv"}) {
+    EXPECT_EQ(slurp(a / f), slurp(b / f)) << f;
+  }
+  // Interrupted study: one run lost, one run left half-written (no sidecar). The restart reuses
+  // the rest and gives the same bytes.
+  std::filesystem::remove(b / "runs/rig__B.2__none__r02.json");
+  std::filesystem::remove(b / "runs/rig__B.3__zvdd@link-mode__r01.csv");
+  const st::StudyResult again = run("thesis-position.toml", b, false);
+  int executed = 0, reused = 0;
+  for (const auto& t : again.timing) {
+    executed += t.runs_executed;
+    reused += t.runs_reused;
+  }
+  EXPECT_EQ(executed, 2);
+  EXPECT_GT(reused, 30);
+  EXPECT_EQ(slurp(a / "results.json"), slurp(b / "results.json"));
+  EXPECT_EQ(slurp(a / "tables.md"), slurp(b / "tables.md"));
+}
