@@ -1,0 +1,423 @@
+// clearshape identify: fit a MATLAB-style process model (thesis §4.2, Eq. 4.2: P3UZ) to one or
+// several recorded runs by simulation error, with parameter uncertainties, ωn = 1/Tw and ζ = Zeta;
+// with --crossval, the thesis's cross-validation over input types (each run identified alone,
+// simulated on every other, the matrix of fits and the best model).
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/ident/cross_validation.hpp"
+#include "clearshape/ident/process_fit.hpp"
+#include "clearshape/io/json.hpp"
+#include "clearshape/io/table.hpp"
+#include "command.hpp"
+
+namespace clearshape::cli {
+
+namespace {
+
+struct IdentifyState {
+  std::string model = "P3UZ";
+  std::vector<std::string> data;
+  std::string input_column, output_column, time_column;
+  double sample_time_s = 0.0;
+  CLI::Option* sample_time_option = nullptr;
+  std::vector<std::string> fix, initial, bound;
+  std::string initial_state = "auto";
+  std::string hold = "zoh";
+  bool output_offset = false;
+  bool input_offset = false;
+  double max_delay_s = 0.0;
+  std::size_t starts = 3;
+  bool crossval = false;
+  bool json = false;
+  std::string simulated_csv;
+};
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Index of a column given by name or 1-based number; nullopt if absent.
+std::optional<std::size_t> column_index(const io::Table& t, const std::string& spec) {
+  if (auto i = t.find(spec)) return i;
+  (void)t.column(spec);  // throws InputError listing the columns when neither a name nor an index
+  return static_cast<std::size_t>(std::stoul(spec)) - 1;
+}
+
+std::optional<std::size_t> find_named(const io::Table& t, std::initializer_list<const char*> names, bool prefix) {
+  for (std::size_t i = 0; i < t.names.size(); ++i) {
+    const std::string n = lower(t.names[i]);
+    for (const char* want : names) {
+      if (n == want || (prefix && n.rfind(want, 0) == 0)) return i;
+    }
+  }
+  return std::nullopt;
+}
+
+struct Columns {
+  std::optional<std::size_t> time;
+  std::size_t input = 0, output = 0;
+};
+
+// Column choice: explicit options first; else a time column named time_s/time/t, an input column
+// named command…/input…/u…, and the output as the next other column.
+Columns choose_columns(const io::Table& t, const std::string& input, const std::string& output,
+                       const std::string& time, bool have_sample_time, bool need_input) {
+  Columns c;
+  if (!time.empty()) {
+    if (have_sample_time) throw InvalidArgument("give either --time-column or --sample-time, not both");
+    c.time = column_index(t, time);
+  } else if (!have_sample_time) {
+    c.time = find_named(t, {"time_s", "time", "t"}, false);
+  }
+  auto others = [&](std::size_t i) { return !c.time || i != *c.time; };
+  if (need_input) {
+    if (!input.empty()) {
+      c.input = *column_index(t, input);
+    } else if (auto named = find_named(t, {"command", "input", "u"}, true); named && others(*named)) {
+      c.input = *named;
+    } else {
+      std::size_t i = 0;
+      while (i < t.columns.size() && !others(i)) ++i;
+      c.input = i;
+    }
+  }
+  if (!output.empty()) {
+    c.output = *column_index(t, output);
+  } else {
+    std::size_t i = 0;
+    while (i < t.columns.size() && (!others(i) || (need_input && i == c.input))) ++i;
+    c.output = i;
+  }
+  if (c.output >= t.columns.size() || (need_input && c.input >= t.columns.size())) {
+    throw InputError(t.source, 0, "", "needs an input and an output column besides the time column; found " +
+                                          std::to_string(t.columns.size()) + " column(s)");
+  }
+  return c;
+}
+
+ident::Experiment load(const std::string& path, const IdentifyState& st) {
+  const io::Table t = io::read_table(path);
+  const bool have_ts = st.sample_time_option != nullptr && st.sample_time_option->count() > 0;
+  const Columns c = choose_columns(t, st.input_column, st.output_column, st.time_column, have_ts, true);
+  ident::Experiment e;
+  e.name = std::filesystem::path(path).stem().string();
+  if (c.time) {
+    e.sample_time_s = io::uniform_sample_time(t, t.names[*c.time]);
+  } else if (have_ts) {
+    require_positive("--sample-time", st.sample_time_s, "Give the sample time of the records in seconds.");
+    e.sample_time_s = st.sample_time_s;
+  } else {
+    throw InputError(path, 0, "", "has no time column (time_s, time or t); process models are continuous-time, so "
+                                  "give --time-column NAME or --sample-time SECONDS");
+  }
+  e.input = t.columns[c.input];
+  e.output = t.columns[c.output];
+  return e;
+}
+
+double parse_value(const std::string& text, const std::string& option) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(v)) {
+    throw InvalidArgument(fmt::format("{}: '{}' is not a finite number", option, text));
+  }
+  return v;
+}
+
+std::pair<std::string, std::string> split_assignment(const std::string& text, const std::string& option) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InvalidArgument(fmt::format("{} '{}': expected NAME=VALUE, e.g. {} Tz=-0.04", option, text, option));
+  }
+  return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+ident::ProcessFitOptions fit_options(const IdentifyState& st) {
+  ident::ProcessFitOptions o;
+  const std::string ic = lower(st.initial_state);
+  if (ic == "zero") {
+    o.initial_state = ident::InitialState::zero;
+  } else if (ic == "estimate") {
+    o.initial_state = ident::InitialState::estimate;
+  } else if (ic == "auto") {
+    o.initial_state = ident::InitialState::automatic;
+  } else {
+    throw InvalidArgument(fmt::format("--initial-state = '{}' is not valid; allowed: auto, zero, estimate", st.initial_state));
+  }
+  const std::string hold = lower(st.hold);
+  if (hold == "zoh") {
+    o.hold = lti::Hold::zoh;
+  } else if (hold == "foh") {
+    o.hold = lti::Hold::foh;
+  } else {
+    throw InvalidArgument(fmt::format("--hold = '{}' is not valid; allowed: zoh, foh", st.hold));
+  }
+  o.estimate_output_offset = st.output_offset;
+  o.estimate_input_offset = st.input_offset;
+  if (st.max_delay_s != 0.0) require_positive("--max-delay", st.max_delay_s);
+  o.max_delay_s = st.max_delay_s;
+  if (st.starts < 1) throw_invalid("--starts", 0.0, ">= 1");
+  o.starts = st.starts;
+  for (const auto& f : st.fix) {
+    const auto [name, value] = split_assignment(f, "--fix");
+    o.parameters[name].fixed = parse_value(value, "--fix " + name);
+  }
+  for (const auto& f : st.initial) {
+    const auto [name, value] = split_assignment(f, "--initial");
+    o.parameters[name].initial = parse_value(value, "--initial " + name);
+  }
+  for (const auto& f : st.bound) {
+    const auto [name, range] = split_assignment(f, "--bound");
+    const auto colon = range.find(':');
+    if (colon == std::string::npos) {
+      throw InvalidArgument(fmt::format("--bound '{}': expected NAME=LOW:HIGH (either side may be empty)", f));
+    }
+    const std::string lo = range.substr(0, colon), hi = range.substr(colon + 1);
+    if (!lo.empty()) o.parameters[name].lower = parse_value(lo, "--bound " + name);
+    if (!hi.empty()) o.parameters[name].upper = parse_value(hi, "--bound " + name);
+  }
+  return o;
+}
+
+std::string unit_of(const std::string& name) {
+  if (name == "Kp") return "output units per command unit";
+  if (name == "Zeta") return "1";
+  return "s";
+}
+
+nlohmann::ordered_json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
+
+// `model` is the structure as the user wrote it (upper case: "P3UZ", the thesis's spelling);
+// model_canonical is lti's letter order ("P3ZU").
+nlohmann::ordered_json estimate_json(const ident::ProcessEstimate& est, const std::vector<std::string>& files,
+                                     const std::string& model) {
+  nlohmann::ordered_json j;
+  j["model"] = model;
+  j["model_canonical"] = est.model.code();
+  nlohmann::ordered_json params = nlohmann::ordered_json::object();
+  for (const auto& p : est.parameters) {
+    params[p.name] = {{"value", p.value}, {"std", number_or_null(p.std_dev)}, {"fixed", p.fixed}, {"unit", unit_of(p.name)}};
+  }
+  j["parameters"] = params;
+  j["fit_percent"] = est.fit_percent();
+  if (est.natural_frequency_rad_s()) {
+    j["wn_rad_s"] = *est.natural_frequency_rad_s();
+    j["wn_std_rad_s"] = number_or_null(*est.natural_frequency_std_rad_s());
+    j["natural_frequency_hz"] = rad_s_to_hz(*est.natural_frequency_rad_s());
+    j["zeta"] = *est.damping_ratio();
+    j["zeta_std"] = number_or_null(*est.damping_ratio_std());
+  } else {
+    j["wn_rad_s"] = nullptr;
+    j["zeta"] = nullptr;
+  }
+  nlohmann::ordered_json zeros = nlohmann::ordered_json::array();
+  for (const auto& z : est.model.zeros()) zeros.push_back({{"re", z.real()}, {"im", z.imag()}});
+  nlohmann::ordered_json poles = nlohmann::ordered_json::array();
+  for (const auto& p : est.model.poles()) poles.push_back({{"re", p.real()}, {"im", p.imag()}});
+  j["poles_rad_s"] = poles;
+  j["zeros_rad_s"] = zeros;
+  j["loss"] = est.loss;
+  j["fpe"] = est.fpe;
+  j["aic"] = est.aic;
+  j["bic"] = est.bic;
+  j["samples"] = est.samples;
+  j["free_parameters"] = est.free_parameters;
+  j["converged"] = est.converged;
+  j["iterations"] = est.iterations;
+  j["candidates"] = est.candidates;
+  nlohmann::ordered_json exps = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < est.experiments.size(); ++i) {
+    const auto& e = est.experiments[i];
+    nlohmann::ordered_json x0 = nlohmann::ordered_json::array();
+    for (Eigen::Index k = 0; k < e.initial_state.size(); ++k) x0.push_back(e.initial_state(k));
+    exps.push_back({{"name", e.name},
+                    {"file", i < files.size() ? files[i] : ""},
+                    {"samples", e.simulated.size()},
+                    {"sample_time_s", e.simulated.sample_time_s},
+                    {"fit_percent", e.fit_percent},
+                    {"fit_percent_zero_ic", e.fit_percent_zero_ic},
+                    {"fit_percent_estimated_ic", e.fit_percent_estimated_ic},
+                    {"rmse", e.rmse},
+                    {"output_offset", e.output_offset},
+                    {"input_offset", e.input_offset},
+                    {"initial_state", x0}});
+  }
+  j["experiments"] = exps;
+  return j;
+}
+
+void print_estimate(const ident::ProcessEstimate& est, const std::string& model) {
+  fmt::print("model {}: {} experiment(s), {} samples; {} candidates ranked, {} LM iterations, {}\n\n",
+             model, est.experiments.size(), est.samples, est.candidates, est.iterations,
+             est.converged ? "converged" : "NOT converged (iteration limit)");
+  fmt::print("  {:<6} {:>14} {:>12}  {}\n", "param", "value", "std", "unit");
+  for (const auto& p : est.parameters) {
+    const std::string sd = p.fixed ? "fixed" : (std::isfinite(p.std_dev) ? fmt::format("{:.4g}", p.std_dev) : "n/a");
+    fmt::print("  {:<6} {:>14.7g} {:>12}  {}\n", p.name, p.value, sd, unit_of(p.name));
+  }
+  if (est.natural_frequency_rad_s()) {
+    fmt::print("\n  wn = 1/Tw  {:.6g} rad/s ({:.6g} Hz), std {:.3g} rad/s\n", *est.natural_frequency_rad_s(),
+               rad_s_to_hz(*est.natural_frequency_rad_s()), *est.natural_frequency_std_rad_s());
+    fmt::print("  zeta       {:.6g}, std {:.3g}\n", *est.damping_ratio(), *est.damping_ratio_std());
+  }
+  fmt::print("\n  {:<20} {:>9} {:>12} {:>14} {:>12}\n", "experiment", "fit %", "fit % x0=0", "fit % x0 est.", "RMSE");
+  for (const auto& e : est.experiments) {
+    fmt::print("  {:<20} {:>9.3f} {:>12.3f} {:>14.3f} {:>12.5g}\n", e.name, e.fit_percent, e.fit_percent_zero_ic,
+               e.fit_percent_estimated_ic, e.rmse);
+  }
+  fmt::print("\n  loss V {:.6g}, FPE {:.6g}, AIC {:.6g}, BIC {:.6g} (p = {}, N = {})\n", est.loss, est.fpe, est.aic,
+             est.bic, est.free_parameters, est.samples);
+}
+
+void write_simulated(const std::string& path, const ident::Experiment& e, const ident::ExperimentFit& f) {
+  const std::vector<double> time = f.simulated.times_s();
+  io::write_csv(path, {"time_s", "input", "measured", "simulated"}, {&time, &e.input, &e.output, &f.simulated.values});
+  fmt::print(stderr, "clearshape identify: wrote {} ({} rows)\n", path, time.size());
+}
+
+void run_identify(const IdentifyState& st) {
+  if (st.data.empty()) throw InvalidArgument("identify: give at least one --data FILE");
+  const lti::ProcessStructure structure = lti::ProcessStructure::parse(st.model);
+  std::string requested_model = st.model;
+  for (char& c : requested_model) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  std::vector<ident::Experiment> experiments;
+  for (const auto& path : st.data) experiments.push_back(load(path, st));
+  const ident::ProcessFitOptions options = fit_options(st);
+
+  if (st.crossval) {
+    if (!st.simulated_csv.empty()) throw InvalidArgument("identify: --simulated applies without --crossval");
+    ident::CrossValidationOptions co;
+    co.fit = options;
+    fmt::print(stderr, "clearshape identify: cross-validating {} on {} runs\n", requested_model, experiments.size());
+    const auto cv = ident::cross_validate(structure, experiments, co);
+    if (st.json) {
+      auto doc = io::make_document();
+      doc["command"] = "identify";
+      doc["mode"] = "crossval";
+      doc["model"] = requested_model;
+      doc["model_canonical"] = structure.code();
+      doc["experiments"] = cv.names;
+      nlohmann::ordered_json m = nlohmann::ordered_json::array();
+      for (Eigen::Index i = 0; i < cv.fit_percent.rows(); ++i) {
+        nlohmann::ordered_json row = nlohmann::ordered_json::array();
+        for (Eigen::Index j = 0; j < cv.fit_percent.cols(); ++j) row.push_back(cv.fit_percent(i, j));
+        m.push_back(row);
+      }
+      doc["fit_percent_matrix"] = m;
+      doc["matrix_layout"] = "row i: model identified on experiment i; column j: simulated on experiment j (NRMSE fit %)";
+      nlohmann::ordered_json models = nlohmann::ordered_json::array();
+      for (std::size_t i = 0; i < cv.estimates.size(); ++i) {
+        auto j = estimate_json(cv.estimates[i], {st.data[i]}, requested_model);
+        j["identified_on"] = cv.names[i];
+        j["mean_validation_fit_percent"] = cv.mean_validation_fit_percent[i];
+        models.push_back(j);
+      }
+      doc["models"] = models;
+      doc["best"] = {{"index", cv.best}, {"identified_on", cv.names[cv.best]},
+                     {"mean_validation_fit_percent", cv.mean_validation_fit_percent[cv.best]}};
+      if (cv.joint) {
+        auto j = estimate_json(*cv.joint, st.data, requested_model);
+        doc["joint"] = j;
+      }
+      print_json(doc);
+      return;
+    }
+    fmt::print("cross-validation of {} (thesis §4.2): NRMSE fit %, row = identified on, column = simulated on\n\n",
+               requested_model);
+    fmt::print("  {:<16}", "");
+    for (const auto& n : cv.names) fmt::print(" {:>12.12}", n);
+    fmt::print(" {:>12}\n", "mean other");
+    for (std::size_t i = 0; i < cv.names.size(); ++i) {
+      fmt::print("  {:<16.16}", cv.names[i]);
+      for (std::size_t j = 0; j < cv.names.size(); ++j) {
+        fmt::print(" {:>12.3f}", cv.fit_percent(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+      }
+      fmt::print(" {:>12.3f}{}\n", cv.mean_validation_fit_percent[i], i == cv.best ? "  <- best" : "");
+    }
+    if (cv.joint) {
+      fmt::print("  {:<16}", "joint (all)");
+      for (double f : cv.joint_fit_percent) fmt::print(" {:>12.3f}", f);
+      fmt::print("\n");
+    }
+    fmt::print("\nbest: identified on {}\n", cv.names[cv.best]);
+    print_estimate(cv.estimates[cv.best], requested_model);
+    return;
+  }
+
+  fmt::print(stderr, "clearshape identify: fitting {} to {} run(s)\n", requested_model, experiments.size());
+  const auto est = ident::estimate_process_model(structure, experiments, options);
+  if (!st.simulated_csv.empty()) {
+    if (experiments.size() != 1) throw InvalidArgument("identify: --simulated needs exactly one --data file");
+    write_simulated(st.simulated_csv, experiments[0], est.experiments[0]);
+  }
+  if (st.json) {
+    auto doc = io::make_document();
+    doc["command"] = "identify";
+    doc["mode"] = "fit";
+    const nlohmann::ordered_json result = estimate_json(est, st.data, requested_model);
+    for (const auto& [k, v] : result.items()) doc[k] = v;
+    doc["configuration"] = {{"initial_state", st.initial_state},
+                            {"hold", st.hold},
+                            {"output_offset", st.output_offset},
+                            {"input_offset", st.input_offset},
+                            {"starts", st.starts},
+                            {"fix", st.fix},
+                            {"bound", st.bound},
+                            {"initial", st.initial},
+                            {"focus", "simulation"}};
+    print_json(doc);
+    return;
+  }
+  print_estimate(est, requested_model);
+}
+
+void setup(CLI::App& sub) {
+  auto st = std::make_shared<IdentifyState>();
+  sub.add_option("--model", st->model, "Process model structure: P + poles 0-3 + D/Z/U/I (thesis Eq. 4.2: P3UZ)")
+      ->capture_default_str();
+  sub.add_option("--data", st->data, "Recorded run (CSV or whitespace columns, header optional); repeat for several")
+      ->required();
+  sub.add_option("--input-column", st->input_column, "Input (command) column: name or 1-based index");
+  sub.add_option("--output-column", st->output_column, "Output (response) column: name or 1-based index");
+  sub.add_option("--time-column", st->time_column, "Time column in seconds (default: time_s, time or t if present)");
+  st->sample_time_option = sub.add_option("--sample-time", st->sample_time_s, "Sample time in s when there is no time column");
+  sub.add_option("--fix", st->fix, "Hold a parameter, e.g. --fix Tz=-0.04 (repeatable)");
+  sub.add_option("--initial", st->initial, "Also start the search from this value, e.g. --initial Tw=0.05 (repeatable)");
+  sub.add_option("--bound", st->bound, "Bound a parameter, e.g. --bound Zeta=0:1 (repeatable; a side may be empty)");
+  sub.add_option("--initial-state", st->initial_state, "Initial state per run: auto, zero, estimate")->capture_default_str();
+  sub.add_option("--hold", st->hold, "Input between samples: zoh, foh")->capture_default_str();
+  sub.add_flag("--output-offset", st->output_offset, "Estimate a constant output offset per run");
+  sub.add_flag("--input-offset", st->input_offset, "Estimate a constant input offset per run");
+  sub.add_option("--max-delay", st->max_delay_s, "Upper bound of Td in s (default: a quarter of the shortest run)");
+  sub.add_option("--starts", st->starts, "Levenberg-Marquardt runs from the best-ranked starting points")->capture_default_str();
+  sub.add_flag("--crossval", st->crossval, "Thesis §4.2 cross-validation: identify on each run, simulate on every other");
+  sub.add_option("--simulated", st->simulated_csv, "Write time_s, input, measured, simulated to this CSV (one --data)");
+  sub.add_flag("--json", st->json, "Print the result as JSON");
+  sub.callback([st] { run_identify(*st); });
+}
+
+const bool registered = register_command(
+    {"identify", "Identify a process model (thesis Eq. 4.2, P3UZ) from recorded runs; --crossval over input types", 30,
+     setup});
+
+}  // namespace
+
+}  // namespace clearshape::cli

@@ -1,0 +1,205 @@
+// clearshape modes: the dominant lightly damped modes of a record — a free decay of the link
+// sensor after a move (ERA + damped-sinusoid least squares), or input/output data (subspace +
+// output-error fit) — with frequency, damping ratio, amplitude and their 1σ, ready for shaper
+// design (DESIGN.md §2: the link's residual mode, not the drive's ζ ≈ 1 position model).
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/ident/modes.hpp"
+#include "clearshape/io/json.hpp"
+#include "clearshape/io/table.hpp"
+#include "command.hpp"
+
+namespace clearshape::cli {
+
+namespace {
+
+struct ModesState {
+  std::string data;
+  std::string input_column, output_column, time_column;
+  double sample_time_s = 0.0;
+  CLI::Option* sample_time_option = nullptr;
+  std::size_t modes = 1;
+  std::size_t order = 0;
+  std::size_t from_sample = 0;
+  std::size_t to_sample = 0;
+  double max_damping = 0.7;
+  bool no_refine = false;
+  bool no_offset = false;
+  bool json = false;
+};
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::size_t column_index(const io::Table& t, const std::string& spec) {
+  if (auto i = t.find(spec)) return *i;
+  (void)t.column(spec);  // throws InputError listing the columns when neither a name nor an index
+  return static_cast<std::size_t>(std::stoul(spec)) - 1;
+}
+
+std::optional<std::size_t> time_column(const io::Table& t) {
+  for (std::size_t i = 0; i < t.names.size(); ++i) {
+    const std::string n = lower(t.names[i]);
+    if (n == "time_s" || n == "time" || n == "t") return i;
+  }
+  return std::nullopt;
+}
+
+nlohmann::ordered_json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
+
+void run_modes(const ModesState& st) {
+  const io::Table t = io::read_table(st.data);
+  const bool have_ts = st.sample_time_option != nullptr && st.sample_time_option->count() > 0;
+  std::optional<std::size_t> tc;
+  if (!st.time_column.empty()) {
+    if (have_ts) throw InvalidArgument("modes: give either --time-column or --sample-time, not both");
+    tc = column_index(t, st.time_column);
+  } else if (!have_ts) {
+    tc = time_column(t);
+  }
+  double dt = 1.0;
+  bool per_sample = false;
+  if (tc) {
+    dt = io::uniform_sample_time(t, t.names[*tc]);
+  } else if (have_ts) {
+    require_positive("--sample-time", st.sample_time_s, "Give the sample time of the record in seconds.");
+    dt = st.sample_time_s;
+  } else {
+    per_sample = true;  // frequencies in cycles/sample
+  }
+  const std::vector<double>& y_all = t.columns[column_index(t, st.output_column)];
+  const std::size_t end = st.to_sample > 0 ? st.to_sample : y_all.size();
+  if (!(st.from_sample < end && end <= y_all.size())) {
+    throw InvalidArgument(fmt::format("modes: window [--from-sample {}, --to-sample {}) is out of range; the record has {} samples",
+                                      st.from_sample, end, y_all.size()));
+  }
+  const auto first = static_cast<std::ptrdiff_t>(st.from_sample), last = static_cast<std::ptrdiff_t>(end);
+  const std::vector<double> y(y_all.begin() + first, y_all.begin() + last);
+  ident::ModeOptions o;
+  o.modes = st.modes;
+  o.order = st.order;
+  o.refine = !st.no_refine;
+  o.estimate_offset = !st.no_offset;
+  o.max_damping_ratio = st.max_damping;
+  ident::ModeIdentification r;
+  std::string kind;
+  if (!st.input_column.empty()) {
+    const std::vector<double>& u_all = t.columns[column_index(t, st.input_column)];
+    ident::Experiment e{st.data, dt, std::vector<double>(u_all.begin() + first, u_all.begin() + last), y};
+    r = ident::identify_modes(e, o);
+    kind = "input-output";
+  } else {
+    r = ident::identify_free_response_modes(UniformSeries{0.0, dt, y}, o);
+    kind = "free response";
+  }
+  if (r.modes.size() < st.modes) {
+    fmt::print(stderr, "clearshape modes: warning: asked for {} modes, found {} with damping ratio below {}\n", st.modes,
+               r.modes.size(), st.max_damping);
+  }
+
+  const std::string unit = per_sample ? "cycles/sample" : "Hz";
+  const std::string key = per_sample ? "frequency_cycles_per_sample" : "frequency_hz";
+  // A ready `clearshape shape` command for the first one or two modes (needs Hz).
+  std::string shape_command;
+  if (!per_sample && !r.modes.empty()) {
+    shape_command = fmt::format("clearshape shape --method zvd --frequency-hz {:.6g} --zeta {:.6g}",
+                                r.modes[0].natural_frequency_hz(), r.modes[0].damping_ratio);
+    if (r.modes.size() > 1) {
+      shape_command += fmt::format(" --second-frequency-hz {:.6g} --second-zeta {:.6g}", r.modes[1].natural_frequency_hz(),
+                                   r.modes[1].damping_ratio);
+    }
+  }
+  if (st.json) {
+    auto doc = io::make_document();
+    doc["command"] = "modes";
+    doc["data"] = st.data;
+    doc["kind"] = kind;
+    doc["method"] = r.method;
+    doc["samples"] = y.size();
+    doc["window"] = {{"from_sample", st.from_sample}, {"to_sample", end}};
+    doc["sample_time_s"] = per_sample ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(dt);
+    doc["frequency_unit"] = unit;
+    if (per_sample) {
+      doc["note"] = "no time column and no --sample-time: frequencies are per sample (cycles/sample); "
+                    "give --sample-time or a time column for Hz";
+    }
+    doc["fit_percent"] = r.fit_percent;
+    doc["rmse"] = r.rmse;
+    doc["decimation"] = r.decimation;
+    nlohmann::ordered_json modes = nlohmann::ordered_json::array();
+    for (const auto& m : r.modes) {
+      nlohmann::ordered_json j;
+      j[key] = m.natural_frequency_hz();
+      j[per_sample ? "frequency_std_cycles_per_sample" : "frequency_std_hz"] = number_or_null(m.natural_frequency_std_hz());
+      j[per_sample ? "natural_frequency_rad_per_sample" : "natural_frequency_rad_s"] = m.natural_frequency_rad_s;
+      j[per_sample ? "natural_frequency_std_rad_per_sample" : "natural_frequency_std_rad_s"] =
+          number_or_null(m.natural_frequency_std_rad_s);
+      j[per_sample ? "damped_frequency_cycles_per_sample" : "damped_frequency_hz"] = m.damped_frequency_hz();
+      j["damping_ratio"] = m.damping_ratio;
+      j["damping_ratio_std"] = number_or_null(m.damping_ratio_std);
+      j["amplitude"] = m.amplitude;
+      j["amplitude_std"] = number_or_null(m.amplitude_std);
+      j["amplitude_meaning"] = st.input_column.empty() ? "initial amplitude of the damped sinusoid (output units)"
+                                                       : "peak gain of the mode's term (output per input unit)";
+      j["rms_contribution"] = m.rms_contribution;
+      modes.push_back(j);
+    }
+    doc["modes"] = modes;
+    doc["shape_command"] = shape_command.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(shape_command);
+    print_json(doc);
+    return;
+  }
+  fmt::print("{} modes of {} ({} samples, {}), fit {:.3f} %\n", kind, st.data, y.size(), r.method, r.fit_percent);
+  if (per_sample) fmt::print("no sample time: frequencies are per sample (cycles/sample); give --sample-time for Hz\n");
+  fmt::print("\n  #  {:>16} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "frequency " + unit, "std", "zeta", "std", "amplitude",
+             "std");
+  std::size_t i = 0;
+  for (const auto& m : r.modes) {
+    fmt::print("  {}  {:>16.7g} {:>12.3g} {:>12.6g} {:>12.3g} {:>12.5g} {:>12.3g}\n", ++i, m.natural_frequency_hz(),
+               m.natural_frequency_std_hz(), m.damping_ratio, m.damping_ratio_std, m.amplitude, m.amplitude_std);
+  }
+  if (!shape_command.empty()) fmt::print("\nshaper: {}\n", shape_command);
+}
+
+void setup(CLI::App& sub) {
+  auto st = std::make_shared<ModesState>();
+  sub.add_option("--data", st->data, "Record (CSV or whitespace columns, header optional)")->required();
+  sub.add_option("--output-column", st->output_column, "Measured column (e.g. the link gyro rate): name or 1-based index")
+      ->required();
+  sub.add_option("--input-column", st->input_column, "Input column for input/output identification (else: free response)");
+  sub.add_option("--time-column", st->time_column, "Time column in s (default: time_s, time or t if present)");
+  st->sample_time_option = sub.add_option("--sample-time", st->sample_time_s,
+                                          "Sample time in s when there is no time column (else: cycles/sample)");
+  sub.add_option("--modes", st->modes, "Number of dominant modes to report")->capture_default_str();
+  sub.add_option("--order", st->order, "Subspace model order (0: 2·modes + 2 free response, 2·modes input/output)")
+      ->capture_default_str();
+  sub.add_option("--from-sample", st->from_sample, "First sample of the window (0-based), e.g. the end of the move")
+      ->capture_default_str();
+  sub.add_option("--to-sample", st->to_sample, "End of the window (exclusive; 0 = end of the record)")->capture_default_str();
+  sub.add_option("--max-damping", st->max_damping, "Report only modes with damping ratio below this")->capture_default_str();
+  sub.add_flag("--no-refine", st->no_refine, "Skip the least-squares refinement (subspace estimate only)");
+  sub.add_flag("--no-offset", st->no_offset, "Free response: do not estimate a constant sensor offset");
+  sub.add_flag("--json", st->json, "Print the result as JSON");
+  sub.callback([st] { run_modes(*st); });
+}
+
+const bool registered = register_command(
+    {"modes", "Identify the dominant lightly damped modes of a record (free decay or input/output) for shaper design", 31,
+     setup});
+
+}  // namespace
+
+}  // namespace clearshape::cli
