@@ -220,6 +220,34 @@ void stage_rig_tests(Context& c) {
       t["headline"] = {{"ours", ours}, {"thesis", thesis}};
       t["note"] = "improvement = (without − with)/without · 100 (Appendix B), from the mean MDs.";
       c.tables.push_back(t);
+      // Summary figure: means without/with shaping and improvements, ours beside the thesis's.
+      json fig_rows = json::array();
+      for (std::size_t i = 0; i < s.tables.size(); ++i) {
+        const auto& id = s.tables[i];
+        const RigTable& table = c.p.table(id);
+        auto thesis_mean = [&](const std::string& key) -> json {
+          for (const auto& col : table.columns) {
+            if (col.key() == key && col.thesis.mean) return *col.thesis.mean;
+          }
+          return nullptr;
+        };
+        fig_rows.push_back({{"table", id},
+                            {"label", c.p.input(table.input).label},
+                            {"ours_without", mean_std(md[id]["none"]).mean},
+                            {"thesis_without", thesis_mean("none")},
+                            {"ours_with", mean_std(md[id][s.column]).mean},
+                            {"thesis_with", thesis_mean(s.column)},
+                            {"ours_improvement", ours[i]},
+                            {"thesis_improvement", thesis[i]}});
+      }
+      c.figures.push_back({{"id", fmt::format("summary-{}", s.id)},
+                           {"thesis_figure", nullptr},
+                           {"thesis_table", s.id},
+                           {"kind", "md-summary"},
+                           {"title", fmt::format("{}: mean deviations without and with {} and the improvement, "
+                                                 "clearshape beside the thesis", s.title, s.column)},
+                           {"unit", md_unit},
+                           {"rows", fig_rows}});
     }
   }
 }

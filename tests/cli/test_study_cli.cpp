@@ -1,0 +1,59 @@
+// `clearshape study`: the quick study from the command line (tables on stdout, progress on
+// stderr, JSON summary with --json), and exit code 2 with file/line/key for a bad protocol.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "support/cli.hpp"
+#include "support/paths.hpp"
+
+using clearshape::testing::run_cli;
+
+namespace {
+
+std::filesystem::path studies() {
+  return clearshape::testing::golden_path("").parent_path().parent_path().parent_path() / "studies";
+}
+
+}  // namespace
+
+TEST(StudyCli, QuickPositionStudyPrintsTablesAndWritesResults) {
+  const auto out = std::filesystem::temp_directory_path() / "clearshape_cli_study_position";
+  std::filesystem::remove_all(out);
+  const auto r = run_cli("study " + (studies() / "thesis-position.toml").string() + " --quick --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("### Table B.1"), std::string::npos);
+  EXPECT_NE(r.out.find("### Table B.6"), std::string::npos);
+  EXPECT_NE(r.out.find("— thesis"), std::string::npos);
+  EXPECT_NE(r.err.find("stage rig-tests"), std::string::npos);  // progress on stderr
+  EXPECT_NE(r.err.find("done in"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(out / "results.json"));
+  EXPECT_TRUE(std::filesystem::exists(out / "figures.json"));
+  // Again with --json: every run is reused, the summary parses.
+  const auto j = run_cli("study " + (studies() / "thesis-position.toml").string() + " --quick --json --out " + out.string());
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  EXPECT_NE(j.err.find("reused"), std::string::npos);
+  const auto doc = nlohmann::json::parse(j.out);
+  EXPECT_EQ(doc.at("study").at("name"), "thesis-position");
+  EXPECT_TRUE(doc.at("study").at("quick").get<bool>());
+  EXPECT_GE(doc.at("tables").size(), 9u);
+  EXPECT_EQ(doc.at("out_dir"), out.string());
+}
+
+TEST(StudyCli, BadProtocolIsExitTwoWithFileLineAndKey) {
+  const auto dir = std::filesystem::temp_directory_path() / "clearshape_cli_study_bad";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream f(dir / "bad.toml");
+    f << "format = \"clearshape-study-protocol/1\"\n[study]\nname = \"bad\"\nmode = \"position\"\nspeed_of_light = 3\n";
+  }
+  const auto r = run_cli("study " + (dir / "bad.toml").string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad.toml:5"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("study.speed_of_light"), std::string::npos) << r.err;
+  EXPECT_EQ(run_cli("study /nonexistent.toml").exit_code, 2);
+  EXPECT_EQ(run_cli("study").exit_code, 2);  // missing protocol argument
+}
