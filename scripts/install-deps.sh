@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages clearshape needs to build, test, benchmark and report.
 # Idempotent: does nothing when every package is already installed.
-# Usage: scripts/install-deps.sh [--with-report]   (--with-report adds headless Chromium)
+# Usage: scripts/install-deps.sh
+# Chromium (headless) is always installed: the report test opens report.html in it.
 set -euo pipefail
 
 packages=(
@@ -10,10 +11,8 @@ packages=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-scipy python3-matplotlib
+  chromium fonts-dejavu-core
 )
-if [[ "${1:-}" == "--with-report" ]]; then
-  packages+=(chromium)
-fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,416 @@
+"""Draws the study's figures from its figure index (figures.json) in the clearshape style.
+
+A figure entry (docs/study-outputs.md) names its id, kind, title, thesis figure number, one data
+file (CSV under <out>/data/), the x column and label, the y label and its series (a column and a
+label each). A series may also carry its own file, role or panel; an entry may have "panels".
+Kinds:
+  time-series    every series as a line, coloured by its role, which is read from the column name
+                 (…_none = without shaping, …_zvdd@link-mode = ZVDD for the link mode, command_…,
+                 measured/gyro, model/fitted, runNN_… = repeated trials). Trials draw thin in a
+                 sequential palette, with their mean. "mean_deviation" annotations (per column key:
+                 steady_mean, start_time_s, mean_deviation) mark where Eq. 5.1's steady state
+                 starts and add MD to the legend.
+  sensitivity    residual vibration against frequency ratio, per shaper, in % with the 5 % line.
+  mean-deviation one response with its steady-state mean M, the start of the steady state and the
+                 ±MD band (Eq. 5.1, Fig. 5.9); MD is computed from M and the start when not given.
+  md-summary     (drawn by the report, from results.json) Eq. 5.1 means and improvements of every
+                 trial table beside the thesis's.
+Outputs: <id>.png (150 dpi) and <id>.pdf with fixed metadata: the same inputs give the same bytes.
+"""
+from __future__ import annotations
+
+import math
+import textwrap
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from . import roles  # noqa: E402
+from .data import CsvCache, StudyDataError  # noqa: E402
+
+STYLE_PATH = Path(__file__).with_name("clearshape.mplstyle")
+LINE_KINDS = {"time-series", "timeseries", "lines", "repeat", "compare", "shaped", "commands", "psd"}
+
+PNG_METADATA = {"Software": None}
+PDF_METADATA = {"CreationDate": None, "ModDate": None, "Creator": "clearshape", "Producer": None}
+
+
+def use_style() -> None:
+    """Applies the clearshape style (call once before drawing)."""
+    plt.style.use(str(STYLE_PATH))
+
+
+def figure_id(spec: dict, index: int) -> str:
+    raw = str(spec.get("id") or spec.get("name") or f"figure_{index + 1:02d}")
+    return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in raw)
+
+
+def panels_of(spec: dict) -> list[dict]:
+    """The entry's panels; an entry with figure-level series is one panel. Panel fields fall back
+    to the entry's (file, x, y_label, ...)."""
+    base = {k: v for k, v in spec.items() if k not in ("panels", "title", "id", "kind")}
+    if spec.get("panels"):
+        return [base | p for p in spec["panels"]]
+    return [base]
+
+
+def _x_column(panel: dict, s: dict) -> str:
+    x = s.get("x") or panel.get("x")
+    if isinstance(x, dict):
+        return x.get("column") or "time_s"
+    return x or "time_s"
+
+
+def _y_column(s: dict) -> str:
+    col = s.get("column") or s.get("y")
+    if not col:
+        raise StudyDataError(f"series {s} names no column")
+    return col
+
+
+def _file(panel: dict, s: dict) -> str:
+    f = s.get("file") or panel.get("file")
+    if not f:
+        raise StudyDataError(f"series '{_y_column(s)}' names no data file")
+    return f
+
+
+def _x_label(panel: dict, xcol: str) -> str:
+    x = panel.get("x")
+    text = x.get("label") if isinstance(x, dict) else panel.get("x_label")
+    return roles.label_with_unit(text, xcol)
+
+
+def _y_label(panel: dict, ycol: str) -> str:
+    y = panel.get("y")
+    text = panel.get("y_label") or (y.get("label") if isinstance(y, dict) else None)
+    if isinstance(y, dict) and y.get("unit") and text and "(" not in text:
+        text = f"{text} ({y['unit']})"
+    return roles.label_with_unit(text, ycol)
+
+
+def _unit_of(label: str) -> str:
+    return label.rsplit("(", 1)[-1].rstrip(")") if label.endswith(")") else ""
+
+
+def _annotation(panel: dict, ycol: str) -> dict | None:
+    ann = panel.get("mean_deviation")
+    if not isinstance(ann, dict):
+        return None
+    if all(k in ann for k in ("steady_mean", "start_time_s")):
+        return ann
+    best = None
+    for key, a in ann.items():
+        if isinstance(a, dict) and ycol.endswith(key) and (best is None or len(key) > len(best[0])):
+            best = (key, a)
+    return best[1] if best else None
+
+
+def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
+    series = panel.get("series") or []
+    if not series:
+        raise StudyDataError("figure has no series")
+    resolved = []
+    for s in series:
+        ycol = _y_column(s)
+        role, source = roles.infer_role(ycol, s.get("label"))
+        if s.get("role"):
+            role = roles.normalise_role(s["role"])
+        resolved.append((s, ycol, role, source))
+    trials = [r for r in resolved if r[2] == "trial"]
+    trial_colours = plt.get_cmap("viridis")(np.linspace(0.1, 0.85, max(len(trials), 1)))
+    ylab = _y_label(panel, resolved[0][1])
+    unit = _unit_of(ylab)
+    trial_values = []
+    other_index = 0
+    for s, ycol, role, source in resolved:
+        f = _file(panel, s)
+        x = cache.column(f, _x_column(panel, s))
+        y = cache.column(f, ycol) * float(s.get("scale", 1.0))
+        label = s.get("label") or roles.label_for(role) or roles.quantity_from_column(ycol)
+        if role == "trial":
+            i = len(trial_values)
+            style = {"color": trial_colours[i], "linestyle": "-", "linewidth": 0.8, "zorder": 2}
+            label = (f"runs 1–{len(trials)}" if len(trials) > 1 else label) if i == 0 else None
+            trial_values.append((x, y))
+        else:
+            style = roles.style_for(role, other_index, source)
+            if not role:
+                other_index += 1
+        ann = _annotation(panel, ycol)
+        if ann and label:
+            md = ann.get("mean_deviation")
+            if md is not None:
+                label = f"{label} — MD {md:.3g} {unit}".rstrip()
+        ax.plot(x, y, label=label, **style)
+        if ann and ann.get("start_time_s") is not None:
+            t0 = float(ann["start_time_s"])
+            k = min(int(np.searchsorted(x, t0)), len(x) - 1)
+            ax.plot([x[k]], [y[k]], marker="o", markersize=4.5, color=style["color"], markeredgecolor="white",
+                    markeredgewidth=0.6, linestyle="none", zorder=8)
+            if ann.get("steady_mean") is not None:
+                ax.hlines(float(ann["steady_mean"]), x[k], x[-1], colors=style["color"], linewidth=0.7,
+                          linestyles=(0, (1, 1.5)), alpha=0.8, zorder=1)
+    if len(trial_values) > 1:
+        n = min(len(v[1]) for v in trial_values)
+        mean = np.mean([v[1][:n] for v in trial_values], axis=0)
+        ax.plot(trial_values[0][0][:n], mean, label=f"mean of {len(trial_values)} runs", **roles.style_for("mean"))
+    if panel.get("autozoom", True) and not panel.get("xlim"):
+        window = _active_window([(cache.column(_file(panel, s), _x_column(panel, s)), cache.column(_file(panel, s), yc))
+                                 for s, yc, _, _ in resolved])
+        if window:
+            ax.set_xlim(*window)
+    if any(_annotation(panel, r[1]) for r in resolved):
+        ax.plot([], [], marker="o", markersize=4.5, color="#555555", linestyle="none",
+                label="Eq. 5.1 steady-state start")
+    if kind == "psd" or panel.get("logy"):
+        ax.set_yscale("log")
+    if panel.get("logx"):
+        ax.set_xscale("log")
+    ax.set_xlabel(_x_label(panel, _x_column(panel, resolved[0][0])))
+    ax.set_ylabel(ylab)
+
+
+def _active_window(curves, threshold: float = 0.01, margin: float = 0.25):
+    """Time window where something happens: from the first departure of any curve from its initial
+    value to the last time any curve is away from its final value by more than `threshold` of its
+    range, widened by `margin` of that span. None when that is most of the record anyway (e.g. noisy
+    or periodic signals), so the full record is shown."""
+    t_lo, t_hi, t0, t1 = math.inf, -math.inf, math.inf, -math.inf
+    for x, y in curves:
+        if len(x) < 3:
+            return None
+        t0, t1 = min(t0, float(x[0])), max(t1, float(x[-1]))
+        span = float(np.nanmax(y) - np.nanmin(y))
+        if not math.isfinite(span) or span == 0:
+            continue
+        tail = max(1, len(y) // 50)
+        moved = np.flatnonzero(np.abs(y - y[0]) > threshold * span)
+        away = np.flatnonzero(np.abs(y - np.mean(y[-tail:])) > threshold * span)
+        if len(moved):
+            t_lo = min(t_lo, float(x[moved[0]]))
+        if len(away):
+            t_hi = max(t_hi, float(x[away[-1]]))
+    if not (math.isfinite(t_lo) and math.isfinite(t_hi)) or t_hi <= t_lo:
+        return None
+    pad = margin * (t_hi - t_lo)
+    lo, hi = max(t0, t_lo - pad), min(t1, t_hi + pad)
+    if hi - lo > 0.7 * (t1 - t0):
+        return None
+    return lo, hi
+
+
+def _draw_sensitivity(ax, panel: dict, cache: CsvCache) -> None:
+    """Residual vibration V(ω/ωm) (Eq. 2.19) per shaper; fractions are shown in %."""
+    series = panel.get("series") or []
+    if not series:
+        raise StudyDataError("sensitivity figure has no series")
+    ys = []
+    for s in series:
+        f = _file(panel, s)
+        ys.append((s, cache.column(f, _x_column(panel, s)), cache.column(f, _y_column(s))))
+    as_fraction = max(float(np.nanmax(y)) for _, _, y in ys) <= 1.0 + 1e-9
+    scale = 100.0 if as_fraction else 1.0
+    for i, (s, x, y) in enumerate(ys):
+        role, source = roles.infer_role(_y_column(s))
+        ax.plot(x, y * scale, label=s.get("label") or roles.label_for(role), **roles.style_for(role, i, source))
+    tol = panel.get("tolerance_percent", 5.0)
+    ax.axhline(float(tol), color="#7A7A7A", linestyle=":", linewidth=1.0, label=f"{tol:g} % (usual tolerance)")
+    ax.axvline(float(panel.get("design_x", 1.0)), color="#1a1a1a", linewidth=0.8, linestyle=(0, (2, 2)),
+               label="design frequency")
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel(_x_label(panel, _x_column(panel, series[0])))
+    text = panel.get("y_label") or "residual vibration"
+    text = text.split("(")[0].strip()
+    ax.set_ylabel(f"{text} (%)" if as_fraction else roles.label_with_unit(panel.get("y_label"), _y_column(series[0])))
+
+
+def steady_state_mean_deviation(t: np.ndarray, s: np.ndarray, final_window_fraction: float = 0.2,
+                                 search_from_s: float = -math.inf, max_iterations: int = 100):
+    """Eq. 5.1 with the steady-state start of §5.1.2, the same iteration as metrics::mean_deviation
+    (include/clearshape/metrics/mean_deviation.hpp). Returns (MD, M, start index)."""
+    n = len(s)
+    m = float(np.mean(s[n - max(1, int(round(final_window_fraction * n))):]))
+    first = int(np.searchsorted(t, search_from_s, side="left"))
+    k = first
+    seen = set()
+    for _ in range(max_iterations):
+        d = s[first:] - m
+        hit = np.flatnonzero(d == 0.0)
+        cross = np.flatnonzero(np.sign(d[1:]) * np.sign(d[:-1]) < 0) + 1
+        cands = hit[:1].tolist() + cross[:1].tolist()
+        k_new = first + (min(cands) if cands else 0)
+        if k_new == k and seen:
+            break
+        if k_new in seen:
+            k = k_new
+            break
+        seen.add(k_new)
+        k = k_new
+        m = float(np.mean(s[k:]))
+    md = float(np.sqrt(np.mean((m - s[k:]) ** 2)))
+    return md, m, k
+
+
+def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
+    s = (panel.get("series") or [None])[0]
+    if s is None:
+        raise StudyDataError("mean-deviation figure has no series")
+    f = _file(panel, s)
+    t = cache.column(f, _x_column(panel, s))
+    y = cache.column(f, _y_column(s))
+    mean, start_s, md = panel.get("steady_mean"), panel.get("start_time_s"), panel.get("mean_deviation")
+    if isinstance(md, dict):
+        md = None
+    if mean is None or start_s is None:
+        md_c, mean_c, k = steady_state_mean_deviation(t, y)
+        mean = mean_c if mean is None else mean
+        start_s = float(t[k]) if start_s is None else start_s
+    k = int(np.searchsorted(t, float(start_s)))
+    if md is None:  # Eq. 5.1 from the given M and start
+        md = float(np.sqrt(np.mean((float(mean) - y[k:]) ** 2)))
+    ylab = _y_label(panel, _y_column(s))
+    unit = _unit_of(ylab)
+    ax.axvspan(float(start_s), float(t[-1]), color="#F2F2F2", zorder=0, linewidth=0,
+               label="steady state (enters Eq. 5.1)")
+    ax.axhspan(mean - md, mean + md, color="#0072B2", alpha=0.13, linewidth=0, label=f"M ± MD, MD = {md:.3g} {unit}")
+    ax.plot(t, y, label=s.get("label") or "response", **roles.style_for("unshaped"))
+    ax.axhline(mean, label=f"steady-state mean M = {mean:.4g} {unit}", **roles.style_for("mean"))
+    ax.plot([t[min(k, len(t) - 1)]], [y[min(k, len(t) - 1)]], marker="o", markersize=5, color="#1a1a1a",
+            linestyle="none", zorder=9, label=f"first crossing of M, t = {float(start_s):.3f} s")
+    ax.set_xlabel(_x_label(panel, _x_column(panel, s)))
+    ax.set_ylabel(ylab)
+    # Zoom on the response around its final value so the ringing is visible.
+    lo, hi = float(np.min(y[k:])), float(np.max(y[k:]))
+    pad = max(hi - lo, 4 * md, 1e-9)
+    full_lo, full_hi = float(np.min(y)), float(np.max(y))
+    if full_hi - full_lo > 8 * pad:
+        ax.set_ylim(lo - pad, hi + pad)
+        t_lo = max(float(t[0]), float(start_s) - 0.25 * (float(t[-1]) - float(start_s)))
+        ax.set_xlim(t_lo, float(t[-1]))
+
+
+def _draw_md_summary(axes, spec: dict) -> None:
+    """Left: Eq. 5.1 means without/with shaping per table (ours solid, thesis hatched). Right:
+    improvement % per table, ours beside the thesis's."""
+    rows = spec.get("rows") or []
+    if not rows:
+        raise StudyDataError("md-summary has no rows")
+    ax, ax2 = axes
+    x = np.arange(len(rows))
+    w = 0.2
+    for j, (side, key, role) in enumerate((("ours", "without", "unshaped"), ("thesis", "without", "unshaped"),
+                                           ("ours", "with", "zvdd"), ("thesis", "with", "zvdd"))):
+        vals = [r.get(f"{side}_{key}") for r in rows]
+        vals = [np.nan if v is None else v for v in vals]
+        colour = roles.style_for(role)["color"]
+        kw = ({"color": colour, "edgecolor": "#333333"} if side == "ours" else
+              {"color": "white", "edgecolor": colour, "hatch": "////"})
+        ax.bar(x + (j - 1.5) * w, vals, w, label=f"{'without' if key == 'without' else 'with'} shaping — "
+               f"{'clearshape' if side == 'ours' else 'thesis'}", zorder=3, linewidth=0.8, **kw)
+    ax.set_xticks(x, [r["label"] for r in rows])
+    ax.grid(axis="x", visible=False)
+    ax.set_ylabel(roles.label_with_unit(f"mean deviation, Eq. 5.1 ({spec.get('unit', '')})"))
+    top = np.nanmax([v for r in rows for v in (r.get("ours_without"), r.get("thesis_without"),
+                                               r.get("ours_with"), r.get("thesis_with")) if v is not None])
+    ax.set_ylim(0, 1.55 * top)  # room for the legend above the bars
+    ax.legend(fontsize=7, loc="upper left", ncol=2)
+    ours = [np.nan if r.get("ours_improvement") is None else r["ours_improvement"] for r in rows]
+    th = [np.nan if r.get("thesis_improvement") is None else r["thesis_improvement"] for r in rows]
+    ax2.bar(x - 0.18, ours, 0.36, color=roles.style_for("zvdd")["color"], edgecolor="#333333", label="clearshape",
+            zorder=3, linewidth=0.8)
+    ax2.bar(x + 0.18, th, 0.36, label="thesis", zorder=3, linewidth=0.8, **roles.THESIS_BAR)
+    ax2.set_xticks(x, [r["label"] for r in rows])
+    ax2.grid(axis="x", visible=False)
+    ax2.set_ylim(0, 105)
+    ax2.set_ylabel("improvement by shaping (%)")
+    ax2.legend(fontsize=7, loc="lower right")
+    for a in (ax, ax2):
+        for lab in a.get_xticklabels():
+            lab.set_rotation(20)
+            lab.set_ha("right")
+
+
+def _new_figure(n_panels: int, spec: dict):
+    rows, cols = (n_panels, 1) if n_panels <= 3 else (math.ceil(n_panels / 2), 2)
+    width = 6.4 if cols == 1 else 7.6
+    height = spec.get("height_in") or (3.1 if rows == 1 else 1.2 + 2.1 * rows)
+    fig, axes = plt.subplots(rows, cols, figsize=(width, height), squeeze=False)
+    flat = list(axes.ravel())
+    for ax in flat[n_panels:]:
+        ax.set_visible(False)
+    return fig, flat[:n_panels]
+
+
+def draw(spec: dict, cache: CsvCache, index: int = 0):
+    """Builds the matplotlib Figure of one figure entry (raises StudyDataError on missing data)."""
+    kind = str(spec.get("kind", "time-series")).lower()
+    if kind == "md-summary":
+        fig, axes = plt.subplots(1, 2, figsize=(7.6, 3.6), gridspec_kw={"width_ratios": [3, 2]})
+        _draw_md_summary(axes, spec)
+        panels, axes = [], []
+    else:
+        panels = panels_of(spec)
+        fig, axes = _new_figure(len(panels), spec)
+        for ax, panel in zip(axes, panels):
+            if kind == "sensitivity":
+                _draw_sensitivity(ax, panel, cache)
+            elif kind in ("mean-deviation", "mean_deviation"):
+                _draw_mean_deviation(ax, panel, cache)
+            elif kind in LINE_KINDS:
+                _draw_lines(ax, panel, cache, kind)
+            else:
+                raise StudyDataError(f"unknown figure kind '{kind}'")
+    for ax, panel in zip(axes, panels):
+        if panel.get("panel_title"):
+            ax.set_title(panel["panel_title"], fontweight="normal", fontsize=9.5)
+        if panel.get("xlim"):
+            ax.set_xlim(*panel["xlim"])
+        if panel.get("ylim"):
+            ax.set_ylim(*panel["ylim"])
+        handles, _ = ax.get_legend_handles_labels()
+        if handles:
+            ax.legend(loc=panel.get("legend", "best"))
+    num = spec.get("thesis_figure")
+    head = (f"Fig. {num} analogue — " if num else "") + str(spec.get("title") or spec.get("id") or "")
+    fig.suptitle("\n".join(textwrap.wrap(head, 92)[:2]), x=0.01, ha="left", fontsize=9, fontweight="normal",
+                 color="#444444")
+    return fig
+
+
+def save(fig, out_dir: Path, fid: str) -> dict:
+    """Writes <fid>.png and <fid>.pdf with fixed metadata; returns their paths."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    png = out_dir / f"{fid}.png"
+    pdf = out_dir / f"{fid}.pdf"
+    fig.savefig(png, dpi=150, metadata=PNG_METADATA)
+    fig.savefig(pdf, metadata=PDF_METADATA)
+    plt.close(fig)
+    return {"png": png, "pdf": pdf}
+
+
+def draw_all(study_dir: Path, specs: list[dict], out_dir: Path | None = None, log=print) -> list[dict]:
+    """Draws every figure; one failed figure does not stop the others. Returns one record per
+    figure: id, spec, png, pdf, error (None when drawn)."""
+    use_style()
+    study_dir = Path(study_dir)
+    out_dir = Path(out_dir) if out_dir else study_dir / "figures"
+    cache = CsvCache(study_dir)
+    records = []
+    for i, spec in enumerate(specs):
+        fid = figure_id(spec, i)
+        rec = {"id": fid, "spec": spec, "png": None, "pdf": None, "error": None}
+        try:
+            fig = draw(spec, cache, i)
+            rec.update(save(fig, out_dir, fid))
+        except (StudyDataError, KeyError, ValueError, TypeError, IndexError) as e:
+            plt.close("all")
+            msg = f"missing field {e}" if isinstance(e, KeyError) else str(e)
+            rec["error"] = msg
+            log(f"clearshape-plot: figure {fid}: {msg}")
+        records.append(rec)
+    return records

@@ -1,0 +1,232 @@
+"""Tables of results.json (docs/study-outputs.md) and their comparison with the thesis.
+
+A results table is column-oriented: id, kind (consistency, mean-deviation, parameters, matrix,
+improvement), title, unit, row_labels, note, and columns — each with key, label, ``ours`` and/or
+``thesis`` (one value per row label, or per trial: the thesis always has its 10 trials, a quick
+study fewer), ``ours_mean``/``ours_std``/``thesis_mean`` and, for shaped columns,
+``improvement_percent``/``thesis_improvement_percent``.
+
+Verdicts. A mean of repeated trials *agrees* with the thesis's when the difference is within the
+thesis's own trial-to-trial standard deviation (our mean would pass for one more of its trials).
+An improvement % agrees when within the s.d. of the thesis's per-trial improvements
+(1 − with_i/without_i over its trial pairs). Other numbers (identified parameters, agreement
+figures) agree within 10 % of the thesis's value. Every verdict carries its criterion.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+DEFAULT_REL_TOLERANCE = 0.10
+TRIAL_KINDS = {"consistency", "mean-deviation"}
+
+
+def num(v):
+    """A finite float, or None."""
+    if v is None or isinstance(v, bool):
+        return None
+    if isinstance(v, dict):
+        for k in ("value", "mean", "ours"):
+            if k in v:
+                return num(v[k])
+        return None
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return None
+    return f if math.isfinite(f) else None
+
+
+def nums(v) -> list:
+    return [num(x) for x in v] if isinstance(v, list) else []
+
+
+@dataclass
+class Column:
+    key: str
+    label: str
+    ours: list = field(default_factory=list)
+    thesis: list = field(default_factory=list)
+    ours_std: list | None = None  # per row (parameter tables)
+    ours_mean: float | None = None
+    ours_sd: float | None = None  # over trials
+    thesis_mean: float | None = None
+    improvement: float | None = None
+    thesis_improvement: float | None = None
+    note: str = ""
+    extra: dict = field(default_factory=dict)  # other per-row arrays (e.g. delay_s)
+    raw: dict = field(default_factory=dict)
+
+    @property
+    def role(self) -> str:
+        k = self.key.split(":")[-1]
+        return k.split("@")[0].lower()
+
+    @property
+    def source(self) -> str:
+        k = self.key.split(":")[-1]
+        return k.split("@")[1] if "@" in k else ""
+
+    @property
+    def unshaped(self) -> bool:
+        return self.role in ("none", "unshaped", "without")
+
+
+@dataclass
+class Table:
+    id: str
+    kind: str
+    title: str
+    unit: str
+    row_labels: list
+    columns: list
+    note: str = ""
+    headline: dict = field(default_factory=dict)
+    raw: dict = field(default_factory=dict)
+
+    @property
+    def is_trials(self) -> bool:
+        """Rows are repeated trials (labels 1, 2, …)."""
+        return self.kind in TRIAL_KINDS and bool(self.row_labels) and all(
+            re.fullmatch(r"\d+", str(r)) for r in self.row_labels)
+
+    def column(self, key: str):
+        return next((c for c in self.columns if c.key == key), None)
+
+
+_KNOWN = {"key", "label", "ours", "thesis", "ours_std", "ours_mean", "thesis_mean", "improvement_percent",
+          "thesis_improvement_percent", "note", "shaper", "thesis_std"}
+
+
+def normalise(t: dict) -> Table:
+    rows = [str(r) for r in (t.get("row_labels") or [])]
+    cols = []
+    for c in t.get("columns", []) or []:
+        if not isinstance(c, dict):
+            continue
+        key = str(c.get("key") or c.get("label"))
+        std = c.get("ours_std")
+        col = Column(key=key, label=str(c.get("label") or key), ours=nums(c.get("ours")),
+                     thesis=nums(c.get("thesis")), ours_std=nums(std) if isinstance(std, list) else None,
+                     ours_mean=num(c.get("ours_mean")), ours_sd=num(std) if not isinstance(std, list) else None,
+                     thesis_mean=num(c.get("thesis_mean")), improvement=num(c.get("improvement_percent")),
+                     thesis_improvement=num(c.get("thesis_improvement_percent")), note=str(c.get("note") or ""),
+                     raw=c)
+        col.extra = {k: nums(v) for k, v in c.items() if k not in _KNOWN and isinstance(v, list)
+                     and v and all(isinstance(x, (int, float)) or x is None for x in v)}
+        cols.append(col)
+    return Table(id=str(t.get("id", "")), kind=str(t.get("kind", "")), title=str(t.get("title", "")),
+                 unit=str(t.get("unit", "") or ""), row_labels=rows, columns=cols, note=str(t.get("note") or ""),
+                 headline=t.get("headline") if isinstance(t.get("headline"), dict) else {}, raw=t)
+
+
+def mean_sd(values):
+    v = [x for x in values if x is not None]
+    if not v:
+        return None, None
+    m = sum(v) / len(v)
+    s = math.sqrt(sum((x - m) ** 2 for x in v) / (len(v) - 1)) if len(v) > 1 else None
+    return m, s
+
+
+def verdict(ours, thesis, spread=None, spread_name="", rel_tol=DEFAULT_REL_TOLERANCE) -> dict:
+    """Difference, relative difference and agrees/differs with the criterion used."""
+    if thesis is None:
+        return {"diff": None, "rel": None, "agrees": None, "criterion": "the thesis has no value"}
+    if ours is None:
+        return {"diff": None, "rel": None, "agrees": None, "criterion": "no value from the study"}
+    diff = ours - thesis
+    rel = diff / abs(thesis) if thesis != 0 else None
+    if spread:
+        return {"diff": diff, "rel": rel, "agrees": abs(diff) <= spread,
+                "criterion": f"|Δ| ≤ {spread_name} ({spread:.3g})"}
+    return {"diff": diff, "rel": rel, "agrees": rel is not None and abs(rel) <= rel_tol,
+            "criterion": f"|Δ| ≤ {100 * rel_tol:g} % of the thesis value"}
+
+
+def thesis_improvement_sd(without: Column, with_: Column):
+    """s.d. of the thesis's per-trial improvements 100·(1 − with_i/without_i) over its trial pairs."""
+    pairs = [(u, w) for u, w in zip(without.thesis, with_.thesis) if u and w is not None]
+    if len(pairs) < 2:
+        return None
+    return mean_sd([100.0 * (1.0 - w / u) for u, w in pairs])[1]
+
+
+@dataclass
+class Comparison:
+    table: str
+    quantity: str
+    unit: str
+    ours: float | None
+    thesis: float | None
+    diff: float | None
+    rel: float | None
+    agrees: bool | None
+    criterion: str
+    kind: str  # "mean", "improvement", "parameter"
+    column: Column | None = None
+    why: str = ""
+
+
+def _cmp(table, quantity, unit, ours, thesis, kind, column=None, spread=None, spread_name="") -> Comparison:
+    v = verdict(ours, thesis, spread, spread_name)
+    return Comparison(table=table, quantity=quantity, unit=unit, ours=ours, thesis=thesis, kind=kind,
+                      column=column, **v)
+
+
+def compare_table(t: Table) -> list[Comparison]:
+    """Every number of the table that the thesis also published, with a verdict."""
+    out: list[Comparison] = []
+    if t.is_trials:
+        base = next((c for c in t.columns if c.unshaped), None)
+        for c in t.columns:
+            om = c.ours_mean if c.ours_mean is not None else mean_sd(c.ours)[0]
+            tm = c.thesis_mean if c.thesis_mean is not None else mean_sd(c.thesis)[0]
+            tsd = mean_sd(c.thesis)[1]
+            if tm is not None or om is not None:
+                out.append(_cmp(t.id, f"{c.label} — mean", t.unit, om, tm, "mean", c, tsd,
+                                "thesis trial-to-trial s.d."))
+            if c.improvement is not None or c.thesis_improvement is not None:
+                sd = thesis_improvement_sd(base, c) if base else None
+                out.append(_cmp(t.id, f"{c.label} — improvement", "%", c.improvement, c.thesis_improvement,
+                                "improvement", c, sd, "s.d. of the thesis's per-trial improvements"))
+        return out
+    if t.kind == "parameters":
+        ours_col, thesis_col = parameter_pair(t)
+        if ours_col is None or thesis_col is None:
+            return out
+        for i, row in enumerate(t.row_labels):
+            o = ours_col.ours[i] if i < len(ours_col.ours) else None
+            th = thesis_col.thesis[i] if i < len(thesis_col.thesis) else None
+            if th is None:
+                continue
+            out.append(_cmp(t.id, row, "", o, th, "parameter", ours_col))
+        return out
+    # Row-wise tables with ours and thesis in the same column (e.g. B.6).
+    for c in t.columns:
+        if not c.thesis:
+            continue
+        for i, row in enumerate(t.row_labels):
+            o = c.ours[i] if i < len(c.ours) else None
+            th = c.thesis[i] if i < len(c.thesis) else None
+            if th is None:
+                continue
+            out.append(_cmp(t.id, f"{row}" + (f" — {c.label}" if len(t.columns) > 1 else ""), t.unit, o, th,
+                            "improvement" if t.kind == "improvement" else "parameter", c))
+    return out
+
+
+def parameter_pair(t: Table):
+    """(our column to compare, the thesis's column) of a parameters table: ours is the column the
+    headline selects, or labelled "(selected)", or keyed "ours", or the first with values."""
+    thesis_col = next((c for c in t.columns if c.thesis and not c.ours), None)
+    if thesis_col is None:
+        thesis_col = next((c for c in t.columns if c.thesis), None)
+    cands = [c for c in t.columns if c.ours]
+    sel = t.headline.get("selected_input") if t.headline else None
+    ours_col = (next((c for c in cands if sel and c.key == sel), None)
+                or next((c for c in cands if "(selected)" in c.label), None)
+                or next((c for c in cands if c.key == "ours"), None)
+                or (cands[0] if cands else None))
+    return ours_col, thesis_col

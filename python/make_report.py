@@ -1,0 +1,974 @@
+#!/usr/bin/python3
+"""Writes <out>/report.html for a clearshape study output folder.
+
+    /usr/bin/python3 python/make_report.py <out>
+
+Reads <out>/results.json (tables with the thesis's numbers beside ours, the stages' sections,
+settled ambiguities), <out>/figures.json and the PNGs in <out>/figures/ (python/render_study.py
+draws them, then calls this). The page is self-contained — figures embedded as base64 PNG, inline
+CSS, one small inline script, no network — and walks through the study in the thesis's order:
+set-up, consistency, identification, clearance model, simulated tests, rig tests, ambiguities
+settled, where we differ and why. Once every <img> has decoded, the script sets
+data-figures-loaded (images with naturalWidth > 0) and data-figures-failed on <body>.
+"""
+from __future__ import annotations
+
+import base64
+import html
+import json
+import re
+import struct
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from clearshape_plot import tables as tbl  # noqa: E402
+from clearshape_plot.data import StudyDataError, read_json  # noqa: E402
+from clearshape_plot.figures import figure_id  # noqa: E402
+from clearshape_plot.roles import pretty_unit  # noqa: E402
+
+SECTIONS = [
+    ("setup", "Set-up", "What was run, on which rig, with which settings."),
+    ("consistency", "Consistency of the responses",
+     "Thesis §4.1: each input repeated, Eq. 4.1 error of every run against the mean of the runs "
+     "(Tables 4.1, 4.2; Figures 4.2–4.8)."),
+    ("identification", "Identification",
+     "Thesis §4.2: the process model of Eq. 4.2 fitted per input to the encoder record and cross-validated, "
+     "ωn = 1/Tw and ζ of the selected model (Figures 4.16–4.17); and, beyond the thesis, the link's residual "
+     "mode identified from the gyroscope (DESIGN.md §2)."),
+    ("clearance", "Clearance model",
+     "Thesis §4.2, end: the contact law of Eq. 4.3 added to the identified drive and calibrated until the "
+     "simulated link rate matches the gyro record; agreement by Eq. 4.1 (Figures 4.19–4.20)."),
+    ("simulated", "Simulated tests",
+     "Thesis §5.1.1 and §5.2.1: every input, unshaped and shaped, on the model with clearance "
+     "(Figures 5.1–5.7, 5.10–5.17), and the shapers' sensitivity to a frequency error."),
+    ("rig", "Rig tests",
+     "Thesis §5.1.2, §5.2.2 and Appendix B: repeated trials, Eq. 5.1 mean deviation without and with "
+     "shaping, improvement (Tables 5.1, 5.2, B.1–B.6; Figures 5.8, 5.9, 5.18–5.20)."),
+    ("ambiguities", "Ambiguities settled", "What the thesis leaves open, and how this study settled it."),
+    ("differences", "Where we differ and why",
+     "Every number the thesis also published, in one list, with the verdict, its criterion and the reason."),
+]
+SECTION_IDS = [s[0] for s in SECTIONS]
+SECTION_TITLES = {s[0]: s[1] for s in SECTIONS}
+
+# PNGs are drawn at 150 dpi; shown at 0.75 × their pixel size the 9.5 pt figure text is about the
+# size of the page's body text.
+DISPLAY_SCALE = 0.75
+
+
+# ----------------------------------------------------------------------------------------------
+# Formatting
+
+
+def esc(v) -> str:
+    return html.escape(str(v), quote=True)
+
+
+_SUP = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def fmt(v, digits: int = 4) -> str:
+    """A number for a table cell: 4 significant digits, ×10ⁿ below 10⁻³ or from 10⁵."""
+    if v is None:
+        return "—"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, str):
+        return v
+    v = float(v)
+    if v == 0:
+        return "0"
+    if abs(v) < 1e-3 or abs(v) >= 1e5:
+        mant, exp = f"{v:.{digits - 1}e}".split("e")
+        if "." in mant:
+            mant = mant.rstrip("0").rstrip(".")
+        return f"{mant}×10{str(int(exp)).translate(_SUP)}"
+    s = f"{v:.{digits}g}"
+    if "e" in s:
+        s = f"{v:.0f}"
+    return s
+
+
+def fmt_signed(v) -> str:
+    if v is None:
+        return "—"
+    if float(v) == 0:
+        return "0"
+    s = fmt(v)
+    return s if s.startswith("-") else "+" + s
+
+
+def fmt_pct(rel) -> str:
+    return "—" if rel is None else f"{100 * rel:+.1f} %"
+
+
+def unit_text(u) -> str:
+    u = pretty_unit(u or "")
+    return "" if u in ("", "–") else u
+
+
+def with_unit(v, unit: str) -> str:
+    s = fmt(v)
+    return f"{s} {esc(unit)}" if unit and v is not None else s
+
+
+def verdict_cell(agrees, colspan: int = 1) -> str:
+    span = f' colspan="{colspan}"' if colspan > 1 else ""
+    if agrees is None:
+        return f'<td class="verdict na"{span}>not compared</td>'
+    return (f'<td class="verdict ok"{span}>agrees</td>' if agrees else f'<td class="verdict diff"{span}>differs</td>')
+
+
+def slug(s) -> str:
+    return re.sub(r"[^a-z0-9]+", "-", str(s).lower()).strip("-") or "x"
+
+
+def thesis_number_key(num) -> tuple:
+    """Sort key of a thesis figure/table number: "4.16" → (4, 16), "B.3" → (100, 3); None last."""
+    if num is None:
+        return (999, 0)
+    m = re.match(r"^\s*([0-9]+|[A-Za-z])\.([0-9]+)", str(num))
+    if not m:
+        return (998, 0)
+    a = int(m.group(1)) if m.group(1).isdigit() else 100 + ord(m.group(1).upper()) - ord("A") - 1
+    return (a, int(m.group(2)))
+
+
+def png_size(data: bytes) -> tuple[int, int]:
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        return 0, 0
+    return struct.unpack(">II", data[16:24])
+
+
+# ----------------------------------------------------------------------------------------------
+# Where each table and figure goes
+
+
+def section_of_number(num) -> str | None:
+    a, b = thesis_number_key(num)
+    if a == 4:
+        return "consistency" if b <= 8 else ("identification" if b <= 17 else "clearance")
+    if a == 5:
+        return "rig" if b in (8, 9) or b >= 18 else "simulated"
+    if a == 101:  # Appendix B
+        return "rig"
+    return None
+
+
+_PREFIX_SECTIONS = [("consistency", "consistency"), ("identification", "identification"),
+                    ("link-mode", "identification"), ("drive", "identification"), ("clearance", "clearance"),
+                    ("contact", "clearance"), ("simulation", "simulated"), ("shaper-sensitivity", "simulated"),
+                    ("sensitivity", "simulated"), ("rig", "rig"), ("mean-deviation", "rig"), ("md-summary", "rig")]
+
+
+def section_of_figure(spec: dict) -> str:
+    sec = str(spec.get("section") or "").lower()
+    if sec in SECTION_IDS:
+        return sec
+    fid = str(spec.get("id", "")).lower()
+    for prefix, s in _PREFIX_SECTIONS:
+        if fid.startswith(prefix):
+            return s
+    return section_of_number(spec.get("thesis_figure")) or "simulated"
+
+
+def section_of_table(t: tbl.Table) -> str:
+    tid = t.id.lower()
+    if "model" in tid or "cross-validation" in tid or tid.startswith("link-mode") or tid.startswith("identification"):
+        return "identification"
+    if "clearance" in tid or "contact" in tid:
+        return "clearance"
+    if "simulation" in tid:
+        return "simulated"
+    if (t.kind == "mean-deviation" and t.is_trials) or t.kind == "improvement":
+        return "rig"
+    if t.kind == "consistency":
+        return "consistency"
+    return section_of_number(t.id) or "rig"
+
+
+# ----------------------------------------------------------------------------------------------
+# Context and the reasons for differences
+
+
+class Context:
+    def __init__(self, results: dict):
+        self.results = results
+        self.study = results.get("study", {}) if isinstance(results.get("study"), dict) else {}
+        self.mode = str(self.study.get("mode", "")).lower()
+        rig = self.study.get("rig", "")
+        self.rig_text = json.dumps(rig) if isinstance(rig, (dict, list)) else str(rig)
+        self.simulated_rig = (not self.rig_text) or bool(re.search(r"\bsim|synthetic|fixture", self.rig_text, re.I))
+        self.synthetic = bool(results.get("synthetic")) or "fixture" in self.rig_text.lower()
+        self.sections = results.get("sections", {}) if isinstance(results.get("sections"), dict) else {}
+
+
+def why(ctx: Context, t: tbl.Table, c: tbl.Comparison) -> str:
+    """Why our number differs from the thesis's (shown only when it does, or is not compared)."""
+    if c.agrees or c.agrees is None:
+        return ""
+    if ctx.synthetic:
+        return "Synthetic fixture: the numbers are made up to exercise the report; they are not results."
+    col = c.column
+    own = f" {col.note}" if col is not None and col.note else ""
+    sec = section_of_table(t)
+    direction = "lower" if (c.diff or 0) < 0 else "higher"
+    if sec == "consistency":
+        if ctx.simulated_rig:
+            return (f"Ours is {direction}. The simulated rig repeats its motor motion exactly apart from what it "
+                    "randomizes (sensor noise, the link's initial position in the play), so Eq. 4.1 measures that "
+                    "and the encoder quantization; the thesis's errors also hold the real drive's run-to-run "
+                    "variation." + own)
+        return f"Ours is {direction}: the run-to-run variation of a different drive and DAQ." + own
+    if c.kind == "parameter" and sec == "identification":
+        sd = ""
+        if col is not None and col.ours_std:
+            i = next((k for k, r in enumerate(t.row_labels) if r == c.quantity), None)
+            if i is not None and i < len(col.ours_std) and col.ours_std[i] is not None:
+                sd = f" Our fit's standard error is ±{fmt(col.ours_std[i], 2)}."
+        return ("Identified from this rig's records by clearshape's process-model fit, not by MATLAB's toolbox "
+                "on the thesis's rig. The position-mode model with ζ ≈ 1 and millisecond Tz and Tp3 is weakly "
+                "identifiable: the zero and the third pole nearly cancel, so those two trade off against each "
+                "other while the response barely changes." + sd if ctx.mode == "position" else
+                "Identified from this rig's records by clearshape's process-model fit through the §3.3 filter "
+                "chain, not by MATLAB's toolbox on the thesis's rig." + sd) + own
+    if sec == "clearance":
+        status = ctx.sections.get("clearance", {}).get("status") if isinstance(ctx.sections.get("clearance"), dict) else None
+        extra = f" The contact fit reported: {status}." if status else ""
+        return ("Eq. 4.1 between the calibrated clearance model and the rig's gyro record; ours is "
+                f"{direction}, i.e. the contact model follows the rig's link rate "
+                f"{'less' if direction == 'higher' else 'more'} closely than the thesis's Simulink model followed "
+                "its gyroscope." + extra + own)
+    if c.kind == "improvement":
+        return ("Follows from the two mean deviations it divides: the unshaped one is a calibration target, the "
+                "shaped one a prediction; see their own lines." + own)
+    if col is not None and col.unshaped:
+        if ctx.simulated_rig and ctx.mode == "position":
+            return ("Calibration target: the simulated rig's play, flank stiffness and damping and gyro noise are "
+                    "fitted once (clearshape calibrate-rig) so that its unshaped trials reproduce the 'without is' "
+                    f"means of Tables B.1–B.5 together; ours is {direction} by the calibration residual for this "
+                    "input (one physical rig cannot match every input exactly), or the calibration in use is not "
+                    "current." + own)
+        if ctx.simulated_rig:
+            return ("Not a calibration target in speed mode: the unshaped level depends on the step amplitude, "
+                    "which the thesis does not give (the protocol's choice)." + own)
+        return "Measured on a different rig: the unshaped level depends on its play, link inertia and friction." + own
+    if ctx.simulated_rig:
+        return (f"Prediction (nothing was tuned to it); ours is {direction}. A shaped result depends on how closely "
+                "the identified mode matches the simulated link's ringing, and on what the simulated rig leaves out "
+                "of the real one (unmodelled friction and link flexibility, the real gyro's noise and drift)." + own)
+    return "Measured on a different rig, with shapers designed from its own identified mode." + own
+
+
+def improvement_spreads(tables: list[tbl.Table]) -> dict:
+    """Our improvement % (rounded) → (spread, criterion name) from the trial tables, so that a table
+    that repeats an improvement (B.6) judges it with the same criterion as its trial table."""
+    out = {}
+    for t in tables:
+        if not t.is_trials:
+            continue
+        base = next((c for c in t.columns if c.unshaped), None)
+        for c in t.columns:
+            if base is not None and c is not base and c.improvement is not None:
+                sd = tbl.thesis_improvement_sd(base, c)
+                if sd:
+                    out[round(c.improvement, 9)] = sd
+    return out
+
+
+def comparisons_of(ctx: Context, t: tbl.Table, spreads: dict | None = None) -> list[tbl.Comparison]:
+    out = tbl.compare_table(t)
+    if t.kind == "improvement" and spreads:
+        for c in out:
+            sd = spreads.get(round(c.ours, 9)) if c.ours is not None else None
+            if sd:
+                v = tbl.verdict(c.ours, c.thesis, sd, "s.d. of the thesis's per-trial improvements")
+                c.diff, c.rel, c.agrees, c.criterion = v["diff"], v["rel"], v["agrees"], v["criterion"]
+    # Contact parameters whose units the thesis does not state cannot be compared (DESIGN.md §2).
+    _, thesis_col = tbl.parameter_pair(t) if t.kind == "parameters" else (None, None)
+    if thesis_col is not None and "unstated" in thesis_col.label.lower():
+        for c in out:
+            if re.search(r"N·m|N\.m|Nm", c.quantity):
+                c.agrees, c.criterion = None, "the thesis states no unit for it: not comparable"
+    for c in out:
+        c.why = why(ctx, t, c)
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# Tables
+
+
+def _caption(t: tbl.Table, extra: str = "") -> str:
+    head = f"Table {esc(t.id)} — {esc(t.title)}" if re.match(r"^[0-9B]", t.id) else esc(t.title)
+    unit = unit_text(t.unit)
+    sub = "; ".join(x for x in ((f"unit: {esc(unit)}" if unit else ""), extra) if x)
+    return f"<caption>{head}<span class=\"unit\">{sub}</span></caption>"
+
+
+def render_trial_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
+    """Repeated trials: per column ours beside the thesis's trials; mean, s.d., Δ of the means,
+    improvement and verdicts in the footer. Trials are exchangeable (trial i here has nothing to do
+    with trial i in the thesis), so differences are given for the means, not trial by trial."""
+    n = max([len(t.row_labels)] + [len(c.thesis) for c in t.columns])
+    cols = t.columns
+    out = [f'<table class="results trials" id="table-{slug(t.id)}">',
+           _caption(t, "Δ = clearshape − thesis, on the means; trials are exchangeable, so they are listed side "
+                       "by side without a per-trial difference"),
+           '<thead><tr><th rowspan="2" scope="col">trial</th>']
+    for c in cols:
+        out.append(f'<th colspan="2" scope="colgroup" class="grp">{esc(c.label)}</th>')
+    out.append("</tr><tr>")
+    for _ in cols:
+        out.append('<th scope="col">clearshape</th><th scope="col" class="thesis">thesis</th>')
+    out.append("</tr></thead><tbody>")
+    for i in range(n):
+        out.append(f'<tr><th scope="row">{i + 1}</th>')
+        for c in cols:
+            o = c.ours[i] if i < len(c.ours) else None
+            th = c.thesis[i] if i < len(c.thesis) else None
+            out.append(f"<td>{fmt(o) if i < len(c.ours) else ''}</td><td class=\"thesis\">"
+                       f"{fmt(th) if i < len(c.thesis) else ''}</td>")
+        out.append("</tr>")
+    out.append("</tbody><tfoot>")
+    by = {(id(c.column), c.kind): c for c in comps}
+
+    def line(label, cls, cells):
+        return f'<tr class="{cls}"><th scope="row">{label}</th>{"".join(cells)}</tr>'
+
+    means, sds, deltas, verdicts = [], [], [], []
+    for c in cols:
+        m = by.get((id(c), "mean"))
+        om = m.ours if m else (c.ours_mean if c.ours_mean is not None else tbl.mean_sd(c.ours)[0])
+        tm = m.thesis if m else c.thesis_mean
+        means.append(f"<td>{fmt(om)}</td><td class=\"thesis\">{fmt(tm)}</td>")
+        osd = c.ours_sd if c.ours_sd is not None else tbl.mean_sd(c.ours)[1]
+        sds.append(f"<td>{fmt(osd)}</td><td class=\"thesis\">{fmt(tbl.mean_sd(c.thesis)[1])}</td>")
+        deltas.append(f'<td colspan="2" class="delta">{fmt_signed(m.diff) if m else "—"}'
+                      f'{(" (" + fmt_pct(m.rel) + ")") if m and m.rel is not None else ""}</td>')
+        verdicts.append(verdict_cell(m.agrees if m else None, 2))
+    out.append(line("mean", "mean", means))
+    out.append(line("s.d.", "sd", sds))
+    out.append(line("Δ of the means", "delta", deltas))
+    out.append(line("mean vs thesis", "verdicts", verdicts))
+    if any(c.improvement is not None or c.thesis_improvement is not None for c in cols):
+        imps, ivs = [], []
+        for c in cols:
+            m = by.get((id(c), "improvement"))
+            if m is None:
+                imps.append('<td colspan="2"></td>')
+                ivs.append('<td colspan="2"></td>')
+                continue
+            imps.append(f"<td>{fmt(m.ours, 3)} %</td><td class=\"thesis\">{fmt(m.thesis, 3)}"
+                        f"{' %' if m.thesis is not None else ''}</td>")
+            ivs.append(verdict_cell(m.agrees, 2))
+        out.append(line("improvement", "improvement", imps))
+        out.append(line("improvement vs thesis", "verdicts", ivs))
+    out.append("</tfoot></table>")
+    return "".join(out)
+
+
+def render_parameter_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
+    ours_col, thesis_col = tbl.parameter_pair(t)
+    comp_by_row = {c.quantity: c for c in comps}
+    cols = t.columns
+    has_cmp = bool(comps)
+    out = [f'<table class="results params" id="table-{slug(t.id)}">',
+           _caption(t, (f"Δ = {esc(ours_col.label)} − {esc(thesis_col.label)}" if has_cmp and ours_col and thesis_col
+                        else "")),
+           '<thead><tr><th scope="col"></th>']
+    for c in cols:
+        cls = ' class="thesis"' if c.thesis and not c.ours else ""
+        out.append(f"<th scope=\"col\"{cls}>{esc(c.label)}</th>")
+        for k in c.extra:
+            if k != "ours_std":
+                out.append(f'<th scope="col">{esc(c.label)}: {esc(k.replace("_", " "))}</th>')
+    if has_cmp:
+        out.append('<th scope="col">Δ</th><th scope="col">Δ %</th><th scope="col">verdict</th>')
+    out.append("</tr></thead><tbody>")
+    for i, row in enumerate(t.row_labels):
+        out.append(f'<tr><th scope="row">{esc(row)}</th>')
+        for c in cols:
+            vals = c.ours if c.ours else c.thesis
+            v = vals[i] if i < len(vals) else None
+            sd = c.ours_std[i] if c.ours_std and i < len(c.ours_std) else None
+            cls = ' class="thesis"' if c.thesis and not c.ours else ""
+            out.append(f"<td{cls}>{fmt(v)}{(' <span class=pm>± ' + fmt(sd, 2) + '</span>') if sd is not None else ''}</td>")
+            for k, arr in c.extra.items():
+                if k != "ours_std":
+                    out.append(f"<td>{fmt(arr[i]) if i < len(arr) else ''}</td>")
+        if has_cmp:
+            m = comp_by_row.get(row)
+            if m is None:
+                out.append('<td></td><td></td><td></td>')
+            else:
+                out.append(f'<td class="delta">{fmt_signed(m.diff)}</td><td class="delta">{fmt_pct(m.rel)}</td>'
+                           f"{verdict_cell(m.agrees)}")
+        out.append("</tr>")
+    out.append("</tbody></table>")
+    return "".join(out)
+
+
+def render_rowwise_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
+    """Rows that are not trials (e.g. B.6, per-input simulation results, matrices)."""
+    cols = t.columns
+    comp = {(id(c.column), c.quantity): c for c in comps}
+    out = [f'<table class="results rows" id="table-{slug(t.id)}">',
+           _caption(t, "Δ = clearshape − thesis" if comps else ""), '<thead><tr><th scope="col"></th>']
+    for c in cols:
+        if c.ours:
+            out.append(f'<th scope="col">{esc(c.label)}</th>')
+        for k in c.extra:
+            out.append(f'<th scope="col">{esc(c.label)}: {esc(k.replace("_", " "))}</th>')
+        if c.thesis:
+            out.append(f'<th scope="col" class="thesis">thesis</th><th scope="col">Δ</th><th scope="col">verdict</th>')
+    out.append("</tr></thead><tbody>")
+    for i, row in enumerate(t.row_labels):
+        out.append(f'<tr><th scope="row">{esc(row)}</th>')
+        for c in cols:
+            if c.ours:
+                out.append(f"<td>{fmt(c.ours[i]) if i < len(c.ours) else '—'}</td>")
+            for arr in c.extra.values():
+                out.append(f"<td>{fmt(arr[i]) if i < len(arr) else '—'}</td>")
+            if c.thesis:
+                q = f"{row}" + (f" — {c.label}" if len(cols) > 1 else "")
+                m = comp.get((id(c), q))
+                out.append(f"<td class=\"thesis\">{fmt(c.thesis[i]) if i < len(c.thesis) else '—'}</td>"
+                           f"<td class=\"delta\">{fmt_signed(m.diff) if m else '—'}</td>{verdict_cell(m.agrees if m else None)}")
+        out.append("</tr>")
+    out.append("</tbody></table>")
+    return "".join(out)
+
+
+def is_composite(t: tbl.Table, ids: set) -> bool:
+    """A table made of other tables' columns (keys "<table id>:<column>", e.g. 5.2 = B.1 + B.5)."""
+    refs = [c.key.split(":", 1)[0] for c in t.columns if ":" in c.key]
+    return bool(refs) and len(refs) == len(t.columns) and all(r in ids and r != t.id for r in refs)
+
+
+def render_table(t: tbl.Table, comps: list[tbl.Comparison], composite: bool = False) -> str:
+    if composite:
+        refs = sorted({c.key.split(":", 1)[0] for c in t.columns})
+        inner = render_table(t, comps)
+        return (f'<details class="composite"><summary>Table {esc(t.id)} — {esc(t.title)}: the same trials as '
+                f'Table(s) {esc(", ".join(refs))} (the thesis prints them twice); show</summary>{inner}</details>')
+    if t.is_trials:
+        body = render_trial_table(t, comps)
+    elif t.kind == "parameters":
+        body = render_parameter_table(t, comps)
+    else:
+        body = render_rowwise_table(t, comps)
+    note = f'<p class="note">{esc(t.note)}</p>' if t.note else ""
+    return f'<div class="table-wrap">{body}</div>{note}'
+
+
+# ----------------------------------------------------------------------------------------------
+# Figures
+
+
+def render_figure(rec: dict, number: int) -> str:
+    spec = rec["spec"]
+    num = spec.get("thesis_figure")
+    title = spec.get("title") or rec["id"]
+    label = f"Figure {number}" + (f" (analogue of thesis Fig. {num})" if num else " (clearshape)")
+    anchor = f"fig-{slug(rec['id'])}"
+    if rec.get("error") or not rec.get("png"):
+        return (f'<div class="figure-missing" role="note" id="{anchor}"><strong>{esc(label)} — {esc(title)}</strong>: '
+                f'could not be drawn: {esc(rec.get("error") or "no PNG")}</div>')
+    data = Path(rec["png"]).read_bytes()
+    w, h = png_size(data)
+    b64 = base64.b64encode(data).decode("ascii")
+    caption = spec.get("caption") or ""
+    links = ""
+    if rec.get("pdf"):
+        links = (f' <span class="files">(<a href="figures/{esc(Path(rec["pdf"]).name)}">PDF</a>, '
+                 f'<a href="figures/{esc(Path(rec["png"]).name)}">PNG</a>)</span>')
+    return (f'<figure id="{anchor}"><img src="data:image/png;base64,{b64}" alt="{esc(label)}: {esc(title)}" '
+            f'width="{round(w * DISPLAY_SCALE)}" height="{round(h * DISPLAY_SCALE)}" decoding="sync">'
+            f"<figcaption><strong>{esc(label)}.</strong> {esc(title)}{('. ' + esc(caption)) if caption else ''}"
+            f"{links}</figcaption></figure>")
+
+
+def md_summary_spec(results: dict) -> dict | None:
+    """The report's own summary figure: Eq. 5.1 means without/with shaping and improvements of every
+    rig trial table, beside the thesis's (one bar group per table and published shaper column)."""
+    rows, seen = [], set()
+    unit = ""
+    for raw in results.get("tables", []) or []:
+        t = tbl.normalise(raw)
+        if not (t.is_trials and t.kind == "mean-deviation") or section_of_table(t) != "rig":
+            continue
+        base = next((c for c in t.columns if c.unshaped), None)
+        if base is None:
+            continue
+        for c in t.columns:
+            if c is base or c.thesis_mean is None:
+                continue
+            key = (tuple(base.ours), tuple(c.ours))
+            if key in seen:
+                continue
+            seen.add(key)
+            where = t.title.split(",")[-1].strip() if "," in t.title else ""
+            shaped = [x for x in t.columns if not x.unshaped and x.thesis_mean is not None]
+            label = t.id + (f" {where}" if where else "") + (f" {c.role.upper()}" if len(shaped) > 1 else "")
+            rows.append({"label": label, "ours_without": base.ours_mean, "thesis_without": base.thesis_mean,
+                         "ours_with": c.ours_mean, "thesis_with": c.thesis_mean, "ours_improvement": c.improvement,
+                         "thesis_improvement": c.thesis_improvement})
+            unit = t.unit
+    if not rows:
+        return None
+    return {"id": "md-summary", "kind": "md-summary", "thesis_figure": None, "section": "rig", "unit": unit,
+            "title": "Eq. 5.1 mean deviation without and with shaping, and the improvement, clearshape beside "
+                     "the thesis (means over the trials)", "rows": rows}
+
+
+# ----------------------------------------------------------------------------------------------
+# Generic rendering of anything else
+
+
+def render_generic(value) -> str:
+    if isinstance(value, dict):
+        if not value:
+            return "—"
+        return '<dl class="kv">' + "".join(f"<dt>{esc(k.replace('_', ' '))}</dt><dd>{render_generic(v)}</dd>"
+                                           for k, v in value.items()) + "</dl>"
+    if isinstance(value, list):
+        if value and all(isinstance(v, dict) for v in value):
+            keys = []
+            for v in value:
+                keys += [k for k in v if k not in keys]
+            head = "".join(f'<th scope="col">{esc(k.replace("_", " "))}</th>' for k in keys)
+            body = "".join("<tr>" + "".join(f"<td>{render_generic(v.get(k))}</td>" for k in keys) + "</tr>"
+                           for v in value)
+            return (f'<div class="table-wrap"><table class="generic"><thead><tr>{head}</tr></thead>'
+                    f"<tbody>{body}</tbody></table></div>")
+        if all(not isinstance(v, (dict, list)) for v in value):
+            return ", ".join(esc(fmt(v)) if isinstance(v, (int, float)) and not isinstance(v, bool) else esc(v)
+                             for v in value) or "—"
+        return "<ul>" + "".join(f"<li>{render_generic(v)}</li>" for v in value) + "</ul>"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (int, float)):
+        return esc(fmt(value))
+    return "—" if value is None else esc(value)
+
+
+# ----------------------------------------------------------------------------------------------
+# Sections
+
+
+def section_open(sid: str) -> str:
+    n = SECTION_IDS.index(sid) + 1
+    return (f'<section id="{sid}" aria-labelledby="h-{sid}"><h2 id="h-{sid}">{n}. {esc(SECTIONS[n - 1][1])}</h2>'
+            f'<p class="intro">{esc(SECTIONS[n - 1][2])}</p>')
+
+
+def setup_html(ctx: Context, study_dir: Path, records: list[dict]) -> str:
+    st, r = ctx.study, ctx.results
+    items = [("study", st.get("name")), ("title", st.get("title")), ("operation mode", st.get("mode")),
+             ("rig", st.get("rig")), ("random seed", st.get("seed")),
+             ("quick variant (fewer repetitions, shorter records)", st.get("quick")),
+             ("protocol hash", st.get("protocol_hash")), ("clearshape", r.get("clearshape_version")),
+             ("results schema", r.get("results_schema_version", r.get("schema_version")))]
+    proto = r.get("protocol") if isinstance(r.get("protocol"), dict) else {}
+    for key, lab in (("repetitions", "repetitions per input"), ("record_s", "record length (s)"),
+                     ("sample_rate_hz", "sample rate (Hz)"), ("source", "protocol file")):
+        if key in proto:
+            items.append((lab, proto[key]))
+    rows = "".join(f"<dt>{esc(k)}</dt><dd>{render_generic(v)}</dd>" for k, v in items if v is not None)
+    out = [f'<dl class="kv">{rows}</dl>']
+    if ctx.synthetic:
+        out.append('<p class="warn" role="note"><strong>Synthetic fixture.</strong> These numbers are made up by '
+                   "python/clearshape_plot/fixture.py to exercise the report; they are not results.</p>")
+    elif ctx.simulated_rig:
+        out.append('<p class="note">The rig is clearshape\'s simulated thesis rig. Its hidden parameters were '
+                   "calibrated to what the thesis measured <em>without</em> shaping (DESIGN.md §2); the study never "
+                   "reads them, and every shaped result is a prediction.</p>")
+    if st.get("quick"):
+        out.append('<p class="warn" role="note"><strong>Quick variant.</strong> Fewer repetitions and shorter '
+                   "records than the thesis's programme, for tests; the thesis always lists its 10 trials.</p>")
+    inputs = proto.get("inputs")
+    if isinstance(inputs, list) and inputs:
+        rows_in = []
+        for i in inputs:
+            if not isinstance(i, dict):
+                continue
+            params = ", ".join(f"{k.replace('_', ' ')} = {render_generic(v)}" for k, v in i.items()
+                               if k not in ("name", "label", "type") and v is not None)
+            rows_in.append(f"<tr><th scope=\"row\">{esc(i.get('label', i.get('name', '')))}</th>"
+                           f"<td>{esc(i.get('name', ''))}</td><td>{esc(i.get('type', ''))}</td><td>{params}</td></tr>")
+        out.append('<h3>Inputs</h3><div class="table-wrap"><table class="generic"><thead><tr><th scope="col">input'
+                   '</th><th scope="col">name</th><th scope="col">type</th><th scope="col">parameters (units in the '
+                   'names)</th></tr></thead><tbody>' + "".join(rows_in) + "</tbody></table></div>")
+    units = r.get("units")
+    if isinstance(units, dict):
+        out.append("<h3>Units</h3>" + render_generic(units))
+    if proto:
+        out.append("<details><summary>Effective protocol (as run)</summary><pre>"
+                   + esc(json.dumps(proto, indent=2, ensure_ascii=False)) + "</pre></details>")
+    drawn = sum(1 for x in records if not x.get("error"))
+    files = [f'<li><a href="{n}">{n}</a></li>' for n in ("results.json", "tables.md", "figures.json", "timing.json")
+             if (study_dir / n).exists()]
+    for d, what in (("data", "the data behind every figure (CSV)"), ("runs", "every run as CSV with a JSON sidecar")):
+        if (study_dir / d).is_dir():
+            files.append(f'<li><a href="{d}/">{d}/</a> — {what}</li>')
+    out.append(f"<p>{drawn} of {len(records)} figures drawn (PNG and PDF in <a href=\"figures/\">figures/</a>). "
+               f"Files of this study:</p><ul>{''.join(files)}</ul>")
+    return "".join(out)
+
+
+def identification_facts(ctx: Context) -> str:
+    ident = ctx.sections.get("identification")
+    lm = ctx.sections.get("link_mode")
+    out = []
+    if isinstance(ident, dict):
+        dm = ident.get("drive_mode") if isinstance(ident.get("drive_mode"), dict) else {}
+        facts = [("selected model (identified from input)", ident.get("selected_input")),
+                 ("drive model ωn = 1/Tw (rad/s)", dm.get("natural_frequency_rad_s")),
+                 ("drive model ζ", dm.get("damping_ratio"))]
+        out.append('<dl class="kv">' + "".join(f"<dt>{esc(k)}</dt><dd>{render_generic(v)}</dd>" for k, v in facts
+                                               if v is not None) + "</dl>")
+    if isinstance(lm, dict) and lm.get("available", True):
+        facts = [("link residual mode, from the gyro's free response after", lm.get("input")),
+                 ("natural frequency (Hz)", lm.get("natural_frequency_hz")),
+                 ("damping ratio", lm.get("damping_ratio")), ("note", lm.get("note"))]
+        out.append('<dl class="kv">' + "".join(f"<dt>{esc(k)}</dt><dd>{render_generic(v)}</dd>" for k, v in facts
+                                               if v is not None) + "</dl>")
+    return "".join(out)
+
+
+def clearance_facts(ctx: Context) -> str:
+    cl = ctx.sections.get("clearance")
+    if not isinstance(cl, dict):
+        return ""
+    return "<details><summary>Clearance fit, all numbers</summary>" + render_generic(cl) + "</details>"
+
+
+def shapers_html(ctx: Context) -> str:
+    sh = ctx.sections.get("shapers")
+    if not isinstance(sh, list) or not sh:
+        return ""
+    out = ['<h3>Shapers used</h3><div class="table-wrap"><table class="generic"><thead><tr><th scope="col">shaper '
+           '@ mode source</th><th scope="col">impulse times (s)</th><th scope="col">amplitudes</th>'
+           '<th scope="col">duration (s)</th></tr></thead><tbody>']
+    for s in sh:
+        if not isinstance(s, dict):
+            continue
+        imps = s.get("impulses") or []
+        out.append(f"<tr><th scope=\"row\">{esc(s.get('key', ''))}</th>"
+                   f"<td>{esc(', '.join(fmt(i.get('time_s')) for i in imps))}</td>"
+                   f"<td>{esc(', '.join(fmt(i.get('amplitude')) for i in imps))}</td>"
+                   f"<td>{fmt(s.get('duration_s'))}</td></tr>")
+    out.append("</tbody></table></div>")
+    return "".join(out)
+
+
+def ambiguities_html(amb) -> str:
+    if not amb:
+        return '<p class="empty">The study listed no settled ambiguities; see DESIGN.md §2.</p>'
+    if isinstance(amb, dict):
+        amb = [{"title": k, **(v if isinstance(v, dict) else {"settled": v})} for k, v in amb.items()]
+    out = ['<ol class="ambiguities">']
+    for a in amb:
+        if not isinstance(a, dict):
+            out.append(f"<li>{esc(a)}</li>")
+            continue
+        title = a.get("question") or a.get("title") or a.get("id") or "ambiguity"
+        out.append(f'<li id="ambiguity-{slug(a.get("id", title))}"><h3>{esc(title)}</h3>')
+        for key, lab in (("settled", "Settled"), ("why", "Why"), ("reason", "Why"), ("effect", "Effect"),
+                         ("reference", "Reference")):
+            if a.get(key):
+                out.append(f"<p><strong>{lab}:</strong> {esc(a[key])}</p>")
+        out.append("</li>")
+    out.append("</ol>")
+    return "".join(out)
+
+
+def comparison_rows(rows: list[tuple[str, tbl.Comparison]], reasons: bool = True) -> str:
+    """One line of numbers per compared quantity, and below it the criterion and the reason."""
+    head = ('<th scope="col">where</th><th scope="col">quantity</th><th scope="col">clearshape</th>'
+            '<th scope="col" class="thesis">thesis</th><th scope="col">Δ</th><th scope="col">Δ %</th>'
+            '<th scope="col">verdict</th>')
+    body = []
+    for sec, c in rows:
+        unit = unit_text(c.unit)
+        where = f"{SECTION_TITLES.get(sec, sec)} · {'Table ' if re.match(r'^[0-9B]', c.table) else ''}{c.table}"
+        body.append(f"<tr class=\"nums\"><td class=\"where\">{esc(where)}</td><th scope=\"row\">{esc(c.quantity)}</th>"
+                    f"<td>{with_unit(c.ours, unit)}</td><td class=\"thesis\">{with_unit(c.thesis, unit)}</td>"
+                    f"<td class=\"delta\">{fmt_signed(c.diff)}</td><td class=\"delta\">{fmt_pct(c.rel)}</td>"
+                    f"{verdict_cell(c.agrees)}</tr>")
+        text = f"<span class=\"crit\">{esc(c.criterion)}.</span> {esc(c.why)}" if reasons and c.why else \
+            f"<span class=\"crit\">{esc(c.criterion)}.</span>"
+        body.append(f'<tr class="reason"><td colspan="7">{text}</td></tr>')
+    return (f'<div class="table-wrap"><table class="results compare"><thead><tr>{head}</tr></thead><tbody>'
+            + "".join(body) + "</tbody></table></div>")
+
+
+def differences_html(all_comps: list[tuple[str, tbl.Comparison]]) -> str:
+    comps = [(s, c) for s, c in all_comps if c.thesis is not None]
+    if not comps:
+        return '<p class="empty">No number of this study has a published thesis value to compare with.</p>'
+    agree = [x for x in comps if x[1].agrees]
+    differ = [x for x in comps if x[1].agrees is False]
+    other = [x for x in comps if x[1].agrees is None]
+    out = [f"<p>{len(comps)} published numbers compared: <strong>{len(agree)} agree</strong>, "
+           f"<strong>{len(differ)} differ</strong>" + (f", {len(other)} not comparable" if other else "") + ". "
+           "Means of repeated trials agree when their difference is within the thesis's own trial-to-trial "
+           "standard deviation; improvements when within the spread of the thesis's per-trial improvements; "
+           "other numbers when within 10 %. Tables the thesis prints twice (5.2 = B.1 + B.5; B.6 = the "
+           "improvements of B.1–B.5) are counted once.</p>"]
+    if differ:
+        out.append("<h3>Where clearshape differs</h3>" + comparison_rows(differ))
+    if agree:
+        out.append("<h3>Where clearshape agrees</h3>" + comparison_rows(agree))
+    if other:
+        out.append("<h3>Not comparable</h3>" + comparison_rows(other))
+    return "".join(out)
+
+
+def dedupe(comps: list) -> list[tuple[str, tbl.Comparison]]:
+    """Each published number once: a number the thesis prints twice (Table 5.2 = B.1 + B.5, B.6 = the
+    improvements of B.1–B.5) is kept from its trial table, whose verdict uses the trials' spread."""
+    def rank(item):
+        _, c, composite = item
+        return (1 if composite else 0, 0 if c.kind in ("mean", "improvement") and c.column is not None
+                and c.column.thesis and len(c.column.thesis) > 1 else 1)
+    ordered = sorted(enumerate(comps), key=lambda x: (rank(x[1]), x[0]))
+    seen, keep = set(), set()
+    for i, (_, c, _) in ordered:
+        key = (c.kind if c.kind != "parameter" else c.quantity, None if c.ours is None else round(c.ours, 9))
+        if c.ours is not None and key in seen:
+            continue
+        seen.add(key)
+        keep.add(i)
+    return [(s, c) for i, (s, c, _) in enumerate(comps) if i in keep]
+
+
+def headline_html(all_comps: list[tuple[str, tbl.Comparison]]) -> str:
+    comps = [c for _, c in all_comps if c.thesis is not None]
+    agree = sum(1 for c in comps if c.agrees)
+    differ = sum(1 for c in comps if c.agrees is False)
+    imps = [c for _, c in all_comps if c.kind == "improvement" and c.thesis is not None and c.ours is not None]
+    lines = "".join(f"<li>Table {esc(c.table)}, {esc(c.quantity.replace(' — improvement', ''))}: improvement "
+                    f"<strong>{fmt(c.ours, 3)} %</strong> (thesis {fmt(c.thesis, 3)} %)</li>" for c in imps[:8])
+    return (f'<div class="summary"><p>{len(comps)} published numbers compared with the thesis: {agree} agree, '
+            f'{differ} differ (<a href="#differences">details</a>).</p>'
+            + (f"<ul>{lines}</ul>" if lines else "") + "</div>")
+
+
+# ----------------------------------------------------------------------------------------------
+# The page
+
+
+def build(study_dir: Path, records: list[dict] | None = None, output: Path | None = None) -> Path:
+    study_dir = Path(study_dir)
+    results = read_json(study_dir / "results.json")
+    ctx = Context(results)
+    if records is None:
+        index = read_json(study_dir / "figures.json") if (study_dir / "figures.json").exists() else {}
+        specs = list(index.get("figures", []) or [])
+        extra = md_summary_spec(results)
+        if extra:
+            specs.append(extra)
+        records = []
+        for i, spec in enumerate(specs):
+            fid = figure_id(spec, i)
+            png, pdf = study_dir / "figures" / f"{fid}.png", study_dir / "figures" / f"{fid}.pdf"
+            records.append({"id": fid, "spec": spec, "png": png if png.exists() else None,
+                            "pdf": pdf if pdf.exists() else None,
+                            "error": None if png.exists() else "not drawn (run python/render_study.py)"})
+
+    tables = [tbl.normalise(t) for t in results.get("tables", []) or [] if isinstance(t, dict)]
+    tables_by_sec: dict[str, list] = {s: [] for s in SECTION_IDS}
+    for t in tables:
+        tables_by_sec[section_of_table(t)].append(t)
+    figs_by_sec: dict[str, list] = {s: [] for s in SECTION_IDS}
+    for i, rec in enumerate(records):
+        figs_by_sec[section_of_figure(rec["spec"])].append((i, rec))
+
+    all_comps: list[tuple[str, tbl.Comparison]] = []
+    fig_counter = [0]
+    table_ids = {t.id for t in tables}
+    spreads = improvement_spreads(tables)
+    order = {id(t): i for i, t in enumerate(tables)}
+
+    def figures(sec: str) -> str:
+        items = sorted(figs_by_sec[sec], key=lambda x: (thesis_number_key(x[1]["spec"].get("thesis_figure")), x[0]))
+        out = []
+        for _, rec in items:
+            fig_counter[0] += 1
+            out.append(render_figure(rec, fig_counter[0]))
+        return "".join(out)
+
+    def tables_html(sec: str) -> str:
+        out = []
+        for t in sorted(tables_by_sec[sec], key=lambda t: (thesis_number_key(t.id), order[id(t)])):
+            comps = comparisons_of(ctx, t, spreads)
+            composite = is_composite(t, table_ids)
+            out.append(render_table(t, comps, composite))
+            all_comps.extend((sec, c, composite) for c in comps)
+        return "".join(out)
+
+    body = []
+    body.append(section_open("setup") + setup_html(ctx, study_dir, records) + "</section>")
+    for sec in ("consistency", "identification", "clearance", "simulated", "rig"):
+        pre = ""
+        if sec == "identification":
+            pre = identification_facts(ctx)
+        elif sec == "clearance":
+            pre = clearance_facts(ctx)
+        elif sec == "simulated":
+            pre = shapers_html(ctx)
+        if sec == "rig":  # the summary figure first, then the tables, then the traces
+            summary = [r for _, r in figs_by_sec["rig"] if r["spec"].get("kind") == "md-summary"]
+            figs_by_sec["rig"] = [(i, r) for i, r in figs_by_sec["rig"] if r["spec"].get("kind") != "md-summary"]
+            lead = []
+            for r in summary:
+                fig_counter[0] += 1
+                lead.append(render_figure(r, fig_counter[0]))
+            content = "".join(lead) + tables_html(sec) + figures(sec)
+        else:
+            content = pre + tables_html(sec) + figures(sec)
+        if not content:
+            content = (f'<p class="empty">Not produced by this {esc(ctx.mode or "")}-mode study '
+                       "(make run writes both modes' reports).</p>")
+        body.append(section_open(sec) + content + "</section>")
+    all_comps = dedupe(all_comps)
+    body.append(section_open("ambiguities") + ambiguities_html(results.get("ambiguities")) + "</section>")
+    body.append(section_open("differences") + differences_html(all_comps) + "</section>")
+
+    page = page_html(ctx, "".join(body), headline_html(all_comps), records)
+    output = Path(output) if output else study_dir / "report.html"
+    tmp = output.with_name(output.name + ".tmp")
+    tmp.write_text(page, encoding="utf-8")
+    tmp.replace(output)
+    return output
+
+
+CSS = """
+:root{--fg:#1d1d1f;--muted:#5c5c66;--line:#d6d6dc;--bg:#fff;--band:#f6f6f8;--ok:#0b6e4f;--okbg:#e3f4ec;
+--diff:#a23b00;--diffbg:#fbe9df;--accent:#0b5fa5}
+*{box-sizing:border-box}
+html{font-family:"DejaVu Sans",system-ui,sans-serif;font-size:15px;line-height:1.5;color:var(--fg);background:var(--bg)}
+body{margin:0 auto;max-width:64rem;padding:1.5rem 1.25rem 4rem}
+header h1{font-size:1.6rem;margin:0 0 .25rem}
+header p{margin:.2rem 0;color:var(--muted)}
+nav.toc{background:var(--band);border:1px solid var(--line);border-radius:6px;padding:.6rem 1rem;margin:1rem 0 1.5rem}
+nav.toc ol{margin:.3rem 0 .2rem 1.4rem;padding:0;columns:2}
+nav.toc a{color:var(--accent);text-decoration:none}nav.toc a:hover{text-decoration:underline}
+h2{font-size:1.3rem;border-bottom:2px solid var(--line);padding-bottom:.2rem;margin-top:2.4rem}
+h3{font-size:1.05rem;margin:1.4rem 0 .4rem}
+p.intro{color:var(--muted);margin-top:.2rem}
+.table-wrap{overflow-x:auto;margin:.8rem 0 .4rem}
+table{border-collapse:collapse;font-size:.84rem;font-variant-numeric:tabular-nums}
+caption{text-align:left;font-weight:bold;padding:.3rem 0;caption-side:top}
+caption .unit{display:block;font-weight:normal;color:var(--muted);font-size:.8rem}
+th,td{border-bottom:1px solid var(--line);padding:.2rem .5rem;text-align:right;vertical-align:top}
+thead th{background:var(--band);border-bottom:1.5px solid #9a9aa3;text-align:center}
+th.grp{border-left:2px solid #fff}
+tbody th,tfoot th{text-align:left;font-weight:normal;white-space:nowrap}
+td.thesis,th.thesis{color:#55555e;background:#f7f7f7}
+td.delta{color:var(--muted);text-align:center}
+td{white-space:nowrap}table.generic td,table.compare tr.reason td{white-space:normal}
+tfoot tr.mean td,tfoot tr.mean th{font-weight:bold;border-top:1.5px solid #9a9aa3}
+td.verdict{text-align:center;font-weight:bold;white-space:nowrap}
+td.verdict.ok{color:var(--ok);background:var(--okbg)}td.verdict.diff{color:var(--diff);background:var(--diffbg)}
+td.verdict.na{color:var(--muted);font-weight:normal}
+span.pm{color:var(--muted);font-size:.78rem}
+table.compare{width:100%}
+table.compare th,table.compare td.where{text-align:left}
+table.compare td.where{color:var(--muted);font-size:.78rem;white-space:normal;max-width:11rem}
+table.compare th{white-space:normal}
+table.compare tr.nums td,table.compare tr.nums th{border-bottom:none;padding-top:.45rem}
+table.compare tr.reason td{text-align:left;font-size:.8rem;color:#3a3a44;padding:0 .5rem .5rem 1.5rem}
+table.compare .crit{color:var(--muted)}
+table.generic td,table.generic th{text-align:left}
+figure{margin:1.2rem 0 1.6rem;padding:0}
+figure img{display:block;max-width:100%;height:auto;border:1px solid var(--line);border-radius:4px}
+figcaption{font-size:.86rem;color:var(--muted);margin-top:.35rem}
+dl.kv{display:grid;grid-template-columns:max-content 1fr;gap:.1rem 1rem;margin:.6rem 0}
+dl.kv dt{color:var(--muted)}dl.kv dd{margin:0}
+pre{background:var(--band);padding:.6rem;border-radius:4px;overflow-x:auto;font-size:.78rem;max-height:30rem}
+details{margin:.6rem 0}summary{cursor:pointer;color:var(--accent)}
+.note{color:var(--muted);font-size:.88rem;margin:.2rem 0 1.2rem}
+.warn{background:#fff4d6;border:1px solid #e6c76a;padding:.5rem .8rem;border-radius:4px}
+.empty{color:var(--muted);font-style:italic}
+.figure-missing{background:var(--diffbg);border:1px solid #e0a080;padding:.6rem .8rem;border-radius:4px;margin:1rem 0}
+div.summary{background:var(--band);border-left:4px solid var(--accent);padding:.4rem .9rem;margin:.8rem 0}
+div.summary p{margin:.2rem 0;color:var(--fg)}div.summary ul{margin:.2rem 0 .3rem 1.2rem;padding:0}
+ol.ambiguities>li{margin-bottom:.9rem}ol.ambiguities h3{margin:.2rem 0;font-size:1rem}ol.ambiguities p{margin:.2rem 0}
+footer{margin-top:3rem;color:var(--muted);font-size:.82rem;border-top:1px solid var(--line);padding-top:.6rem}
+@media print{body{max-width:none}nav.toc{display:none}figure,table{break-inside:avoid}}
+"""
+
+# Sets data-figures-loaded / data-figures-failed on <body> once every image has decoded (or failed).
+SCRIPT = """
+(function () {
+  var imgs = Array.prototype.slice.call(document.images);
+  function report() {
+    var ok = 0, bad = [];
+    imgs.forEach(function (img) {
+      if (img.complete && img.naturalWidth > 0) { ok += 1; }
+      else { var f = img.closest('figure'); bad.push(f ? f.id : img.alt); }
+    });
+    document.body.dataset.figuresTotal = String(imgs.length);
+    document.body.dataset.figuresLoaded = String(ok);
+    document.body.setAttribute('data-figures-failed', String(bad.length));
+    if (bad.length) { document.body.setAttribute('data-figures-failed-ids', bad.join(' ')); }
+  }
+  var waits = imgs.map(function (img) {
+    if (img.decode) { return img.decode().catch(function () {}); }
+    return new Promise(function (resolve) {
+      if (img.complete) { resolve(); return; }
+      img.addEventListener('load', resolve); img.addEventListener('error', resolve);
+    });
+  });
+  Promise.all(waits).then(report, report);
+})();
+"""
+
+
+def page_html(ctx: Context, body: str, headline: str, records: list[dict]) -> str:
+    st = ctx.study
+    name = st.get("name") or "clearshape study"
+    title = st.get("title") or ""
+    toc = "".join(f'<li><a href="#{sid}">{esc(t)}</a></li>' for sid, t, _ in SECTIONS)
+    drawn = sum(1 for r in records if not r.get("error"))
+    return (
+        "<!DOCTYPE html>\n"
+        '<html lang="en"><head><meta charset="utf-8">'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">'
+        "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; img-src data:; "
+        "style-src 'unsafe-inline'; script-src 'unsafe-inline'\">"
+        f"<title>{esc(name)} — clearshape study report</title><style>{CSS}</style></head>"
+        f'<body data-figures-expected="{len(records)}" data-figures-drawn="{drawn}">'
+        f"<header><h1>{esc(name)}</h1>"
+        + (f"<p>{esc(title)}</p>" if title else "")
+        + "<p>clearshape's reproduction of the experimental programme of G. Gündüzalp, <em>Control of mechanical "
+        "joints that have joint clearance</em> (MSc thesis, İzmir Institute of Technology, 2015), Chapters 4–5 and "
+        f"Appendix B.</p>{headline}</header>"
+        f'<nav class="toc" aria-label="Contents"><strong>Contents</strong><ol>{toc}</ol></nav>'
+        f"<main>{body}</main>"
+        "<footer>Written by python/make_report.py from results.json and figures.json. Figures are embedded; the "
+        "page needs no network. Numbers: 4 significant digits; Δ = clearshape − thesis. Units: ° = degree.</footer>"
+        f"<script>{SCRIPT}</script></body></html>\n")
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) != 1 or argv[0] in ("-h", "--help"):
+        print("usage: make_report.py <study-output-folder>", file=sys.stderr)
+        return 2
+    try:
+        path = build(Path(argv[0]))
+    except StudyDataError as e:
+        print(f"make_report: {e}", file=sys.stderr)
+        return 2
+    print(path.resolve())
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

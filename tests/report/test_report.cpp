@@ -1,0 +1,256 @@
+// The study report renders: python/render_study.py draws every figure of a study output folder
+// (PNG + PDF, same bytes for the same inputs) and writes a self-contained report.html, which
+// headless Chromium opens offline with every figure decoded (data-figures-loaded == number of
+// <img>, data-figures-failed == 0); a corrupted figure is detected. The study output is the
+// quick thesis-position study when `clearshape study` exists, else a synthetic fixture
+// (python/clearshape_plot/fixture.py).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/cli.hpp"
+#include "support/paths.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Shell {
+  int exit_code = -1;
+  std::string out;
+};
+
+/// Runs a shell command, stdout and stderr together.
+Shell run(const std::string& command) {
+  Shell r;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buffer{};
+  std::size_t n = 0;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.out.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+fs::path repo_root() { return fs::path(CLEARSHAPE_GOLDEN_DIR).parent_path().parent_path(); }
+
+fs::path python_dir() { return repo_root() / "python"; }
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool have_chromium() { return run("command -v chromium").exit_code == 0; }
+
+/// Writes the synthetic fixture into `dir`.
+void write_fixture(const fs::path& dir) {
+  const Shell r = run("cd " + quote(python_dir()) + " && /usr/bin/python3 -m clearshape_plot.fixture " + quote(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+}
+
+Shell render(const fs::path& dir) {
+  return run("/usr/bin/python3 " + quote(python_dir() / "render_study.py") + " " + quote(dir));
+}
+
+/// Opens the report in headless Chromium, returns the serialized DOM after 5 s of virtual time.
+Shell dump_dom(const fs::path& report, const fs::path& profile) {
+  return run("timeout 180 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+             "--disable-background-networking --disable-component-update --disable-sync --user-data-dir=" +
+             quote(profile) + " --virtual-time-budget=5000 --dump-dom " + quote("file://" + report.string()) +
+             " 2>/dev/null");
+}
+
+/// Value of attribute `name` on the dumped <body>, or "" when it is absent.
+std::string body_attribute(const std::string& dom, const std::string& name) {
+  std::smatch body;
+  if (!std::regex_search(dom, body, std::regex("<body[^>]*>"))) return "";
+  const std::string tag = body.str();
+  std::smatch m;
+  if (!std::regex_search(tag, m, std::regex(name + "=\"([^\"]*)\""))) return "";
+  return m[1].str();
+}
+
+std::size_t count(const std::string& text, const std::string& needle) {
+  std::size_t n = 0;
+  for (auto pos = text.find(needle); pos != std::string::npos; pos = text.find(needle, pos + 1)) ++n;
+  return n;
+}
+
+class Report : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    base_ = fs::temp_directory_path() / ("clearshape_report_" + std::to_string(::getpid()));
+    fs::remove_all(base_);
+    fs::create_directories(base_);
+    study_ = base_ / "study";
+    const fs::path protocol = repo_root() / "studies" / "thesis-position.toml";
+    const auto help = clearshape::testing::run_cli("study --help");
+    bool have_study = false;
+    if (help.exit_code == 0 && fs::exists(protocol)) {
+      const auto r = clearshape::testing::run_cli("study " + quote(protocol) + " --quick --out " + quote(study_));
+      have_study = r.exit_code == 0;
+      source_ = "quick thesis-position study";
+      if (!have_study) {  // the study's own tests report its failures; this suite tests the report
+        std::fprintf(stderr, "clearshape study --quick failed (exit %d), using the synthetic fixture:\n%s\n",
+                     r.exit_code, r.err.c_str());
+        fs::remove_all(study_);
+      }
+    }
+    if (!have_study) {
+      source_ = "synthetic fixture (python/clearshape_plot/fixture.py)";
+      const Shell r = run("cd " + quote(python_dir()) + " && /usr/bin/python3 -m clearshape_plot.fixture " +
+                          quote(study_));
+      setup_error_ = r.exit_code == 0 ? "" : "fixture failed:\n" + r.out;
+    }
+    if (setup_error_.empty()) {
+      render_ = render(study_);
+    }
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(base_, ec);
+  }
+  void SetUp() override {
+    ASSERT_TRUE(setup_error_.empty()) << setup_error_;
+    RecordProperty("study_source", source_);
+  }
+
+  /// Entries of figures.json (the report may add its own summary figure on top).
+  static std::size_t figure_entries() {
+    const auto index = nlohmann::json::parse(read_file(study_ / "figures.json"));
+    return index.at("figures").size();
+  }
+  /// Figures the report says it embeds (data-figures-expected on <body>).
+  static std::size_t figures_expected(const std::string& html) {
+    std::smatch m;
+    if (!std::regex_search(html, m, std::regex("data-figures-expected=\"([0-9]+)\""))) return 0;
+    return std::stoul(m[1].str());
+  }
+
+  static inline fs::path base_;
+  static inline fs::path study_;
+  static inline std::string source_;
+  static inline std::string setup_error_;
+  static inline Shell render_;
+};
+
+TEST_F(Report, RenderDrawsEveryFigureAsPngAndPdf) {
+  ASSERT_EQ(render_.exit_code, 0) << source_ << "\n" << render_.out;
+  EXPECT_NE(render_.out.find("report.html"), std::string::npos) << "prints where the report is:\n" << render_.out;
+  const std::size_t n = figures_expected(read_file(study_ / "report.html"));
+  ASSERT_GT(figure_entries(), 0U) << "figures.json lists no figure";
+  EXPECT_GE(n, figure_entries());
+  std::size_t png = 0;
+  for (const auto& e : fs::directory_iterator(study_ / "figures")) {
+    if (e.path().extension() != ".png") continue;
+    ++png;
+    const std::string bytes = read_file(e.path());
+    EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << e.path();
+    fs::path pdf = e.path();
+    pdf.replace_extension(".pdf");
+    ASSERT_TRUE(fs::exists(pdf)) << pdf;
+    EXPECT_EQ(read_file(pdf).substr(0, 5), "%PDF-") << pdf;
+  }
+  EXPECT_EQ(png, n);
+}
+
+TEST_F(Report, SelfContainedInThesisOrder) {
+  const std::string html = read_file(study_ / "report.html");
+  ASSERT_FALSE(html.empty());
+  // Every figure embedded, nothing fetched: no external src/href/url(), no <link>.
+  EXPECT_EQ(count(html, "<img "), figures_expected(html));
+  EXPECT_GE(count(html, "<img "), figure_entries());
+  EXPECT_EQ(count(html, "<img "), count(html, "src=\"data:image/png;base64,"));
+  EXPECT_EQ(count(html, "src=\"http"), 0U);
+  EXPECT_EQ(count(html, "<link"), 0U);
+  EXPECT_EQ(count(html, "url("), 0U);
+  // Table of contents and sections in the thesis's order.
+  std::size_t last = 0;
+  for (const char* id : {"setup", "consistency", "identification", "clearance", "simulated", "rig",
+                         "ambiguities", "differences"}) {
+    const auto pos = html.find(std::string("<section id=\"") + id + "\"");
+    ASSERT_NE(pos, std::string::npos) << id;
+    EXPECT_GT(pos, last) << id << " out of order";
+    last = pos;
+    EXPECT_NE(html.find(std::string("href=\"#") + id + "\""), std::string::npos) << "TOC lacks " << id;
+  }
+  // Numbers beside the thesis's with a difference column, and verdicts.
+  EXPECT_NE(html.find(">thesis</th>"), std::string::npos);
+  EXPECT_NE(html.find("<th scope=\"col\">Δ</th>"), std::string::npos);
+  EXPECT_NE(html.find("class=\"verdict "), std::string::npos);
+}
+
+TEST_F(Report, ChromiumLoadsEveryFigure) {
+  if (!have_chromium()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
+  const std::string html = read_file(study_ / "report.html");
+  const Shell dom = dump_dom(study_ / "report.html", base_ / "chromium-profile");
+  ASSERT_EQ(dom.exit_code, 0) << dom.out.substr(0, 2000);
+  const std::string loaded = body_attribute(dom.out, "data-figures-loaded");
+  const std::string failed = body_attribute(dom.out, "data-figures-failed");
+  ASSERT_FALSE(loaded.empty()) << "the page script did not report (no data-figures-loaded on <body>)";
+  EXPECT_EQ(std::stoul(loaded), count(html, "<img "));
+  EXPECT_EQ(std::stoul(loaded), figures_expected(html));
+  EXPECT_EQ(failed, "0") << body_attribute(dom.out, "data-figures-failed-ids");
+}
+
+TEST_F(Report, ChromiumDetectsABrokenFigure) {
+  if (!have_chromium()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
+  std::string html = read_file(study_ / "report.html");
+  const std::string marker = "src=\"data:image/png;base64,";
+  const auto pos = html.find(marker);
+  ASSERT_NE(pos, std::string::npos);
+  const auto end = html.find('"', pos + marker.size());
+  html.replace(pos + marker.size(), end - pos - marker.size(), "iVBORw0KGgoAAAANSUhEUgAAAAEAAAAB");  // truncated PNG
+  const fs::path broken = base_ / "broken.html";
+  std::ofstream(broken, std::ios::binary) << html;
+  const Shell dom = dump_dom(broken, base_ / "chromium-profile-broken");
+  ASSERT_EQ(dom.exit_code, 0);
+  EXPECT_EQ(body_attribute(dom.out, "data-figures-failed"), "1");
+  EXPECT_EQ(std::stoul(body_attribute(dom.out, "data-figures-loaded")), count(html, "<img ") - 1);
+}
+
+TEST(ReportDeterminism, SameInputsSameFigureBytes) {
+  const fs::path base = fs::temp_directory_path() / ("clearshape_report_det_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  write_fixture(base / "a");
+  write_fixture(base / "b");
+  ASSERT_EQ(render(base / "a").exit_code, 0);
+  ASSERT_EQ(render(base / "b").exit_code, 0);
+  std::size_t compared = 0;
+  for (const auto& e : fs::directory_iterator(base / "a" / "figures")) {
+    const fs::path other = base / "b" / "figures" / e.path().filename();
+    ASSERT_TRUE(fs::exists(other)) << other;
+    EXPECT_EQ(read_file(e.path()), read_file(other)) << e.path().filename() << " differs between two renders";
+    ++compared;
+  }
+  EXPECT_GE(compared, 2U);
+  EXPECT_EQ(read_file(base / "a" / "report.html"), read_file(base / "b" / "report.html"));
+  fs::remove_all(base);
+}
+
+TEST(ReportInput, MissingResultsIsBadInput) {
+  const fs::path dir = fs::temp_directory_path() / ("clearshape_report_empty_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const Shell r = render(dir);
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("results.json"), std::string::npos) << r.out;
+  fs::remove_all(dir);
+}
+
+}  // namespace
