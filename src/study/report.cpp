@@ -72,7 +72,7 @@ std::string num(const json& v) {
   if (!v.is_number()) return v.is_string() ? v.get<std::string>() : v.dump();
   const double x = v.get<double>();
   if (!std::isfinite(x)) return "—";
-  if (x == 0.0) return "0";
+  if (std::abs(x) < 1e-12) return "0";  // rounding noise of an exact zero
   const double ax = std::abs(x);
   if (ax >= 1e4 || ax < 1e-3) return fmt::format("{:.3e}", x);
   return fmt::format("{:.4g}", x);

@@ -166,8 +166,8 @@ void stage_clearance(Context& c) {
                     fitted.stiffness, fitted.damping, rad_to_deg(fitted.play_rad), e41, status));
 
   json table = make_table("4.3-clearance", "parameters",
-                          fmt::format("Clearance model (Eq. 4.3, n = {}) calibrated to the gyro record of the {}",
-                                      cl.exponent, c.p.input(cl.input).label), "");
+                          fmt::format("Clearance model (Eq. 4.3) calibrated to the gyro record of the {}",
+                                      c.p.input(cl.input).label), "");
   table["row_labels"] = {"K (N·m/rad^n)", "D (N·m·s/rad)", "exponent n", "total play (deg)",
                          "link inertia (kg·m²)", "Eq. 4.1 agreement", "RMS error (deg/s)"};
   table["columns"] = {

@@ -62,6 +62,16 @@ std::string figure_for(const Context& c, const InputSpec& in) {
   return "";
 }
 
+// Eq. 5.1 needs a steady state: a sine, a PRBS, a parabola, an unbounded ramp or a repeating
+// staircase never settles.
+bool settles(const signal::Signal& s) {
+  const std::string type(s.type());
+  if (type == "sine" || type == "prbs" || type == "parabolic") return false;
+  if (const auto* r = s.get_if<signal::Ramp>()) return r->limit.has_value();
+  if (const auto* st = s.get_if<signal::StackedSteps>()) return !st->repeat;
+  return true;
+}
+
 std::vector<double> md_values(const Context& c, const ModelResponse& r) {
   return c.p.measure.md_signal == MdSignal::link_angle_deg ? r.link_angle_deg : r.link_rate_deg_s;
 }
@@ -117,7 +127,8 @@ void stage_simulation(Context& c) {
       UniformSeries s;
       s.sample_time_s = r.sample_time_s;
       s.values = md_values(c, r);
-      md[j].push_back(series_mean_deviation(s, c.p.measure, in.last_move_start_s).mean_deviation);
+      md[j].push_back(settles(in.signal) ? series_mean_deviation(s, c.p.measure, in.last_move_start_s).mean_deviation
+                                         : std::numeric_limits<double>::quiet_NaN());
       if (j == 0) {
         base = r;
         delay[j].push_back(0.0);
@@ -217,9 +228,19 @@ void stage_simulation(Context& c) {
     tcols.push_back(col);
   }
   table["columns"] = tcols;
-  table["note"] = "Model predictions (no sensor noise). The thesis shows these tests as figures only "
-                  "(Fig. 5.4–5.7, 5.12–5.17); the delay is the extra time to reach half of the final "
-                  "value of the unshaped response.";
+  {
+    std::string unsettled;
+    for (const auto& name : sim.inputs) {
+      if (!settles(c.p.input(name).signal)) unsettled += (unsettled.empty() ? "" : ", ") + c.p.input(name).label;
+    }
+    table["note"] = fmt::format(
+        "Model predictions on the study's calibrated model (no sensor noise). The thesis shows these tests as "
+        "figures only (Fig. 5.4–5.7, 5.12–5.17). A shaper designed from a mode of this very model cancels it "
+        "exactly here; the rig tests show what is left on the rig. The delay (delay_s in results.json) is the "
+        "extra time to reach half of the unshaped response's final value.{}",
+        unsettled.empty() ? std::string()
+                          : fmt::format(" No steady state, so no Eq. 5.1 (—): {} — see their figures.", unsettled));
+  }
   c.tables.push_back(table);
 
   // Shaper sensitivity curves V(ω/ωm) (Eq. 2.19) of every designed shaper.
