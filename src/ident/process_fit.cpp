@@ -419,6 +419,27 @@ struct Search {
 // report it in canonical form.
 Search search(const Layout& layout, const std::vector<Prepared>& prep, int n, std::span<const Experiment> experiments,
               const ProcessFitOptions& options, ModelCache& cache) {
+  if (!options.search) {  // refine from the given values: linear nuisance start, one LM run
+    std::vector<double> v(layout.names.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (layout.is_fixed(static_cast<int>(i))) {
+        v[i] = layout.fixed_value[i];
+      } else if (layout.initial[i]) {
+        v[i] = *layout.initial[i];
+      } else {
+        throw InvalidArgument("process fit without search: parameter " + layout.names[i] + " of " +
+                              layout.structure.code() + " has no initial value; give one or enable the search.");
+      }
+    }
+    auto s = rank(layout, prep, v, options.hold, n);
+    if (!s) throw RuntimeError("process fit: the initial model gives no finite simulated output.");
+    s->values = v;
+    Search out;
+    out.candidates = 1;
+    out.best = run_lm(layout, prep, n, *s, options.max_iterations, cache);
+    out.iterations = out.best.iterations;
+    return out;
+  }
   // Rank the candidates with the linear parameters solved, keep the best distinct ones.
   std::vector<Start> ranked;
   for (auto& v : detail::candidate_values(layout, experiments)) {

@@ -52,6 +52,9 @@ struct ProcessFitOptions {
   bool estimate_output_offset = false;  ///< y = ŷ + y0, y0 per experiment
   bool estimate_input_offset = false;   ///< plant input u − u0, u0 per experiment
   std::map<std::string, ParameterSetting, std::less<>> parameters;  ///< by MATLAB name
+  /// false: refine from the given initial values only (every free parameter needs `initial`;
+  /// MATLAB procest(data, init_sys)) — no data-derived candidates, one Levenberg–Marquardt run.
+  bool search = true;
   std::size_t starts = 3;            ///< Levenberg–Marquardt runs from the best-ranked candidates
   std::size_t max_iterations = 200;  ///< per run
   double max_delay_s = 0.0;          ///< upper bound of Td; 0 = a quarter of the shortest record
