@@ -57,3 +57,21 @@ TEST(StudyCli, BadProtocolIsExitTwoWithFileLineAndKey) {
   EXPECT_EQ(run_cli("study /nonexistent.toml").exit_code, 2);
   EXPECT_EQ(run_cli("study").exit_code, 2);  // missing protocol argument
 }
+
+TEST(CalibrateRigCli, ShortSearchWritesTheTruthAndTheResiduals) {
+  const auto out = std::filesystem::temp_directory_path() / "clearshape_cli_calibrate_rig";
+  std::filesystem::remove_all(out);
+  const auto r = run_cli("calibrate-rig --position " + (studies() / "thesis-position.toml").string() + " --speed " +
+                         (studies() / "thesis-speed.toml").string() + " --max-evaluations 2 --trials 2 --out " +
+                         out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("B.1"), std::string::npos);
+  EXPECT_NE(r.err.find("evaluation   2"), std::string::npos) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "rig-truth.toml"));
+  EXPECT_TRUE(std::filesystem::exists(out / "rig-calibration.json"));
+  // The written truth is a valid `simulate --config` / `study --rig-config` file.
+  const auto q = run_cli("study " + (studies() / "thesis-speed.toml").string() + " --quick --json --out " +
+                         (out / "study").string() + " --rig-config " + (out / "rig-truth.toml").string());
+  EXPECT_EQ(q.exit_code, 0) << q.err;
+  EXPECT_EQ(run_cli("calibrate-rig --trials 1").exit_code, 2);
+}

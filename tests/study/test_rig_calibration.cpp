@@ -47,3 +47,28 @@ TEST(RigCalibration, SpeedDriveThroughTheChainIsEq42) {
   // The drive is not the identified model itself: the filter's lag had to come out of it.
   EXPECT_GT(std::abs(fit.drive.parameters().tw - thesis.tw) + std::abs(fit.drive.parameters().zeta - thesis.zeta), 0.01);
 }
+
+TEST(RigCalibration, SearchImprovesOnAPerturbedStart) {
+  const st::Protocol position = st::load_protocol(studies_path("thesis-position.toml"));
+  const st::Protocol speed = st::load_protocol(studies_path("thesis-speed.toml"));
+  clearshape::rig::RigTruth start = st::calibrated_thesis_rig_truth();
+  start.position_contact.stiffness *= 2.0;  // a mode √2 too high
+  start.clearance_rad *= 3.0;
+  st::RigCalibrationOptions options;
+  options.trials = 2;
+  options.max_evaluations = 10;
+  options.seed = 3;
+  const auto start_res = st::unshaped_residuals(start, position, options.trials, options.seed, 2);
+  double start_score = 0.0;
+  for (const auto& r : start_res) start_score += std::pow(std::log(r.ours_mean / r.target_mean), 2);
+  const st::RigCalibrationResult result = st::calibrate_rig(position, speed, start, options);
+  EXPECT_LT(result.objective, start_score);
+  EXPECT_EQ(result.evaluations, 10);
+  EXPECT_EQ(result.residuals.size(), 6u);  // B.1–B.5 and Table 5.1
+  // The speed drive came out of step 1, and the TOML names every calibrated section.
+  const std::string toml = st::truth_to_toml(result.truth, "test", &result.speed_drive.drive);
+  for (const char* section : {"[joint]", "[contact]", "[link]", "[gyroscope]", "[drive.speed]", "# test"}) {
+    EXPECT_NE(toml.find(section), std::string::npos) << section;
+  }
+  EXPECT_NE(result.to_json().dump().find("relative_error"), std::string::npos);
+}
