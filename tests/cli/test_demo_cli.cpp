@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
@@ -11,7 +13,8 @@ namespace fs = std::filesystem;
 using clearshape::testing::run_cli;
 
 TEST(DemoCli, ShapingRemovesTheDriveModelsOvershoot) {
-  const fs::path dir = fs::temp_directory_path() / "clearshape_demo_cli";
+  const fs::path dir =
+      fs::temp_directory_path() / ("clearshape_demo_cli_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const auto r = run_cli("demo --json --out " + dir.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -15,7 +17,9 @@ using clearshape::testing::run_cli;
 
 namespace {
 fs::path temp(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "clearshape_simulate_cli";
+  // One folder per process: ctest runs the tests of this file in parallel processes.
+  const fs::path dir =
+      fs::temp_directory_path() / ("clearshape_simulate_cli_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir / name;
 }
