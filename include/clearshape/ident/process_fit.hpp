@@ -8,6 +8,12 @@
 // discretization derivatives from Van Loan's block-triangular matrix exponential), started from
 // the best of many data-derived candidates (step overshoot/peak time, a subspace model, a grid)
 // ranked with the numerator (Kp, Kp·Tz), initial state and offset solved linearly.
+// Why analytic derivatives: the Jacobian is exact (LM converges cleanly near ζ ≈ 1 and for
+// small Tp; the covariance is trustworthy), it costs one sensitivity recursion per parameter
+// (half of central differences), and ∂/∂Td needs no step size across sample boundaries.
+// Uncertainty: (JᵀJ)⁻¹σ², σ² = Σ(w e)²/(N − p), from the Jacobian Ceres evaluates at the optimum
+// (column-scaled SVD; NaN when the data do not determine a direction, e.g. Tz with a free initial
+// state on a step applied at the first sample).
 // Time constants, Tw and Zeta are optimised as logarithms (always positive: a stable model, as
 // procest); Kp and Tz are free in sign (Tz < 0 is a right-half-plane zero, thesis speed model).
 #include <cstddef>
@@ -64,7 +70,7 @@ struct ProcessFitOptions {
 struct ParameterEstimate {
   std::string name;      ///< MATLAB name
   double value = 0.0;
-  double std_dev = 0.0;  ///< 1σ from the covariance (0 for fixed parameters)
+  double std_dev = 0.0;  ///< 1σ from (JᵀJ)⁻¹σ² (0 for fixed, NaN if not determined by the data)
   bool fixed = false;
 };
 
