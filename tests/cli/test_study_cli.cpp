@@ -4,6 +4,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +17,11 @@ using clearshape::testing::run_cli;
 
 namespace {
 
+// Per-process folders: several test processes (and build trees) may run at once.
+std::filesystem::path temp(const std::string& name) {
+  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+}
+
 std::filesystem::path studies() {
   return clearshape::testing::golden_path("").parent_path().parent_path().parent_path() / "studies";
 }
@@ -21,7 +29,7 @@ std::filesystem::path studies() {
 }  // namespace
 
 TEST(StudyCli, QuickPositionStudyPrintsTablesAndWritesResults) {
-  const auto out = std::filesystem::temp_directory_path() / "clearshape_cli_study_position";
+  const auto out = temp("clearshape_cli_study_position");
   std::filesystem::remove_all(out);
   const auto r = run_cli("study " + (studies() / "thesis-position.toml").string() + " --quick --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -44,7 +52,7 @@ TEST(StudyCli, QuickPositionStudyPrintsTablesAndWritesResults) {
 }
 
 TEST(StudyCli, BadProtocolIsExitTwoWithFileLineAndKey) {
-  const auto dir = std::filesystem::temp_directory_path() / "clearshape_cli_study_bad";
+  const auto dir = temp("clearshape_cli_study_bad");
   std::filesystem::create_directories(dir);
   {
     std::ofstream f(dir / "bad.toml");
@@ -59,7 +67,7 @@ TEST(StudyCli, BadProtocolIsExitTwoWithFileLineAndKey) {
 }
 
 TEST(CalibrateRigCli, ShortSearchWritesTheTruthAndTheResiduals) {
-  const auto out = std::filesystem::temp_directory_path() / "clearshape_cli_calibrate_rig";
+  const auto out = temp("clearshape_cli_calibrate_rig");
   std::filesystem::remove_all(out);
   const auto r = run_cli("calibrate-rig --position " + (studies() / "thesis-position.toml").string() + " --speed " +
                          (studies() / "thesis-speed.toml").string() + " --max-evaluations 2 --trials 2 --out " +

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 #include <fstream>
 
 #include "clearshape/core/error.hpp"
@@ -26,8 +29,9 @@ st::RunRequest step_request() {
   return req;
 }
 
+// Per-process folders: several test processes (and build trees) may run at once.
 std::filesystem::path temp_dir(const char* name) {
-  const auto dir = std::filesystem::temp_directory_path() / name;
+  const auto dir = std::filesystem::temp_directory_path() / (std::string(name) + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   return dir;
 }

@@ -9,6 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 #include <fstream>
 #include <sstream>
 
@@ -48,8 +51,9 @@ st::StudyResult run(const std::string& protocol, const std::filesystem::path& ou
   return st::run_study(st::quick_variant(st::load_protocol(studies_path(protocol))), options);
 }
 
+// Per-process folders: several test processes (and build trees) may run at once.
 std::filesystem::path temp_dir(const char* name) {
-  const auto dir = std::filesystem::temp_directory_path() / name;
+  const auto dir = std::filesystem::temp_directory_path() / (std::string(name) + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   return dir;
 }
