@@ -167,11 +167,14 @@ def section_of_figure(spec: dict) -> str:
     sec = str(spec.get("section") or "").lower()
     if sec in SECTION_IDS:
         return sec
+    if str(spec.get("kind", "")).lower() == "md-summary":
+        return "rig"
     fid = str(spec.get("id", "")).lower()
     for prefix, s in _PREFIX_SECTIONS:
         if fid.startswith(prefix):
             return s
-    return section_of_number(spec.get("thesis_figure")) or "simulated"
+    return (section_of_number(spec.get("thesis_figure")) or section_of_number(spec.get("thesis_table"))
+            or "simulated")
 
 
 def section_of_table(t: tbl.Table) -> str:
@@ -234,6 +237,10 @@ def why(ctx: Context, t: tbl.Table, c: tbl.Comparison) -> str:
                 "other while the response barely changes." + sd if ctx.mode == "position" else
                 "Identified from this rig's records by clearshape's process-model fit through the §3.3 filter "
                 "chain, not by MATLAB's toolbox on the thesis's rig." + sd) + own
+    if sec == "clearance" and "agreement" not in c.quantity.lower():
+        return ("Set or calibrated by the study's clearance stage for this rig, not taken from the thesis (which "
+                "chose n = 1.5 after earlier studies, §4.2); the contact law is judged by the agreement it "
+                "produces." + own)
     if sec == "clearance":
         status = ctx.sections.get("clearance", {}).get("status") if isinstance(ctx.sections.get("clearance"), dict) else None
         extra = f" The contact fit reported: {status}." if status else ""
@@ -510,10 +517,10 @@ def md_summary_spec(results: dict) -> dict | None:
             if key in seen:
                 continue
             seen.add(key)
-            where = t.title.split(",")[-1].strip() if "," in t.title else ""
             shaped = [x for x in t.columns if not x.unshaped and x.thesis_mean is not None]
-            label = t.id + (f" {where}" if where else "") + (f" {c.role.upper()}" if len(shaped) > 1 else "")
-            rows.append({"label": label, "ours_without": base.ours_mean, "thesis_without": base.thesis_mean,
+            label = f"{t.id} {c.role.upper()}" if len(shaped) > 1 else t.id
+            rows.append({"table": t.id, "label": label, "role": c.role,
+                         "ours_without": base.ours_mean, "thesis_without": base.thesis_mean,
                          "ours_with": c.ours_mean, "thesis_with": c.thesis_mean, "ours_improvement": c.improvement,
                          "thesis_improvement": c.thesis_improvement})
             unit = t.unit
@@ -770,7 +777,7 @@ def build(study_dir: Path, records: list[dict] | None = None, output: Path | Non
         index = read_json(study_dir / "figures.json") if (study_dir / "figures.json").exists() else {}
         specs = list(index.get("figures", []) or [])
         extra = md_summary_spec(results)
-        if extra:
+        if extra and not any(str(f.get("kind")) == "md-summary" for f in specs):
             specs.append(extra)
         records = []
         for i, spec in enumerate(specs):

@@ -42,8 +42,9 @@ def main(argv=None) -> int:
         log(f"render_study: {out / 'figures.json'} not found; the report will have no figures")
     t0 = time.monotonic()
     specs = list(index.get("figures", []) or [])
-    summary = make_report.md_summary_spec(results)  # the report's own figure, from the tables
-    if summary:
+    # The summary of the rig tables as a figure, from the tables, unless the study lists one.
+    summary = make_report.md_summary_spec(results)
+    if summary and not any(str(f.get("kind")) == "md-summary" for f in specs):
         specs.append(summary)
     n = len(specs)
     log(f"render_study: drawing {n} figures into {out / 'figures'}")

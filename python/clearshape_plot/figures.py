@@ -127,6 +127,7 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
     unit = _unit_of(ylab)
     trial_values = []
     other_index = 0
+    marked: set = set()
     for s, ycol, role, source in resolved:
         f = _file(panel, s)
         x = cache.column(f, _x_column(panel, s))
@@ -145,10 +146,13 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
         if ann and label:
             md = ann.get("mean_deviation")
             if md is not None:
-                label = f"{label} — MD {md:.3g} {unit}".rstrip()
+                start = ann.get("start_time_s")
+                label = f"{label} — MD {md:.3g} {unit}".rstrip() + (f" from {float(start):.3g} s" if start is not None
+                                                                      else "")
         ax.plot(x, y, label=label, **style)
-        if ann and ann.get("start_time_s") is not None:
+        if ann and ann.get("start_time_s") is not None and float(ann["start_time_s"]) not in marked:
             t0 = float(ann["start_time_s"])
+            marked.add(t0)  # a later series starting at the same sample would hide this marker
             k = min(int(np.searchsorted(x, t0)), len(x) - 1)
             ax.plot([x[k]], [y[k]], marker="o", markersize=4.5, color=style["color"], markeredgecolor="white",
                     markeredgewidth=0.6, linestyle="none", zorder=8)
@@ -175,7 +179,7 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
     ax.set_ylabel(ylab)
 
 
-def _active_window(curves, threshold: float = 0.01, margin: float = 0.25):
+def _active_window(curves, threshold: float = 0.006, margin: float = 0.5):
     """Time window where something happens: from the first departure of any curve from its initial
     value to the last time any curve is away from its final value by more than `threshold` of its
     range, widened by `margin` of that span. None when that is most of the record anyway (e.g. noisy
@@ -303,13 +307,13 @@ def _draw_md_summary(axes, spec: dict) -> None:
     ax, ax2 = axes
     x = np.arange(len(rows))
     w = 0.2
-    for j, (side, key, role) in enumerate((("ours", "without", "unshaped"), ("thesis", "without", "unshaped"),
-                                           ("ours", "with", "zvdd"), ("thesis", "with", "zvdd"))):
+    shaped_colours = [roles.style_for(roles.normalise_role(r.get("role") or "zvdd"))["color"] for r in rows]
+    for j, (side, key) in enumerate((("ours", "without"), ("thesis", "without"), ("ours", "with"), ("thesis", "with"))):
         vals = [r.get(f"{side}_{key}") for r in rows]
         vals = [np.nan if v is None else v for v in vals]
-        colour = roles.style_for(role)["color"]
-        kw = ({"color": colour, "edgecolor": "#333333"} if side == "ours" else
-              {"color": "white", "edgecolor": colour, "hatch": "////"})
+        colours = [roles.style_for("unshaped")["color"]] * len(rows) if key == "without" else shaped_colours
+        kw = ({"color": colours, "edgecolor": "#333333"} if side == "ours" else
+              {"color": "white", "edgecolor": colours, "hatch": "////"})
         ax.bar(x + (j - 1.5) * w, vals, w, label=f"{'without' if key == 'without' else 'with'} shaping — "
                f"{'clearshape' if side == 'ours' else 'thesis'}", zorder=3, linewidth=0.8, **kw)
     ax.set_xticks(x, [r["label"] for r in rows])
@@ -321,7 +325,7 @@ def _draw_md_summary(axes, spec: dict) -> None:
     ax.legend(fontsize=7, loc="upper left", ncol=2)
     ours = [np.nan if r.get("ours_improvement") is None else r["ours_improvement"] for r in rows]
     th = [np.nan if r.get("thesis_improvement") is None else r["thesis_improvement"] for r in rows]
-    ax2.bar(x - 0.18, ours, 0.36, color=roles.style_for("zvdd")["color"], edgecolor="#333333", label="clearshape",
+    ax2.bar(x - 0.18, ours, 0.36, color=shaped_colours, edgecolor="#333333", label="clearshape",
             zorder=3, linewidth=0.8)
     ax2.bar(x + 0.18, th, 0.36, label="thesis", zorder=3, linewidth=0.8, **roles.THESIS_BAR)
     ax2.set_xticks(x, [r["label"] for r in rows])

@@ -68,8 +68,8 @@ def style_for(role: str | None, index: int = 0, source: str = "") -> dict:
         st = dict(ROLE_STYLES[r])
         if source in SOURCE_LINESTYLE and r not in ("command", "unshaped", "measured", "model"):
             st["linestyle"] = SOURCE_LINESTYLE[source]
-            if source == "drive-model":  # under the unshaped line it usually coincides with
-                st["zorder"] = 2.5
+            if source == "drive-model":  # thin dashes over the unshaped line it often coincides with
+                st["zorder"], st["linewidth"] = 3.5, 1.0
         return st
     return {"color": _FALLBACK[index % len(_FALLBACK)], "linestyle": "-", "linewidth": 1.2, "zorder": 3}
 

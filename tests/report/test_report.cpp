@@ -118,6 +118,7 @@ class Report : public ::testing::Test {
                           quote(study_));
       setup_error_ = r.exit_code == 0 ? "" : "fixture failed:\n" + r.out;
     }
+    std::fprintf(stderr, "report test: study output from the %s\n", source_.c_str());
     if (setup_error_.empty()) {
       render_ = render(study_);
     }
