@@ -910,12 +910,14 @@ footer{margin-top:3rem;color:var(--muted);font-size:.82rem;border-top:1px solid 
 @media print{body{max-width:none}nav.toc{display:none}figure,table{break-inside:avoid}}
 """
 
-# Sets data-figures-loaded / data-figures-failed on <body> once every image has decoded (or failed).
+# Sets data-figures-loaded / data-figures-failed on <body> once the page has loaded: the window's
+# load event waits for every <img> (loaded or failed), after which naturalWidth > 0 tells a decoded
+# image from a broken one. (img.decode() promises are not used: under headless Chromium's virtual
+# time they may settle after the budget.)
 SCRIPT = """
 (function () {
-  var imgs = Array.prototype.slice.call(document.images);
   function report() {
-    var ok = 0, bad = [];
+    var imgs = Array.prototype.slice.call(document.images), ok = 0, bad = [];
     imgs.forEach(function (img) {
       if (img.complete && img.naturalWidth > 0) { ok += 1; }
       else { var f = img.closest('figure'); bad.push(f ? f.id : img.alt); }
@@ -925,14 +927,7 @@ SCRIPT = """
     document.body.setAttribute('data-figures-failed', String(bad.length));
     if (bad.length) { document.body.setAttribute('data-figures-failed-ids', bad.join(' ')); }
   }
-  var waits = imgs.map(function (img) {
-    if (img.decode) { return img.decode().catch(function () {}); }
-    return new Promise(function (resolve) {
-      if (img.complete) { resolve(); return; }
-      img.addEventListener('load', resolve); img.addEventListener('error', resolve);
-    });
-  });
-  Promise.all(waits).then(report, report);
+  if (document.readyState === 'complete') { report(); } else { window.addEventListener('load', report); }
 })();
 """
 
