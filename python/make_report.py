@@ -8,7 +8,7 @@ settled ambiguities), <out>/figures.json and the PNGs in <out>/figures/ (python/
 draws them, then calls this). The page is self-contained — figures embedded as base64 PNG, inline
 CSS, one small inline script, no network — and walks through the study in the thesis's order:
 set-up, consistency, identification, clearance model, simulated tests, rig tests, ambiguities
-settled, where we differ and why. Once every <img> has decoded, the script sets
+settled, where we differ and why. Once the page has loaded (every <img> loaded or failed), the script sets
 data-figures-loaded (images with naturalWidth > 0) and data-figures-failed on <body>.
 """
 from __future__ import annotations

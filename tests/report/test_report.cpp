@@ -245,6 +245,25 @@ TEST(ReportDeterminism, SameInputsSameFigureBytes) {
   fs::remove_all(base);
 }
 
+// The report's fallback for Eq. 5.1 (a mean-deviation figure without M and start) replicates
+// metrics::mean_deviation: same MD and start index as the golden cases (gen_metrics.py), to 1e-12.
+TEST(ReportMath, MeanDeviationReplicaMatchesGolden) {
+  const std::string script =
+      "import sys, json; sys.path.insert(0, sys.argv[1]);"
+      "from clearshape_plot.figures import steady_state_mean_deviation as f;"
+      "from clearshape_plot.data import CsvCache;"
+      "c = CsvCache(sys.argv[2]); t = c.column('metrics_signals.csv', 'time_s');"
+      "e = json.load(open(sys.argv[2] + '/metrics_expected.json'))['mean_deviation'];"
+      "bad = [k for k, v in e.items() if k in c.table('metrics_signals.csv') and "
+      "(abs(f(t, c.column('metrics_signals.csv', k))[0] - v['mean_deviation']) > 1e-12 or "
+      "f(t, c.column('metrics_signals.csv', k))[2] != v['start_index'])];"
+      "n = sum(1 for k in e if k in c.table('metrics_signals.csv'));"
+      "print('compared', n, 'bad', bad); sys.exit(1 if bad or n == 0 else 0)";
+  const Shell r = run("/usr/bin/python3 -c \"" + script + "\" " + quote(python_dir()) + " " +
+                      quote(fs::path(CLEARSHAPE_GOLDEN_DIR)));
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+}
+
 TEST(ReportInput, MissingResultsIsBadInput) {
   const fs::path dir = fs::temp_directory_path() / ("clearshape_report_empty_" + std::to_string(::getpid()));
   fs::create_directories(dir);
