@@ -377,7 +377,10 @@ def draw(spec: dict, cache: CsvCache, index: int = 0):
         if panel.get("ylim"):
             ax.set_ylim(*panel["ylim"])
         handles, _ = ax.get_legend_handles_labels()
-        if handles:
+        if len(handles) > 7 and len(panels) == 1:  # many curves: the legend goes beside the axes
+            fig.set_size_inches(8.2, fig.get_size_inches()[1])
+            ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+        elif handles:
             ax.legend(loc=panel.get("legend", "best"))
     num = spec.get("thesis_figure")
     head = (f"Fig. {num} analogue — " if num else "") + str(spec.get("title") or spec.get("id") or "")

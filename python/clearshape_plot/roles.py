@@ -16,6 +16,7 @@ ROLE_STYLES: dict[str, dict] = {
     "zv": {"color": "#56B4E9", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
     "zvd": {"color": "#E69F00", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
     "zvdd": {"color": "#009E73", "linestyle": "-", "linewidth": 1.5, "zorder": 4},
+    "zvddd": {"color": "#004D40", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
     "mzv": {"color": "#0072B2", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
     "ei": {"color": "#CC79A7", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
     "ei2": {"color": "#8C564B", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
@@ -33,10 +34,10 @@ ROLE_STYLES: dict[str, dict] = {
 # Bars of the thesis's numbers beside ours: grey, hatched.
 THESIS_BAR = {"color": "#E0E0E0", "edgecolor": "#7A7A7A", "hatch": "////"}
 
-SHAPER_ORDER = ["unshaped", "zv", "zvd", "zvdd", "mzv", "ei", "ei2", "ei3", "si", "umzv"]
+SHAPER_ORDER = ["unshaped", "zv", "zvd", "zvdd", "zvddd", "mzv", "ei", "ei2", "ei3", "si", "umzv"]
 
 SHAPER_LABELS = {
-    "unshaped": "without IS", "zv": "ZV", "zvd": "ZVD", "zvdd": "ZVDD", "mzv": "MZV", "ei": "EI",
+    "unshaped": "without IS", "zv": "ZV", "zvd": "ZVD", "zvdd": "ZVDD", "zvddd": "ZVDDD", "mzv": "MZV", "ei": "EI",
     "ei2": "EI2", "ei3": "EI3", "si": "SI", "umzv": "UM-ZV", "command": "command",
     "shaped_command": "shaped command", "measured": "rig (measured)", "model": "model (simulated)",
     "thesis": "thesis", "mean": "mean",
@@ -137,7 +138,7 @@ def label_with_unit(text: str | None, column: str | None = None) -> str:
     return axis_label(str(text), unit_from_column(column) if column else None)
 
 
-SHAPER_TOKEN = re.compile(r"(?:^|_)(none|zv|zvd|zvdd|mzv|ei|ei2|ei3|si|umzv|um-zv)(?:@([A-Za-z0-9_-]+))?$", re.I)
+SHAPER_TOKEN = re.compile(r"(?:^|_)(none|zv|zvd|zvdd|zvddd|mzv|ei|ei2|ei3|si|umzv|um-zv)(?:@([A-Za-z0-9_-]+))?$", re.I)
 
 
 def infer_role(column: str, label: str | None = None) -> tuple[str, str]:
