@@ -14,7 +14,9 @@ done
 reports=()
 if [[ -f python/render_study.py ]]; then
   for mode in position speed; do
-    /usr/bin/python3 python/render_study.py "out/thesis-$mode" > /dev/null || true
+    if ! /usr/bin/python3 python/render_study.py "out/thesis-$mode" > /dev/null; then
+      echo "clearshape: warning: some figures of out/thesis-$mode failed to draw; report.html names them" >&2
+    fi
     [[ -f "out/thesis-$mode/report.html" ]] && reports+=("$(pwd)/out/thesis-$mode/report.html")
   done
 fi
