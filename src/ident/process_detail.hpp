@@ -37,7 +37,7 @@ struct Layout {
 
 Layout make_layout(const lti::ProcessStructure& s, const ProcessFitOptions& options, double max_delay_s);
 
-/// Data-derived pole configurations (Kp = 1, Tz = 0 placeholders; Td included): step response
+/// Data-derived pole configurations (starting values with Kp = 1 and Tz = 0, which the fit then frees; Td included): step response
 /// overshoot and peak time, N4SID models at a few decimations, and a log-spaced grid of time scales.
 std::vector<std::vector<double>> candidate_values(const Layout& layout, std::span<const Experiment> experiments);
 
