@@ -1,6 +1,6 @@
 // Simulated rig, one whole run per iteration (rig::simulate_run: command path, CVODE plant with
 // the clearance joint, sensors): 10 s of the thesis position-mode step (20°, Table B.1) and a
-// speed-mode step (2 V), built-in truth (1° play, thesis contact law), 1 kHz output.
+// speed-mode step (2 V), the built-in (calibrated thesis) rig truth, 1 kHz output.
 // Counters: simulated seconds per wall second (the real-time factor) and contact events per
 // run. bench/simulate_peer.py compares with SciPy's solve_ivp on the same model.
 #include <benchmark/benchmark.h>

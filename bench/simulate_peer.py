@@ -2,8 +2,8 @@
 """Simulated rig, 10 s runs: clearshape (CVODE BDF) vs SciPy solve_ivp on the same model.
 
 The peer is an independent re-implementation of the plant equations (DESIGN.md §2,
-rig/truth.hpp): the thesis Eq. 4.2 drive (transfer function realised by scipy.signal.tf2ss;
-position mode: command deg -> motor deg; speed mode: V -> deg/s, integrated to the angle),
+rig/truth.hpp): the rig's linear drive (its state-space realization read from the sidecar;
+position mode: command deg -> motor angle; speed mode: V -> motor rate, integrated to the angle),
 the link J·dω/dt = τ_contact − b_g·ω − b_j·dφ/dt with the torsional play |φ| <= β and the
 thesis contact law F = max(K·δ^n + D·dδ/dt, 0) (Eq. 4.3, clamped), contact onset and
 separation located as events (the law jumps there); the drive command interpolated linearly
@@ -27,13 +27,9 @@ import tempfile
 import time
 
 import numpy as np
-from scipy import integrate, signal
+from scipy import integrate
 
 DEG = np.pi / 180.0
-THESIS = {  # Eq. 4.2: K(1 + Tz s) / ((1 + 2 ζ Tw s + Tw² s²)(1 + Tp3 s))
-    "position": dict(K=0.9959, Tz=0.0042, zeta=0.9968, Tw=0.0102, Tp3=0.0034),
-    "speed": dict(K=25.47, Tz=-0.0398, zeta=0.2880, Tw=0.0479, Tp3=0.0857),
-}
 RUNS = [
     ("position", ["--mode", "position", "--signal", "step", "--amplitude", "20", "--start-s", "0.5"],
      "BM_SimulatePositionStep20deg"),
@@ -43,16 +39,18 @@ RUNS = [
 
 
 class Plant:
+    """Drive (the rig's linear realization) + link on a torsional play with the thesis law."""
+
     def __init__(self, mode, rig):
-        p = THESIS[mode]
-        num = [p["K"] * p["Tz"], p["K"]]
-        den = np.polymul([p["Tw"] ** 2, 2 * p["zeta"] * p["Tw"], 1.0], [p["Tp3"], 1.0])
-        a, b, c, d = signal.tf2ss(num, den)
+        drive = rig["drive"]  # x' = A x + B u, θ_m = c_angle·x (rad), ω_m = c_rate·x + d·u
+        assert drive["delay_s"] == 0.0
+        self.a = np.array(drive["a_matrix_cascade_realization"], dtype=float)
+        self.b = np.array(drive["b_vector"], dtype=float)
+        self.c_angle = np.array(drive["c_angle_rad"], dtype=float)
+        self.c_rate = np.array(drive["c_rate_rad_s"], dtype=float)
+        self.d_rate = float(drive["d_rate_rad_s"])
         self.mode = mode
-        self.a, self.b, self.c = a, b[:, 0], c[0]
-        assert abs(d[0, 0]) == 0.0
-        self.n = a.shape[0]
-        self.nd = self.n + (1 if mode == "speed" else 0)  # speed: + motor angle (rad)
+        self.n = self.a.shape[0]
         link = rig["link"]
         self.J = link["inertia_kg_m2"]
         self.bg = link["ground_viscous_n_m_s_per_rad"]
@@ -71,14 +69,11 @@ class Plant:
     def command(self, t):
         return self.u if self.ramp is None else np.interp(t, *self.ramp)
 
-    # motor angle and rate (rad, rad/s) from the drive states
-    def motor(self, y, t=0.0):
+    def motor(self, y, t=0.0):  # motor angle and rate (rad, rad/s)
         x = y[: self.n]
-        if self.mode == "position":
-            return DEG * self.c @ x, DEG * self.c @ (self.a @ x + self.b * self.command(t))
-        return y[self.n], DEG * self.c @ x
+        return self.c_angle @ x, self.c_rate @ x + self.d_rate * self.command(t)
 
-    def force(self, phi, phi_rate):
+    def force(self, phi, phi_rate):  # thesis Eq. 4.3, clamped at F >= 0
         if not self.contact:
             return 0.0, 0.0, 0.0
         s = self.side
@@ -89,47 +84,54 @@ class Plant:
         return f, self.ex * self.K * delta ** (self.ex - 1.0), self.D
 
     def rhs(self, t, y):
-        x = y[: self.n]
+        n = self.n
         dy = np.empty_like(y)
-        dy[: self.n] = self.a @ x + self.b * self.command(t)
+        dy[:n] = self.a @ y[:n] + self.b * self.command(t)
         _, wm = self.motor(y, t)
-        if self.mode == "speed":
-            dy[self.n] = wm
-        phi, w = y[self.nd], y[self.nd + 1]
+        phi, w = y[n], y[n + 1]
         phi_rate = w - wm
         f, _, _ = self.force(phi, phi_rate)
-        dy[self.nd] = phi_rate
-        dy[self.nd + 1] = (-self.side * f - self.bg * w - self.bj * phi_rate) / self.J
+        dy[n] = phi_rate
+        dy[n + 1] = (-self.side * f - self.bg * w - self.bj * phi_rate) / self.J
         return dy
 
     def jac(self, t, y):
-        n, nd = self.n, self.nd
-        jm = np.zeros((nd + 2, nd + 2))
+        n = self.n
+        jm = np.zeros((n + 2, n + 2))
         jm[:n, :n] = self.a
-        dwm = np.zeros(nd + 2)  # ∂ω_m/∂y
-        dwm[:n] = DEG * (self.c @ self.a) if self.mode == "position" else DEG * self.c
-        if self.mode == "speed":
-            jm[n, :] = dwm
         _, wm = self.motor(y, t)
-        phi, w = y[nd], y[nd + 1]
+        phi, w = y[n], y[n + 1]
         _, f_delta, f_rate = self.force(phi, w - wm)
-        dphi_rate = -dwm.copy()
-        dphi_rate[nd + 1] += 1.0
-        jm[nd, :] = dphi_rate
+        dphi_rate = np.zeros(n + 2)  # ∂(ω − ω_m)/∂y
+        dphi_rate[:n] = -self.c_rate
+        dphi_rate[n + 1] = 1.0
+        jm[n, :] = dphi_rate
         # τ = −s·F(δ, δ̇), δ = sφ − β, δ̇ = s·φ̇, s² = 1
-        jm[nd + 1, :] = (-(f_rate + self.bj) * dphi_rate) / self.J
-        jm[nd + 1, nd] += -f_delta / self.J
-        jm[nd + 1, nd + 1] += -self.bg / self.J
+        jm[n + 1, :] = (-(f_rate + self.bj) * dphi_rate) / self.J
+        jm[n + 1, n] += -f_delta / self.J
+        jm[n + 1, n + 1] += -self.bg / self.J
         return jm
 
     def gap(self, t, y):  # δ = |φ| − β (free) or s·φ − β (contact)
-        phi = y[self.nd]
+        phi = y[self.n]
         return (self.side * phi if self.contact else abs(phi)) - self.beta
+
+    def tolerances(self, solver):  # as the rig's (plant/torsional_system.cpp tolerances())
+        atol = np.full(self.n + 2, solver["angle_tolerance_rad"])
+        angle_scale = np.max(np.abs(self.c_angle))
+        rate_scale = np.max(np.abs(self.c_rate))
+        for i in range(self.n):
+            if self.mode == "position":
+                atol[i] = solver["angle_tolerance_rad"] / angle_scale
+            elif self.c_angle[i] == 0.0:  # speed drive: the states behind the rate output
+                atol[i] = solver["rate_tolerance_rad_s"] / rate_scale
+        atol[self.n + 1] = solver["rate_tolerance_rad_s"]
+        return atol
 
 
 def simulate(plant, times, command, method, rtol, atol):
-    y = np.zeros(plant.nd + 2)
-    out = np.empty((times.size, plant.nd + 2))
+    y = np.zeros(plant.n + 2)
+    out = np.empty((times.size, plant.n + 2))
     out[0] = y
     if plant.mode == "position":  # pulse count interpolated linearly: no restarts
         plant.ramp = (times, command)
@@ -165,7 +167,7 @@ def simulate(plant, times, command, method, rtol, atol):
                     plant.contact = False
                 else:
                     plant.contact = True
-                    plant.side = 1.0 if y[plant.nd] > 0 else -1.0
+                    plant.side = 1.0 if y[plant.n] > 0 else -1.0
             else:
                 t0 = t1
     return out, events
@@ -210,17 +212,14 @@ def main():
             best = best_cpu = np.inf
             for _ in range(args.repeat):
                 plant = Plant(mode, rig)
-                atol = np.full(plant.nd + 2, tol["angle_tolerance_rad"])
-                atol[-1] = tol["rate_tolerance_rad_s"]
-                if mode == "speed":
-                    atol[: plant.n] = tol["rate_tolerance_rad_s"]  # drive states carry deg/s
+                atol = plant.tolerances(tol)
                 start, start_cpu = time.perf_counter(), time.process_time()
                 out, events = simulate(plant, times, command, args.method, tol["relative_tolerance"], atol)
                 best = min(best, time.perf_counter() - start)
                 best_cpu = min(best_cpu, time.process_time() - start_cpu)
-            motor = out[:, plant.n] if mode == "speed" else DEG * (out[:, : plant.n] @ plant.c)
-            link_deg = (motor + out[:, plant.nd]) / DEG
-            link_rate = out[:, plant.nd + 1] / DEG
+            motor = out[:, : plant.n] @ plant.c_angle
+            link_deg = (motor + out[:, plant.n]) / DEG
+            link_rate = out[:, plant.n + 1] / DEG
             diffs = []
             for ours_col, peer in (("motor_deg", motor / DEG), ("link_deg", link_deg), ("link_deg_s", link_rate)):
                 ref = data[ours_col]

@@ -186,10 +186,16 @@ nlohmann::ordered_json contact_json(const rig::ContactSpec& c) {
 nlohmann::ordered_json truth_json(const rig::RigTruth& t, rig::CommandMode mode) {
   const auto& drive = t.drive(mode);
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  nlohmann::ordered_json b = nlohmann::ordered_json::array();
+  nlohmann::ordered_json c_angle = nlohmann::ordered_json::array();
+  nlohmann::ordered_json c_rate = nlohmann::ordered_json::array();
   for (Eigen::Index i = 0; i < drive.a().rows(); ++i) {
     nlohmann::ordered_json row = nlohmann::ordered_json::array();
     for (Eigen::Index j = 0; j < drive.a().cols(); ++j) row.push_back(drive.a()(i, j));
     a.push_back(row);
+    b.push_back(drive.b()(i));
+    c_angle.push_back(drive.angle_output()(i));
+    c_rate.push_back(drive.rate_output()(i));
   }
   return {
       {"drive", {{"mode", std::string(rig::to_string(mode))},
@@ -197,7 +203,12 @@ nlohmann::ordered_json truth_json(const rig::RigTruth& t, rig::CommandMode mode)
                  {"dc_gain_unit", mode == rig::CommandMode::position ? "deg/deg" : "(deg/s)/V"},
                  {"delay_s", drive.delay_s()},
                  {"order", drive.order()},
-                 {"a_matrix_cascade_realization", a}}},
+                 {"a_matrix_cascade_realization", a},
+                 // x' = A x + B u (u in drive units), θ_m = c_angle·x (rad), ω_m = c_rate·x + d_rate·u
+                 {"b_vector", b},
+                 {"c_angle_rad", c_angle},
+                 {"c_rate_rad_s", c_rate},
+                 {"d_rate_rad_s", drive.rate_feedthrough()}}},
       {"clearance_deg", cs::rad_to_deg(t.clearance_rad)},
       {"contact", contact_json(t.contact(mode))},
       {"link", {{"inertia_kg_m2", t.link.inertia_kg_m2},

@@ -245,6 +245,22 @@ double ContactLaw::latch_approach_rate(double rate) const noexcept {
   return rate >= minimum_approach_rate_ ? rate : 0.0;
 }
 
+void ContactLaw::kink_functions(double delta, double rate, const ContactMemory& memory,
+                                double g[2]) const noexcept {
+  g[0] = 1.0;
+  g[1] = 1.0;
+  if (kind_ == Kind::hertz_dashpot || kind_ == Kind::kelvin_voigt) {
+    if (policy_ == DampingPolicy::raw || damping_ == 0.0) return;
+    const double n = kind_ == Kind::kelvin_voigt ? 1.0 : exponent_;
+    const double fe = stiffness_ * std::copysign(std::pow(std::abs(delta), n), delta);
+    const double fd = damping_ * rate;
+    g[0] = fe + fd;                                      // clamp / no-pull switch
+    if (policy_ == DampingPolicy::bounded) g[1] = fe - fd;  // damper limited to +F_el
+  } else if (kind_ == Kind::hysteresis && memory.approach_rate > 0.0) {
+    g[0] = 1.0 + chi_ / memory.approach_rate * rate;  // factor of Eq. 2.4–2.7 family
+  }
+}
+
 bool ContactLaw::jumps_at_onset() const noexcept {
   if (kind_ == Kind::hertz_dashpot || kind_ == Kind::kelvin_voigt) {
     return damping_ > 0.0 && policy_ != DampingPolicy::bounded;

@@ -57,7 +57,11 @@ CvodeSolver::CvodeSolver(JointSystem& system, const SolverOptions& o) : system_(
   if (SUNContext_Create(nullptr, &ctx_) != 0) throw RuntimeError("CVODE: SUNContext_Create failed");
   y_ = N_VNew_Serial(n, ctx_);
   atol_ = N_VNew_Serial(n, ctx_);
-  if (!y_ || !atol_) throw RuntimeError("CVODE: cannot allocate state vectors");
+  dense_ = N_VNew_Serial(n, ctx_);
+  if (!y_ || !atol_ || !dense_) throw RuntimeError("CVODE: cannot allocate state vectors");
+  // Fused vector kernels: CVODE's prediction and dense output (CVodeGetDky) become one loop
+  // each instead of chains of N_VScale/N_VLinearSum; CVODE clones its work vectors from y_.
+  check(N_VEnableFusedOps_Serial(y_, SUNTRUE), "N_VEnableFusedOps_Serial");
   N_VConst(0.0, y_);
   system.tolerances(o, N_VGetArrayPointer(atol_));
   mem_ = CVodeCreate(o.integrator == Integrator::bdf ? CV_BDF : CV_ADAMS, ctx_);
@@ -94,6 +98,7 @@ CvodeSolver::~CvodeSolver() {
   if (nonlinear_) SUNNonlinSolFree(nonlinear_);
   if (matrix_) SUNMatDestroy(matrix_);
   if (atol_) N_VDestroy(atol_);
+  if (dense_) N_VDestroy(dense_);
   if (y_) N_VDestroy(y_);
   if (ctx_) SUNContext_Free(&ctx_);
 }
@@ -109,22 +114,51 @@ int CvodeSolver::restart(double t0) noexcept {
   initialized_ = true;
   stop_active_ = stop_active_ && stop_s_ > t0;
   // CVODE 6.4 has no CVodeClearStopTime: a stale stop time is pushed out of reach instead
-  return CVodeSetStopTime(mem_, stop_active_ ? stop_s_ : kNoStop);
+  applied_stop_s_ = std::numeric_limits<double>::quiet_NaN();
+  return apply_stop(stop_active_ ? stop_s_ : kNoStop);
+}
+
+int CvodeSolver::apply_stop(double tstop) noexcept {
+  if (tstop == applied_stop_s_) return 0;
+  const int flag = CVodeSetStopTime(mem_, tstop);
+  applied_stop_s_ = flag < 0 ? std::numeric_limits<double>::quiet_NaN() : tstop;
+  return flag;
 }
 
 int CvodeSolver::set_stop_time(double tstop) noexcept {
   stop_s_ = tstop;
   stop_active_ = std::isfinite(tstop) && tstop > t_;
-  return CVodeSetStopTime(mem_, stop_active_ ? tstop : kNoStop);
+  return apply_stop(stop_active_ ? tstop : kNoStop);
+}
+
+int CvodeSolver::call(double tout, double tstop, bool command_stop, int task,
+                      double& tret) noexcept {
+  int flag = apply_stop(tstop);
+  if (flag < 0) return flag;
+  realtype reached = t_;
+  flag = CVode(mem_, tout, y_, &reached, task);
+  tret = reached;
+  if (flag >= 0) t_ = reached;
+  if (flag == CV_TSTOP_RETURN) {
+    applied_stop_s_ = std::numeric_limits<double>::quiet_NaN();  // CVODE dropped it
+    if (command_stop) stop_active_ = false;
+  }
+  return flag;
 }
 
 int CvodeSolver::advance(double tout, double& tret) noexcept {
-  realtype reached = t_;
-  const int flag = CVode(mem_, tout, y_, &reached, CV_NORMAL);
-  tret = reached;
-  if (flag >= 0) t_ = reached;
-  if (flag == CV_TSTOP_RETURN) stop_active_ = false;
-  return flag;
+  return call(tout, stop_active_ ? stop_s_ : kNoStop, stop_active_, CV_NORMAL, tret);
+}
+
+int CvodeSolver::advance_one_step(double t_end, double& tret) noexcept {
+  const bool command_stop = stop_active_ && stop_s_ <= t_end;
+  const int flag = call(t_end, command_stop ? stop_s_ : t_end, command_stop, CV_ONE_STEP, tret);
+  return flag == CV_TSTOP_RETURN && !command_stop ? CV_SUCCESS : flag;  // t_end: not a command stop
+}
+
+const double* CvodeSolver::interpolate(double t) noexcept {
+  if (CVodeGetDky(mem_, t, 0, dense_) < 0) return nullptr;
+  return N_VGetArrayPointer(dense_);
 }
 
 void CvodeSolver::root_info(int* found) noexcept { CVodeGetRootInfo(mem_, found); }

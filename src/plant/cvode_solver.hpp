@@ -24,6 +24,11 @@ class CvodeSolver {
   int restart(double t0) noexcept;
   /// CVode in normal mode towards tout; returns the CVODE flag, the reached time in tret.
   int advance(double tout, double& tret) noexcept;
+  /// One internal step (CV_ONE_STEP), never past t_end nor the command stop time. Reaching
+  /// t_end returns CV_SUCCESS; reaching the command stop returns CV_TSTOP_RETURN.
+  int advance_one_step(double t_end, double& tret) noexcept;
+  /// y(t) from CVODE's dense output of the last step (t within it); null on failure.
+  const double* interpolate(double t) noexcept;
   /// A stop time (+inf: none). Re-applied after every restart.
   int set_stop_time(double tstop) noexcept;
   double stop_time() const noexcept { return stop_s_; }
@@ -47,6 +52,7 @@ class CvodeSolver {
   SUNContext ctx_ = nullptr;
   N_Vector y_ = nullptr;
   N_Vector atol_ = nullptr;
+  N_Vector dense_ = nullptr;  // interpolate() output
   SUNMatrix matrix_ = nullptr;
   SUNLinearSolver linear_ = nullptr;
   SUNNonlinearSolver nonlinear_ = nullptr;
@@ -54,6 +60,9 @@ class CvodeSolver {
   bool initialized_ = false;
   double stop_s_ = 0.0;
   bool stop_active_ = false;
+  double applied_stop_s_ = 0.0;  // the stop time CVODE currently holds (NaN: none/unknown)
+  int apply_stop(double tstop) noexcept;
+  int call(double tout, double tstop, bool command_stop, int task, double& tret) noexcept;
   double t_ = 0.0;
   SolverStats carried_{};
   void add_current(SolverStats& s) noexcept;

@@ -23,6 +23,16 @@ class Engine {
   void start(const InitialState& initial);
   /// Integrates to tout (> current time). Returns 0, or a negative CVODE flag (message()).
   int run_to(double tout) noexcept;
+  /// Dense-output stepping for offline runs, in two phases so that the caller can read the
+  /// step's interpolant before an event changes the mode or restarts the integrator:
+  /// step_begin takes one internal step towards t_end (stopping at events, command stops and
+  /// t_end) and returns the reached time in t_reached; interpolate(t) is then valid for t in
+  /// the step; step_finish handles the event or stop there (as run_to does). Both return 0 or
+  /// a negative CVODE flag (failure()).
+  int step_begin(double t_end, double& t_reached) noexcept;
+  int step_finish() noexcept;
+  /// y(t) within the last step (null if t is outside it).
+  const double* interpolate(double t) noexcept { return solver_.interpolate(t); }
   /// Sets the held input at the current time and restarts if it changed.
   int set_held_input(double value) noexcept;
   /// Sets the next command discontinuity (stop time), +inf for none.
@@ -53,6 +63,11 @@ class Engine {
   StopHandler stop_handler_ = nullptr;
   void* stop_context_ = nullptr;
   long steps_before_ = 0;
+  int pending_flag_ = 0;      // step_begin's CVODE flag, handled by step_finish
+  bool root_pending_ = false; // a root return handled without restarting (see run_to)
+  int handle_return(int flag, bool& root_pending) noexcept;
+  template <class Advance>
+  int advance_after_root(Advance&& advance, bool& root_pending, double& tret) noexcept;
 };
 
 }  // namespace clearshape::plant::detail

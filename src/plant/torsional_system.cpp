@@ -22,7 +22,7 @@ TorsionalSystem::TorsionalSystem(const PlantModel& model, const SolverOptions& o
   idiss_ = nd_ + 2;
   iwork_ = nd_ + 3;
   size = nd_ + 4;
-  root_count = 3;
+  root_count = 5;  // two sides, the rate switch, two kinks of the law
   weight_rc_ = link_.in_plane_weight_n() * link_.com_distance_m;
   release_gap_ = options.release_gap_fraction * joint_.half_play_rad;
   zeno_.configure(options.zeno_events, options.zeno_window_s);
@@ -139,7 +139,18 @@ int TorsionalSystem::roots(double t, const double* y, double* g) noexcept {
   } else {
     g[2] = 1.0;
   }
-  return std::isfinite(g[0]) && std::isfinite(g[1]) && std::isfinite(g[2]) ? 0 : -1;
+  g[3] = 1.0;
+  g[4] = 1.0;
+  if (mode == ContactMode::contact && !joint_.impact) {
+    const Eigen::Map<const Eigen::VectorXd> x(y, nd_);
+    const double delta = side_ * phi - beta;
+    const double delta_rate = side_ * (y[iw_] - drive_.rate_rad_s(x, input.value(t)));
+    joint_.law.kink_functions(delta, delta_rate, memory_, g + 3);
+  }
+  for (int k = 0; k < 5; ++k) {
+    if (!std::isfinite(g[k])) return -1;
+  }
+  return 0;
 }
 
 int TorsionalSystem::jacobian(double t, const double* y, double* jac) noexcept {
@@ -382,6 +393,8 @@ bool TorsionalSystem::on_roots(double t, double* y, const int* found, EventLog& 
         memory_.unloading = found[2] < 0;  // Eq. 2.3 from δ̇ < 0 on
         log.push({t, EventKind::rate_switch, s, s * (y[iw_] - omega_m), 0.0});
         restart = true;
+      } else if (found[3] != 0 || found[4] != 0) {
+        restart = true;  // a kink of the law (clamp/bound): restart the multistep history
       }
       break;
     }

@@ -126,6 +126,13 @@ class ContactLaw {
   /// True if F ↛ 0 as δ → 0⁺ while δ̇ ≠ 0 (raw/clamped dashpot laws): the right-hand side
   /// jumps at onset and separation, so the integrator is restarted there.
   bool jumps_at_onset() const noexcept;
+  /// The kinks of F(δ, δ̇) inside the contact: the damping policy's switches (clamped: the
+  /// spring + dashpot sum crossing 0; bounded: |F_d| reaching F_el) and the hysteresis factor
+  /// 1 + χ δ̇/δ̇⁻ crossing 0. Writes two smooth functions whose sign changes mark them (1 where
+  /// the law has none), so that the integrator can stop there instead of stepping across a
+  /// kink (a near-grazing unload otherwise separates late). δ ≤ 0 uses the continuation.
+  void kink_functions(double penetration, double rate, const ContactMemory& memory,
+                      double g[2]) const noexcept;
   /// True if the force depends on the latched δ̇⁻ (hysteresis laws).
   bool uses_approach_rate() const noexcept { return kind_ == Kind::hysteresis; }
   /// True if the law switches on the sign of δ̇ (kelvin_voigt_thesis): an event at δ̇ = 0.
