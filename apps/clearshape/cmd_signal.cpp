@@ -22,64 +22,16 @@
 #include "clearshape/signal/signal.hpp"
 #include "clearshape/signal/speed_path.hpp"
 #include "command.hpp"
+#include "signal_options.hpp"
 
 namespace cs = clearshape;
 namespace sig = clearshape::signal;
 
 namespace {
 
-// A signal parameter on the command line: its option, the library's parameter name and help.
-struct ParameterOption {
-  const char* names;  // CLI11 names, first long name is the canonical one
-  const char* key;    // parameter name of clearshape/signal/parameters.hpp
-  const char* help;
-};
-
-constexpr ParameterOption kNumberOptions[] = {
-    {"--amplitude", "amplitude", "Step/sine/trapezoid amplitude; PRBS half swing (command units)"},
-    {"--start-s", "start_s", "Start time (s)"},
-    {"--rise-s", "rise_s", "Rise time of a step, double step, staircase or trapezoid (s); 0 = ideal"},
-    {"--slope,--slope-per-s", "slope_per_s", "Ramp slope (command units per s)"},
-    {"--limit", "limit", "Ramp saturation level (command units, same sign as the slope)"},
-    {"--frequency-hz", "frequency_hz", "Sine frequency (Hz)"},
-    {"--phase-deg", "phase_rad", "Sine phase (deg)"},
-    {"--offset", "offset", "Sine or PRBS offset (command units)"},
-    {"--order", "order", "PRBS register length n in [2, 31]; period 2^n - 1 bits"},
-    {"--bit-period-s", "bit_period_s", "PRBS bit period (s)"},
-    {"--seed", "seed", "PRBS initial register state in [1, 2^n - 1]"},
-    {"--second-amplitude", "second_amplitude", "Double step: second step (command units, signed)"},
-    {"--second-start-s", "second_start_s", "Double step: start of the second step (s)"},
-    {"--dwell-s", "dwell_s", "Stacked steps: time on each level (s)"},
-    {"--acceleration,--acceleration-per-s2", "acceleration_per_s2", "Parabolic: acceleration (command units per s^2)"},
-    {"--hold-s", "hold_s", "Trapezoid: time at the amplitude (s)"},
-    {"--fall-s", "fall_s", "Trapezoid: fall time (s); 0 = vertical edge"},
-};
-
-std::string canonical(const char* names) {
-  const std::string_view all(names);
-  return std::string(all.substr(0, all.find(',')));
-}
-
-std::string option_of_key(std::string_view key) {
-  if (key == "rise_shape") return "--rise-shape";
-  if (key == "levels") return "--levels";
-  if (key == "repeat") return "--repeat";
-  for (const auto& o : kNumberOptions) {
-    if (key == o.key) return canonical(o.names);
-  }
-  return std::string(key);
-}
-
 struct State {
   std::string type;
-  double numbers[std::size(kNumberOptions)] = {};
-  CLI::Option* number_options[std::size(kNumberOptions)] = {};
-  std::string rise_shape;
-  CLI::Option* rise_shape_option = nullptr;
-  std::string levels;
-  CLI::Option* levels_option = nullptr;
-  bool repeat = false;
-  CLI::Option* repeat_option = nullptr;
+  cs::cli::SignalOptions signal_options;
 
   double rate_hz = 1000.0;
   double duration_s = 5.0;
@@ -99,75 +51,6 @@ struct State {
   double daq_range_v = 10.0;
   std::vector<CLI::Option*> speed_options;
 };
-
-std::vector<double> parse_levels(const std::string& text) {
-  std::vector<double> levels;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', pos), text.size());
-    std::string item = text.substr(pos, comma - pos);
-    item.erase(0, item.find_first_not_of(' '));
-    item.erase(item.find_last_not_of(' ') + 1);
-    double value = 0.0;
-    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
-    if (item.empty() || ec != std::errc() || end != item.data() + item.size()) {
-      throw cs::InvalidArgument(fmt::format("--levels = '{}': item '{}' is not a number; allowed: "
-                                            "a comma-separated list of numbers, e.g. 1,2,3",
-                                            text, item));
-    }
-    levels.push_back(value);
-    pos = comma + 1;
-  }
-  return levels;
-}
-
-// The signal from the options that were given; options the type does not take are errors.
-sig::Signal build_signal(const State& st) {
-  const auto names = sig::parameter_names(st.type);
-  const auto takes = [&](std::string_view key) {
-    return std::find(names.begin(), names.end(), key) != names.end();
-  };
-  const auto reject = [&](const std::string& option) {
-    std::string allowed;
-    for (const auto name : names) allowed += (allowed.empty() ? "" : ", ") + option_of_key(name);
-    throw cs::InvalidArgument(
-        fmt::format("{} does not apply to --type {}; it takes: {}", option, st.type, allowed));
-  };
-  sig::SignalParameters p;
-  for (std::size_t i = 0; i < std::size(kNumberOptions); ++i) {
-    if (st.number_options[i]->count() == 0) continue;
-    const auto& o = kNumberOptions[i];
-    if (!takes(o.key)) reject(canonical(o.names));
-    const double v = std::string_view(o.key) == "phase_rad" ? cs::deg_to_rad(st.numbers[i]) : st.numbers[i];
-    p[o.key] = v;
-  }
-  if (st.rise_shape_option->count() > 0) {
-    if (!takes("rise_shape")) reject("--rise-shape");
-    p["rise_shape"] = st.rise_shape;
-  }
-  if (st.levels_option->count() > 0) {
-    if (!takes("levels")) reject("--levels");
-    p["levels"] = parse_levels(st.levels);
-  }
-  if (st.repeat_option->count() > 0) {
-    if (!takes("repeat")) reject("--repeat");
-    p["repeat"] = st.repeat;
-  }
-  try {
-    return sig::make_signal(st.type, p);
-  } catch (const cs::InvalidArgument& e) {
-    // Name the command-line option instead of the library parameter.
-    std::string message = e.what();
-    for (const auto name : names) {
-      const std::string prefix = std::string(name) + " = ";
-      if (message.rfind(prefix, 0) == 0 && name != "phase_rad") {
-        message = option_of_key(name) + message.substr(name.size());
-        break;
-      }
-    }
-    throw cs::InvalidArgument(message);
-  }
-}
 
 void require_path_options(const std::vector<CLI::Option*>& options, const std::string& path,
                           const std::string& needed) {
@@ -191,7 +74,7 @@ nlohmann::ordered_json to_json(const sig::ParameterValue& v) {
 }
 
 void run(const State& st) {
-  const sig::Signal signal = build_signal(st);
+  const sig::Signal signal = st.signal_options.build(st.type);
   if (!(st.rate_hz > 0.0 && st.rate_hz <= 1e6)) {
     cs::throw_invalid("--rate", st.rate_hz, "(0, 1e6] Hz", "Give the sample rate in Hz, e.g. 1000");
   }
@@ -353,18 +236,10 @@ void run(const State& st) {
 
 void setup(CLI::App& sub) {
   auto st = std::make_shared<State>();
-  std::string types;
-  for (const auto t : sig::signal_types()) types += (types.empty() ? "" : "|") + std::string(t);
-  sub.add_option("--type", st->type, "Signal type: " + types)
+  sub.add_option("--type", st->type, "Signal type: " + cs::cli::SignalOptions::type_list())
       ->required()
-      ->check(CLI::IsMember(std::vector<std::string>(sig::signal_types().begin(), sig::signal_types().end())));
-  for (std::size_t i = 0; i < std::size(kNumberOptions); ++i) {
-    st->number_options[i] = sub.add_option(kNumberOptions[i].names, st->numbers[i], kNumberOptions[i].help);
-  }
-  st->rise_shape_option = sub.add_option("--rise-shape", st->rise_shape, "Rise/fall shape: linear (default) or s-curve (jerk-limited)")
-                              ->check(CLI::IsMember({"linear", "s-curve"}));
-  st->levels_option = sub.add_option("--levels", st->levels, "Stacked steps: comma-separated levels, e.g. 1,2,3 (command units)");
-  st->repeat_option = sub.add_flag("--repeat", st->repeat, "Stacked steps: start the sequence again after the last level");
+      ->check(cs::cli::SignalOptions::type_check());
+  st->signal_options.add_to(sub, "--type");
 
   sub.add_option("--rate", st->rate_hz, "Sample rate (Hz)")->capture_default_str();
   sub.add_option("--duration", st->duration_s, "Duration (s); samples at 0 ... duration inclusive")->capture_default_str();

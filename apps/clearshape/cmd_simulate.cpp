@@ -26,6 +26,7 @@
 #include "clearshape/signal/parameters.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "command.hpp"
+#include "signal_options.hpp"
 #include "rig_config.hpp"
 
 namespace cs = clearshape;
@@ -34,45 +35,10 @@ namespace rig = clearshape::rig;
 
 namespace {
 
-struct NumberOption {
-  const char* names;
-  const char* key;  // parameter name of clearshape/signal/parameters.hpp
-  const char* help;
-};
-
-// The same signal options as `clearshape signal` (command units: deg in position mode, V in
-// speed mode).
-constexpr NumberOption kSignalOptions[] = {
-    {"--amplitude", "amplitude", "Step/sine/trapezoid amplitude; PRBS half swing (deg or V)"},
-    {"--start-s", "start_s", "Start time (s)"},
-    {"--rise-s", "rise_s", "Rise time of a step, double step, staircase or trapezoid (s); 0 = ideal"},
-    {"--slope-per-s", "slope_per_s", "Ramp slope (deg/s or V/s)"},
-    {"--limit", "limit", "Ramp saturation level"},
-    {"--frequency-hz", "frequency_hz", "Sine frequency (Hz)"},
-    {"--phase-deg", "phase_rad", "Sine phase (deg)"},
-    {"--offset", "offset", "Sine or PRBS offset"},
-    {"--order", "order", "PRBS register length n in [2, 31]"},
-    {"--bit-period-s", "bit_period_s", "PRBS bit period (s)"},
-    {"--seed", "seed", "PRBS initial register state in [1, 2^n - 1]"},
-    {"--second-amplitude", "second_amplitude", "Double step: second step (signed)"},
-    {"--second-start-s", "second_start_s", "Double step: start of the second step (s)"},
-    {"--dwell-s", "dwell_s", "Stacked steps: time on each level (s)"},
-    {"--acceleration-per-s2", "acceleration_per_s2", "Parabolic: acceleration (per s^2)"},
-    {"--hold-s", "hold_s", "Trapezoid: time at the amplitude (s)"},
-    {"--fall-s", "fall_s", "Trapezoid: fall time (s)"},
-};
-
 struct State {
   std::string mode = "position";
   std::string type = "step";
-  double numbers[std::size(kSignalOptions)] = {};
-  CLI::Option* number_options[std::size(kSignalOptions)] = {};
-  std::string rise_shape;
-  CLI::Option* rise_shape_option = nullptr;
-  std::string levels;
-  CLI::Option* levels_option = nullptr;
-  bool repeat = false;
-  CLI::Option* repeat_option = nullptr;
+  cs::cli::SignalOptions signal_options;  // command units: deg (position) or V (speed)
 
   std::string shaper;
   double shaper_frequency_hz = 0.0;
@@ -98,59 +64,6 @@ struct State {
   std::string output;
   bool json = false;
 };
-
-std::vector<double> parse_levels(const std::string& text) {
-  std::vector<double> levels;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', pos), text.size());
-    const std::string item = text.substr(pos, comma - pos);
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (item.empty() || used != item.size()) {
-      throw cs::InvalidArgument(fmt::format(
-          "--levels = '{}': item '{}' is not a number; allowed: comma-separated numbers", text, item));
-    }
-    levels.push_back(value);
-    pos = comma + 1;
-  }
-  return levels;
-}
-
-sig::Signal build_signal(const State& st) {
-  const auto names = sig::parameter_names(st.type);
-  const auto takes = [&](std::string_view key) {
-    return std::find(names.begin(), names.end(), key) != names.end();
-  };
-  const auto reject = [&](std::string_view option) {
-    throw cs::InvalidArgument(fmt::format("{} does not apply to --signal {}", option, st.type));
-  };
-  sig::SignalParameters p;
-  for (std::size_t i = 0; i < std::size(kSignalOptions); ++i) {
-    if (st.number_options[i]->count() == 0) continue;
-    const auto& o = kSignalOptions[i];
-    if (!takes(o.key)) reject(o.names);
-    p[o.key] = std::string_view(o.key) == "phase_rad" ? cs::deg_to_rad(st.numbers[i]) : st.numbers[i];
-  }
-  if (st.rise_shape_option->count() > 0) {
-    if (!takes("rise_shape")) reject("--rise-shape");
-    p["rise_shape"] = st.rise_shape;
-  }
-  if (st.levels_option->count() > 0) {
-    if (!takes("levels")) reject("--levels");
-    p["levels"] = parse_levels(st.levels);
-  }
-  if (st.repeat_option->count() > 0) {
-    if (!takes("repeat")) reject("--repeat");
-    p["repeat"] = st.repeat;
-  }
-  return sig::make_signal(st.type, p);
-}
 
 std::filesystem::path sidecar_path(const std::string& output) {
   std::filesystem::path p(output);
@@ -284,7 +197,7 @@ void run(const State& st) {
   }
 
   // Command: signal (deg or V) → optional shaper → rig units (rad or V).
-  const sig::Signal signal = build_signal(st);
+  const sig::Signal signal = st.signal_options.build(st.type);
   cs::UniformSeries command = sig::sample(signal, options.output_rate_hz, options.duration_s);
   std::optional<cs::shaping::Shaper> shaper;
   if (!st.shaper.empty()) {
@@ -453,18 +366,10 @@ void setup(CLI::App& sub) {
   sub.add_option("--mode", st->mode, "Drive mode: position (pulse train, deg) or speed (analog, V)")
       ->check(CLI::IsMember({"position", "speed"}))
       ->capture_default_str();
-  std::string types;
-  for (const auto t : sig::signal_types()) types += (types.empty() ? "" : "|") + std::string(t);
-  sub.add_option("--signal", st->type, "Command signal: " + types)
-      ->check(CLI::IsMember(std::vector<std::string>(sig::signal_types().begin(), sig::signal_types().end())))
+  sub.add_option("--signal", st->type, "Command signal: " + cs::cli::SignalOptions::type_list())
+      ->check(cs::cli::SignalOptions::type_check())
       ->capture_default_str();
-  for (std::size_t i = 0; i < std::size(kSignalOptions); ++i) {
-    st->number_options[i] = sub.add_option(kSignalOptions[i].names, st->numbers[i], kSignalOptions[i].help);
-  }
-  st->rise_shape_option = sub.add_option("--rise-shape", st->rise_shape, "linear or s-curve")
-                              ->check(CLI::IsMember({"linear", "s-curve"}));
-  st->levels_option = sub.add_option("--levels", st->levels, "Stacked steps: comma-separated levels");
-  st->repeat_option = sub.add_flag("--repeat", st->repeat, "Stacked steps: repeat the sequence");
+  st->signal_options.add_to(sub, "--signal");
 
   sub.add_option("--shaper", st->shaper, "Input shaper method (zv, zvd, zvdd, zvddd, mzv, ei, ei2, ei3, um-zv)");
   st->shaper_frequency_option =
