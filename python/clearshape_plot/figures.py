@@ -8,11 +8,13 @@ Kinds:
                  (…_none = without shaping, …_zvdd@link-mode = ZVDD for the link mode, command_…,
                  measured/gyro, model/fitted, runNN_… = repeated trials). Trials draw thin in a
                  sequential palette, with their mean. "mean_deviation" annotations (per column key:
-                 steady_mean, start_time_s, mean_deviation) mark where Eq. 5.1's steady state
-                 starts and add MD to the legend.
+                 steady_mean, start_time_s, mean_deviation, start_rule) mark where Eq. 5.1's
+                 steady state starts (circle: first crossing of M, diamond: entry into the ±b band)
+                 and add MD to the legend; a series with role "command" is the reference input.
   sensitivity    residual vibration against frequency ratio, per shaper, in % with the 5 % line.
-  mean-deviation one response with its steady-state mean M, the start of the steady state and the
-                 ±MD band (Eq. 5.1, Fig. 5.9); MD is computed from M and the start when not given.
+  mean-deviation one response with its steady-state mean M, the start of the steady state, the
+                 start band ±b and the ±MD band (Eq. 5.1, Fig. 5.9); MD is computed from M and the
+                 start when not given.
   md-summary     (drawn by the report, from results.json) Eq. 5.1 means and improvements of every
                  trial table beside the thesis's.
 Outputs: <id>.png (150 dpi) and <id>.pdf with fixed metadata: the same inputs give the same bytes.
@@ -110,6 +112,12 @@ def _annotation(panel: dict, ycol: str) -> dict | None:
     return best[1] if best else None
 
 
+# How the Eq. 5.1 start was decided (metrics::StartRule) → marker and legend text.
+START_MARKERS = {"crossing": "o", "band-entry": "D", "window-start": "s"}
+START_RULE_TEXT = {"crossing": "first crossing of M", "band-entry": "enters ±b around M",
+                   "window-start": "never meets M: final window"}
+
+
 def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
     series = panel.get("series") or []
     if not series:
@@ -128,6 +136,7 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
     trial_values = []
     other_index = 0
     marked: set = set()
+    rules_seen: set = set()
     for s, ycol, role, source in resolved:
         f = _file(panel, s)
         x = cache.column(f, _x_column(panel, s))
@@ -142,7 +151,7 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
             style = roles.style_for(role, other_index, source)
             if not role:
                 other_index += 1
-        ann = _annotation(panel, ycol)
+        ann = None if role in ("command", "shaped_command") else _annotation(panel, ycol)
         if ann and label:
             md = ann.get("mean_deviation")
             if md is not None:
@@ -154,8 +163,10 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
             t0 = float(ann["start_time_s"])
             marked.add(t0)  # a later series starting at the same sample would hide this marker
             k = min(int(np.searchsorted(x, t0)), len(x) - 1)
-            ax.plot([x[k]], [y[k]], marker="o", markersize=4.5, color=style["color"], markeredgecolor="white",
-                    markeredgewidth=0.6, linestyle="none", zorder=8)
+            rule = ann.get("start_rule", "crossing")
+            rules_seen.add(rule)
+            ax.plot([x[k]], [y[k]], marker=START_MARKERS.get(rule, "o"), markersize=4.5, color=style["color"],
+                    markeredgecolor="white", markeredgewidth=0.6, linestyle="none", zorder=8)
             if ann.get("steady_mean") is not None:
                 ax.hlines(float(ann["steady_mean"]), x[k], x[-1], colors=style["color"], linewidth=0.7,
                           linestyles=(0, (1, 1.5)), alpha=0.8, zorder=1)
@@ -168,9 +179,9 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
                                  for s, yc, _, _ in resolved])
         if window:
             ax.set_xlim(*window)
-    if any(_annotation(panel, r[1]) for r in resolved):
-        ax.plot([], [], marker="o", markersize=4.5, color="#555555", linestyle="none",
-                label="Eq. 5.1 steady-state start")
+    for rule in [r for r in START_MARKERS if r in rules_seen]:
+        ax.plot([], [], marker=START_MARKERS.get(rule, "o"), markersize=4.5, color="#555555", linestyle="none",
+                label=f"Eq. 5.1 steady-state start ({START_RULE_TEXT.get(rule, rule)})")
     if kind == "psd" or panel.get("logy"):
         ax.set_yscale("log")
     if panel.get("logx"):
@@ -233,31 +244,70 @@ def _draw_sensitivity(ax, panel: dict, cache: CsvCache) -> None:
     ax.set_ylabel(f"{text} (%)" if as_fraction else roles.label_with_unit(panel.get("y_label"), _y_column(series[0])))
 
 
-def steady_state_mean_deviation(t: np.ndarray, s: np.ndarray, final_window_fraction: float = 0.2,
-                                 search_from_s: float = -math.inf, max_iterations: int = 100):
-    """Eq. 5.1 with the steady-state start of §5.1.2, the same iteration as metrics::mean_deviation
-    (include/clearshape/metrics/mean_deviation.hpp). Returns (MD, M, start index)."""
+def eq_5_1(t: np.ndarray, s: np.ndarray, final_window_fraction: float = 0.2,
+           search_from_s: float = -math.inf, max_iterations: int = 100, band_noise_multiple: float = 0.0,
+           band_move_fraction: float = 0.005, band_dwell_s: float = 0.1, band_half_width: float | None = None) -> dict:
+    """Eq. 5.1 with the steady-state start of §5.1.2 as metrics::mean_deviation computes it
+    (include/clearshape/metrics/mean_deviation.hpp): the start is the earlier of the first crossing
+    of M and the first stay of band_dwell_s inside ±b around M, M and the start iterated to a fixed
+    point. Returns mean_deviation, steady_mean, start_index, start_rule, band_half_width."""
+    s = np.asarray(s, dtype=float)
     n = len(s)
-    m = float(np.mean(s[n - max(1, int(round(final_window_fraction * n))):]))
-    first = int(np.searchsorted(t, search_from_s, side="left"))
-    k = first
-    seen = set()
+    ts = float(t[1] - t[0]) if n > 1 else 1.0
+    first = 0
+    if search_from_s > float(t[0]):
+        first = min(int(math.ceil((search_from_s - float(t[0])) / ts - 1e-9)), n - 1)
+    window_start = max(first, n - min(max(int(math.ceil(final_window_fraction * n)), 1), n))
+    m = float(np.mean(s[window_start:]))
+    tail = s[window_start:]
+    sigma = float(np.sqrt(np.sum(np.diff(tail) ** 2) / (2 * (tail.size - 1)))) if tail.size > 1 else 0.0
+    band = (max(band_noise_multiple * sigma, band_move_fraction * abs(m - float(s[first])))
+            if band_half_width is None else float(band_half_width))
+    dwell = max(1, int(round(band_dwell_s / ts)))
+
+    def meet(mean: float):
+        d = s[first:] - mean
+        hit = d == 0.0
+        hit[1:] |= np.sign(d[1:]) * np.sign(d[:-1]) < 0
+        cross = np.flatnonzero(hit)
+        c = int(cross[0]) if cross.size else None
+        e = None
+        if band > 0:
+            inside = np.concatenate([[0], (np.abs(d) <= band).astype(np.int8), [0]])
+            edges = np.diff(inside)
+            starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+            ok = (ends - starts >= dwell) | (ends == d.size)
+            e = int(starts[ok][0]) if ok.any() else None
+        if e is not None and (c is None or e < c):
+            return first + e, "band-entry"
+        return (first + c, "crossing") if c is not None else None
+
+    got = meet(m)
+    k, rule = got if got else (window_start, "window-start")
+    seen = [k]
     for _ in range(max_iterations):
-        d = s[first:] - m
-        hit = np.flatnonzero(d == 0.0)
-        cross = np.flatnonzero(np.sign(d[1:]) * np.sign(d[:-1]) < 0) + 1
-        cands = hit[:1].tolist() + cross[:1].tolist()
-        k_new = first + (min(cands) if cands else 0)
-        if k_new == k and seen:
+        m = float(np.mean(s[k:]))
+        got = meet(m)
+        k_new, rule_new = got if got else (k, rule)
+        if k_new == k:
+            rule = rule_new
             break
         if k_new in seen:
-            k = k_new
+            k, rule = k_new, rule_new
+            m = float(np.mean(s[k:]))
             break
-        seen.add(k_new)
-        k = k_new
-        m = float(np.mean(s[k:]))
+        k, rule = k_new, rule_new
+        seen.append(k)
     md = float(np.sqrt(np.mean((m - s[k:]) ** 2)))
-    return md, m, k
+    return {"mean_deviation": md, "steady_mean": m, "start_index": k, "start_rule": rule,
+            "band_half_width": band}
+
+
+def steady_state_mean_deviation(t: np.ndarray, s: np.ndarray, final_window_fraction: float = 0.2,
+                                 search_from_s: float = -math.inf, max_iterations: int = 100):
+    """Eq. 5.1 (eq_5_1 with the default band). Returns (MD, M, start index)."""
+    r = eq_5_1(t, s, final_window_fraction, search_from_s, max_iterations)
+    return r["mean_deviation"], r["steady_mean"], r["start_index"]
 
 
 def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
@@ -270,10 +320,13 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
     mean, start_s, md = panel.get("steady_mean"), panel.get("start_time_s"), panel.get("mean_deviation")
     if isinstance(md, dict):
         md = None
+    rule, band = panel.get("start_rule"), panel.get("band_half_width")
     if mean is None or start_s is None:
-        md_c, mean_c, k = steady_state_mean_deviation(t, y)
-        mean = mean_c if mean is None else mean
-        start_s = float(t[k]) if start_s is None else start_s
+        r = eq_5_1(t, y)
+        mean = r["steady_mean"] if mean is None else mean
+        start_s = float(t[r["start_index"]]) if start_s is None else start_s
+        rule = rule or r["start_rule"]
+        band = r["band_half_width"] if band is None else band
     k = int(np.searchsorted(t, float(start_s)))
     if md is None:  # Eq. 5.1 from the given M and start
         md = float(np.sqrt(np.mean((float(mean) - y[k:]) ** 2)))
@@ -284,8 +337,14 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
     ax.axhspan(mean - md, mean + md, color="#0072B2", alpha=0.13, linewidth=0, label=f"M ± MD, MD = {md:.3g} {unit}")
     ax.plot(t, y, label=s.get("label") or "response", **roles.style_for("unshaped"))
     ax.axhline(mean, label=f"steady-state mean M = {mean:.4g} {unit}", **roles.style_for("mean"))
-    ax.plot([t[min(k, len(t) - 1)]], [y[min(k, len(t) - 1)]], marker="o", markersize=5, color="#1a1a1a",
-            linestyle="none", zorder=9, label=f"first crossing of M, t = {float(start_s):.3f} s")
+    if band:
+        ax.axhline(mean - float(band), color="#7A7A7A", linewidth=0.7, linestyle=":",
+                   label=f"M ± b, b = {float(band):.3g} {unit} (start band)")
+        ax.axhline(mean + float(band), color="#7A7A7A", linewidth=0.7, linestyle=":")
+    rule = rule or "crossing"
+    ax.plot([t[min(k, len(t) - 1)]], [y[min(k, len(t) - 1)]], marker=START_MARKERS.get(rule, "o"), markersize=5,
+            color="#1a1a1a", linestyle="none", zorder=9,
+            label=f"{START_RULE_TEXT.get(rule, rule)}, t = {float(start_s):.3f} s")
     ax.set_xlabel(_x_label(panel, _x_column(panel, s)))
     ax.set_ylabel(ylab)
     # Zoom on the response around its final value so the ringing is visible.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "clearshape/core/error.hpp"
@@ -18,10 +19,24 @@ double mean_from(std::span<const double> s, std::size_t first) {
   return sum / static_cast<double>(s.size() - first);
 }
 
-// First index i >= from where the response meets M: s_i == M, or s_i − M changes sign
-// with respect to s_{i−1} − M (the thesis's "first coincide point", §5.1.2).
-std::optional<std::size_t> first_coincidence(std::span<const double> s, std::size_t from,
-                                             double m) {
+// Noise floor from the mean square successive difference (von Neumann et al. 1941):
+// σ² = Σ (s_{i+1} − s_i)² / (2 (n − 1)).
+double successive_difference_sigma(std::span<const double> s, std::size_t first) {
+  const std::size_t n = s.size() - first;
+  if (n < 2) return 0.0;
+  double sum_sq = 0.0;
+  for (std::size_t i = first + 1; i < s.size(); ++i) sum_sq += (s[i] - s[i - 1]) * (s[i] - s[i - 1]);
+  return std::sqrt(sum_sq / (2.0 * static_cast<double>(n - 1)));
+}
+
+struct Meeting {
+  std::size_t index = 0;
+  StartRule rule = StartRule::crossing;
+};
+
+// First index i >= from where s_i == M or s_i − M changes sign with respect to s_{i−1} − M
+// (the thesis's "first coincide point", §5.1.2).
+std::optional<std::size_t> first_crossing(std::span<const double> s, std::size_t from, double m) {
   for (std::size_t i = from; i < s.size(); ++i) {
     const double d = s[i] - m;
     if (d == 0.0) return i;
@@ -33,7 +48,48 @@ std::optional<std::size_t> first_coincidence(std::span<const double> s, std::siz
   return std::nullopt;
 }
 
+// First index r in [from, before) that starts a stay inside |s − M| <= band of `dwell` samples
+// or one that lasts to the end of the record.
+std::optional<std::size_t> first_band_entry(std::span<const double> s, std::size_t from,
+                                            std::size_t before, double m, double band,
+                                            std::size_t dwell) {
+  if (!(band > 0.0)) return std::nullopt;
+  std::optional<std::size_t> run_start;
+  for (std::size_t i = from; i < s.size(); ++i) {
+    if (std::abs(s[i] - m) <= band) {
+      if (!run_start) {
+        if (i >= before) return std::nullopt;
+        run_start = i;
+      }
+      if (i + 1 - *run_start >= dwell) return run_start;
+    } else {
+      run_start.reset();
+    }
+  }
+  return run_start;  // inside the band to the end of the record
+}
+
+// The start k(M) of header step 2: the earlier of the first crossing and the first band entry
+// (a tie counts as a crossing).
+std::optional<Meeting> first_meeting(std::span<const double> s, std::size_t from, double m,
+                                     double band, std::size_t dwell) {
+  const auto crossing = first_crossing(s, from, m);
+  const auto entry = first_band_entry(s, from, crossing.value_or(s.size()), m, band, dwell);
+  if (entry) return Meeting{*entry, StartRule::band_entry};
+  if (crossing) return Meeting{*crossing, StartRule::crossing};
+  return std::nullopt;
+}
+
 }  // namespace
+
+std::string_view to_string(StartRule rule) noexcept {
+  switch (rule) {
+    case StartRule::crossing: return "crossing";
+    case StartRule::band_entry: return "band-entry";
+    case StartRule::window_start: return "window-start";
+  }
+  return "crossing";
+}
 
 MeanDeviationResult mean_deviation(const UniformSeries& response,
                                    const MeanDeviationOptions& options) {
@@ -51,6 +107,15 @@ MeanDeviationResult mean_deviation(const UniformSeries& response,
                   "<= the last sample time " + std::to_string(response.end_s()) + " s",
                   "Search for the steady state inside the record");
   }
+  require_non_negative("band_noise_multiple", options.band_noise_multiple,
+                       "Use 0 (the default) or about 3 for records that never cross their mean");
+  require_in_half_open("band_move_fraction", options.band_move_fraction, 0.0, 1.0,
+                       "Use a small share of the move such as 0.005");
+  require_non_negative("band_dwell_s", options.band_dwell_s, "Use a dwell such as 0.1 s");
+  if (!std::isnan(options.band_half_width)) {
+    require_non_negative("band_half_width", options.band_half_width,
+                         "Leave it NaN to compute it, or give 0 for the crossing rule alone");
+  }
 
   const std::size_t n_total = s.size();
   std::size_t from = 0;
@@ -65,37 +130,50 @@ MeanDeviationResult mean_deviation(const UniformSeries& response,
 
   MeanDeviationResult result;
   double m = mean_from(s, window_start);  // M₀: mean of the final window
+  result.noise_floor = successive_difference_sigma(s, window_start);
+  result.band_half_width =
+      std::isnan(options.band_half_width)
+          ? std::max(options.band_noise_multiple * result.noise_floor,
+                     options.band_move_fraction * std::abs(m - s[from]))
+          : options.band_half_width;
+  const double band = result.band_half_width;
+  const std::size_t dwell = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::llround(options.band_dwell_s / response.sample_time_s)));
+
   std::vector<std::size_t> visited;
-  std::size_t k = first_coincidence(s, from, m).value_or(window_start);
-  visited.push_back(k);
+  Meeting k{window_start, StartRule::window_start};
+  if (const auto meet = first_meeting(s, from, m, band, dwell)) k = *meet;
+  visited.push_back(k.index);
   for (int it = 1; it <= options.max_iterations; ++it) {
     result.iterations = it;
-    m = mean_from(s, k);  // M = mean of the steady-state part
-    const std::size_t next = first_coincidence(s, from, m).value_or(k);
-    if (next == k) {
+    m = mean_from(s, k.index);  // M = mean of the steady-state part
+    const Meeting next = first_meeting(s, from, m, band, dwell).value_or(k);
+    if (next.index == k.index) {
+      k = next;
       result.converged = true;
       break;
     }
-    if (std::find(visited.begin(), visited.end(), next) != visited.end()) {
+    if (std::find(visited.begin(), visited.end(), next.index) != visited.end()) {
       k = next;
-      m = mean_from(s, k);
+      m = mean_from(s, k.index);
       break;  // a cycle: converged stays false
     }
     k = next;
-    visited.push_back(k);
-    if (it == options.max_iterations) m = mean_from(s, k);
+    visited.push_back(k.index);
+    if (it == options.max_iterations) m = mean_from(s, k.index);
   }
 
   double sum_sq = 0.0;
-  for (std::size_t i = k; i < n_total; ++i) {
+  for (std::size_t i = k.index; i < n_total; ++i) {
     const double d = m - s[i];
     sum_sq += d * d;
   }
-  result.samples = n_total - k;
+  result.samples = n_total - k.index;
   result.mean_deviation = std::sqrt(sum_sq / static_cast<double>(result.samples));  // Eq. 5.1
   result.steady_mean = m;
-  result.start_index = k;
-  result.start_time_s = response.time_s(k);
+  result.start_index = k.index;
+  result.start_time_s = response.time_s(k.index);
+  result.start_rule = k.rule;
   return result;
 }
 

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "clearshape/metrics/mean_deviation.hpp"
 #include "clearshape/rig/types.hpp"
 #include "context.hpp"
 
@@ -25,9 +26,18 @@ json ambiguities(const Protocol& p) {
       "above the integrated-angle floor. Speed mode: the controlled quantity is a speed and the "
       "angle has no steady state.");
   add("md-start", "Where does the steady state of Eq. 5.1 begin?",
-      "At the first sample, after the start of the input's last move, where the response meets its "
-      "own steady-state mean; M and the start are iterated to a fixed point (metrics/mean_deviation.hpp).",
-      "§5.1.2: 'the first coincide point of the system response and the mean data is taken as a start point'.");
+      fmt::format("At the first sample, after the start of the input's last move, where the response meets "
+                  "its own steady-state mean: it crosses M, or it enters a band of ±{:g} % of the last move "
+                  "around M and stays inside for {:g} s, whichever comes first; M and the start are iterated "
+                  "to a fixed point (metrics/mean_deviation.hpp). Every trial records which rule decided "
+                  "(start_rule in the rig tables of results.json).",
+                  100.0 * metrics::MeanDeviationOptions{}.band_move_fraction,
+                  metrics::MeanDeviationOptions{}.band_dwell_s),
+      "§5.1.2: 'the first coincide point of the system response and the mean data is taken as a start "
+      "point'. A ringing response crosses its mean on its first swing; a well-shaped one approaches "
+      "from one side and, on the smooth integrated gyro angle, may cross only when the gyro's drift "
+      "carries it over M seconds later, leaving Eq. 5.1 a fraction of a second of record — so "
+      "'coincide' is read as agreement within a small share of the move, the order of a settling tolerance.");
   add("which-mode", "Which mode are the shapers designed for?",
       "Both, side by side: the drive model's ωn = 1/Tw, ζ = Zeta (the thesis's choice, §3.3) and the "
       "link's residual mode identified from the gyro's free response (DESIGN.md §2). The tables name "

@@ -81,11 +81,18 @@ void stage_rig_tests(Context& c) {
     std::vector<std::string> names{"time_s"};
     std::vector<std::vector<double>> fig;
     json fig_series = json::array(), cmd_series = json::array(), annotations = json::object();
+    std::map<std::string, int> start_rules;  // rule → number of trials it decided
     for (const auto& pl : plan) {
       if (pl.table != &table) continue;
       std::vector<double> values;
+      std::vector<double> starts_s;
+      json rules = json::array();
       for (int r = 0; r < c.p.repetitions; ++r) {
-        values.push_back(run_mean_deviation(records[pl.first + static_cast<std::size_t>(r)], c.p.measure, in).mean_deviation);
+        const auto mdr = run_mean_deviation(records[pl.first + static_cast<std::size_t>(r)], c.p.measure, in);
+        values.push_back(mdr.mean_deviation);
+        starts_s.push_back(mdr.start_time_s);
+        rules.push_back(std::string(metrics::to_string(mdr.start_rule)));
+        ++start_rules[std::string(metrics::to_string(mdr.start_rule))];
       }
       md[table.id][pl.column->key()] = values;
       const MeanStd ms = mean_std(values);
@@ -95,6 +102,8 @@ void stage_rig_tests(Context& c) {
       col["ours"] = values;
       col["ours_mean"] = ms.mean;
       col["ours_std"] = ms.std;
+      col["start_time_s"] = starts_s;  // Eq. 5.1 steady-state start of each trial
+      col["start_rule"] = rules;       // which rule put it: crossing, band-entry, window-start
       col["thesis"] = pl.column->thesis.values;
       col["thesis_mean"] = opt(pl.column->thesis.mean);
       if (!pl.note.empty()) col["note"] = pl.note;
@@ -130,19 +139,33 @@ void stage_rig_tests(Context& c) {
       fig.push_back(first.link_rate_deg_s);
       names.push_back(fmt::format("md_signal_{}", pl.column->key()));
       fig.push_back(s.values);
+      if (pl.column->key() == "none" && c.p.mode == rig::CommandMode::position) {
+        // The reference beside the responses, as in Figs. 5.19/5.20 (the step input in blue there);
+        // position mode only: there the command is an angle on the responses' axis.
+        fig_series.push_back({{"column", fmt::format("command_{}", pl.column->key())},
+                              {"label", "command (unshaped input)"}, {"role", "command"}});
+      }
       fig_series.push_back({{"column", names.back()}, {"label", pl.column->label}});
       const auto mdr = run_mean_deviation(first, c.p.measure, in);
       annotations[pl.column->key()] = {{"steady_mean", mdr.steady_mean}, {"start_time_s", mdr.start_time_s},
-                                       {"mean_deviation", mdr.mean_deviation}};
+                                       {"mean_deviation", mdr.mean_deviation},
+                                       {"start_rule", metrics::to_string(mdr.start_rule)},
+                                       {"band_half_width", mdr.band_half_width}};
     }
     t["columns"] = cols;
     t["headline"] = headline;
-    t["note"] = fmt::format("Eq. 5.1 on the {} ({}), steady state from the first crossing of its mean after "
-                            "the last move starts ({} s). Trials on the simulated rig; shaped columns are "
+    std::string decided;
+    for (const auto& [rule, count] : start_rules) {
+      decided += fmt::format("{}{} {}", decided.empty() ? "" : ", ", count, rule);
+    }
+    t["note"] = fmt::format("Eq. 5.1 on the {} ({}), steady state from where it first meets its mean after the "
+                            "last move starts ({} s): a crossing of M, or entry into ±{:g} % of the move around M "
+                            "for {:g} s (start rule per trial: {}). Trials on the simulated rig; shaped columns are "
                             "predictions, not fitted.",
                             c.p.measure.md_signal == MdSignal::link_angle_deg ? "link angle (gyro integrated)"
                                                                               : "link rate (gyro)",
-                            md_unit, in.last_move_start_s);
+                            md_unit, in.last_move_start_s, 100.0 * metrics::MeanDeviationOptions{}.band_move_fraction,
+                            metrics::MeanDeviationOptions{}.band_dwell_s, decided);
     table_json[table.id] = t;
     c.tables.push_back(t);
 
@@ -176,13 +199,15 @@ void stage_rig_tests(Context& c) {
                            {"thesis_figure", "5.9"},
                            {"kind", "mean-deviation"},
                            {"title", fmt::format("Eq. 5.1 on trial 1 of the {} without shaping: steady-state mean M "
-                                                 "and its first crossing", in.label)},
+                                                 "and where the response first meets it", in.label)},
                            {"file", c.data_file(file)},
                            {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
                            {"y_label", fmt::format("{} ({})", speed ? "link rate" : "link angle", md_unit)},
                            {"series", {{{"column", "md_signal_none"}, {"label", "response"}}}},
                            {"steady_mean", a.at("steady_mean")},
-                           {"start_time_s", a.at("start_time_s")}});
+                           {"start_time_s", a.at("start_time_s")},
+                           {"start_rule", a.at("start_rule")},
+                           {"band_half_width", a.at("band_half_width")}});
     }
   }
 

@@ -246,11 +246,12 @@ TEST(ReportDeterminism, SameInputsSameFigureBytes) {
 }
 
 // The report's fallback for Eq. 5.1 (a mean-deviation figure without M and start) replicates
-// metrics::mean_deviation: same MD and start index as the golden cases (gen_metrics.py), to 1e-12.
+// metrics::mean_deviation: same MD and start index as the golden cases (gen_metrics.py: crossing
+// rule; gen_mean_deviation.py: band entry and the options), to 1e-12.
 TEST(ReportMath, MeanDeviationReplicaMatchesGolden) {
   const std::string script =
       "import sys, json; sys.path.insert(0, sys.argv[1]);"
-      "from clearshape_plot.figures import steady_state_mean_deviation as f;"
+      "from clearshape_plot.figures import steady_state_mean_deviation as f, eq_5_1;"
       "from clearshape_plot.data import CsvCache;"
       "c = CsvCache(sys.argv[2]); t = c.column('metrics_signals.csv', 'time_s');"
       "e = json.load(open(sys.argv[2] + '/metrics_expected.json'))['mean_deviation'];"
@@ -258,7 +259,13 @@ TEST(ReportMath, MeanDeviationReplicaMatchesGolden) {
       "(abs(f(t, c.column('metrics_signals.csv', k))[0] - v['mean_deviation']) > 1e-12 or "
       "f(t, c.column('metrics_signals.csv', k))[2] != v['start_index'])];"
       "n = sum(1 for k in e if k in c.table('metrics_signals.csv'));"
-      "print('compared', n, 'bad', bad); sys.exit(1 if bad or n == 0 else 0)";
+      "tb = c.column('mean_deviation_signals.csv', 'time_s');"
+      "g = json.load(open(sys.argv[2] + '/mean_deviation_expected.json'))['cases'];"
+      "r = [(x, eq_5_1(tb, c.column('mean_deviation_signals.csv', x['signal']), **x['options'])) for x in g];"
+      "bad += [x['signal'] for x, y in r if abs(y['mean_deviation'] - x['expected']['mean_deviation']) > 1e-12 "
+      "or y['start_index'] != x['expected']['start_index'] or y['start_rule'] != x['expected']['start_rule']];"
+      "n += len(r);"
+      "print('compared', n, 'bad', bad); sys.exit(1 if bad or n < 12 else 0)";
   const Shell r = run("/usr/bin/python3 -c \"" + script + "\" " + quote(python_dir()) + " " +
                       quote(fs::path(CLEARSHAPE_GOLDEN_DIR)));
   EXPECT_EQ(r.exit_code, 0) << r.out;

@@ -96,6 +96,29 @@ TEST(StudyQuick, PositionModeReproducesTheThesisQualitatively) {
   EXPECT_GT(with_file, 10);
   EXPECT_NE(r.tables_markdown.find("thesis"), std::string::npos);
   EXPECT_EQ(r.results.at("ambiguities").size(), 8u);
+  // Every trial of a rig table says where its Eq. 5.1 steady state starts and which rule put it
+  // there; the unshaped steps ring, so their start is the first crossing of M.
+  for (const char* id : {"B.1", "B.2", "B.3", "B.4", "B.5"}) {
+    for (const auto& col : r.table(id).at("columns")) {
+      SCOPED_TRACE(std::string(id) + " " + col.at("key").get<std::string>());
+      ASSERT_EQ(col.at("start_rule").size(), col.at("ours").size());
+      ASSERT_EQ(col.at("start_time_s").size(), col.at("ours").size());
+      for (const auto& rule : col.at("start_rule")) {
+        EXPECT_TRUE(rule == "crossing" || rule == "band-entry" || rule == "window-start") << rule;
+        if (col.at("key") == "none") EXPECT_EQ(rule, "crossing");
+      }
+      for (const auto& s : col.at("start_time_s")) {
+        EXPECT_GE(s.get<double>(), 0.5);  // searched after the last move starts (every move starts >= 0.5 s)
+      }
+    }
+  }
+  // Figs. 5.19/5.20: the rig responses are drawn with the command beside them.
+  int rig_figures_with_command = 0;
+  for (const auto& fig : r.figures.at("figures")) {
+    if (fig.value("thesis_figure", json()) != "5.19" && fig.value("thesis_figure", json()) != "5.20") continue;
+    for (const auto& s : fig.at("series")) rig_figures_with_command += s.value("role", "") == "command";
+  }
+  EXPECT_EQ(rig_figures_with_command, 5);
 }
 
 TEST(StudyQuick, SpeedModeShapersFromTheDriveModelReduceTheMd) {
