@@ -8,6 +8,8 @@
 // Position mode: the pulse generator programs a target at its next 30 Hz update, one update
 // period after it was written (the rig reports the commanded position it actually applied, and
 // the clearance fit uses that record directly).
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "clearshape/core/series.hpp"
@@ -46,5 +48,85 @@ ModelResponse simulate_drive_command(const ClearanceModel& model, const UniformS
 /// path (position: 30 Hz pulse train with one update of latency; speed: 12-bit D/A).
 ModelResponse simulate_command(const ClearanceModel& model, const UniformSeries& command,
                                double duration_s);
+
+/// The clearance fit (thesis §4.2, Fig. 4.19–4.20): the Eq. 4.3 parameters for which the model's
+/// link rate under `drive_command` matches a measured link rate in the least-squares sense.
+/// The link inertia stays fixed: the gyro record determines only K/J and D/J.
+struct ClearanceFitProblem {
+  ClearanceModel start;  ///< drive, link inertia (fixed) and the values of fixed parameters
+  UniformSeries drive_command;                    ///< what the drive received (command_applied)
+  std::vector<double> measured_link_rate_deg_s;  ///< on the command's grid, from t = 0
+  double duration_s = 2.0;
+  std::vector<std::string> free{"stiffness", "damping"};  ///< of stiffness, damping, play, exponent
+  /// The link's identified residual mode (0: unknown): start K/J = ω² and D/J = 2ζω (linear
+  /// flank, then mapped to each exponent at the reference deflection); otherwise `start`'s K, D.
+  double link_natural_frequency_rad_s = 0.0;
+  double link_damping_ratio = 0.0;
+  std::vector<double> exponent_grid{1.0, 1.5, 2.0};  ///< multi-start values of n (exponent free)
+  double exponent_min = 1.0;  ///< n bounds: linear flank .. beyond Hertz
+  double exponent_max = 2.5;
+  /// The link sensor's first-order low-pass (y += a(x − y), a = 1 − exp(−2π f_c T_s), as the
+  /// gyroscope model) applied to the model's link rate before the comparison: the bandwidths to
+  /// choose from, 0 = none (e.g. the ITG-3205 DLPF settings). The one that explains the record
+  /// best at the start, re-checked at the optimum, is used.
+  std::vector<double> sensor_low_pass_grid_hz{0.0};
+  int max_evaluations = 150;   ///< per local search (BOBYQA)
+  /// Convergence: final trust radius in the fit variables (log K_ref, log D, log play: relative;
+  /// n: absolute), i.e. parameters to ≈ 0.1 %.
+  double step_tolerance = 1e-3;
+};
+
+/// One fitted parameter, with its local (Gauss–Newton) uncertainty.
+struct ClearanceParameter {
+  std::string name;        ///< stiffness, damping, play, exponent
+  double value = 0.0;      ///< SI (K N·m/rad^n, D N·m·s/rad, play rad, n)
+  double start = 0.0;
+  bool free = false;
+  bool at_bound = false;   ///< ended on a bound of the search
+  /// 1σ of log(value) (i.e. relative) for K, D, play; of n itself for the exponent; NaN if fixed
+  /// or singular. From σ²(JᵀJ)⁻¹ with σ² over the residual's effective sample count.
+  double std_error = 0.0;
+  bool identifiable = false;  ///< free, finite 1σ below 10 % (n: below 0.1)
+};
+
+/// One local search of the multi-start (n held at `exponent`, or free for the final refinement).
+struct ClearanceFitStart {
+  double exponent = 0.0;
+  bool exponent_free = false;
+  double rms_error_deg_s = 0.0;
+  int evaluations = 0;
+  std::string termination;  ///< NLopt result name
+};
+
+struct ClearanceFitResult {
+  ClearanceModel model;
+  ClearanceModel start_model;        ///< the data-derived start (first grid exponent)
+  double rms_error_deg_s = 0.0;
+  double start_rms_error_deg_s = 0.0;
+  double agreement = 0.0;            ///< Eq. 4.1: RMS(model − measured) / range(measured)
+  double reference_deflection_rad = 0.0;  ///< K_ref = K·δ_ref^(n−1) is the fitted stiffness variable
+  double sensor_low_pass_hz = 0.0;   ///< the chosen sensor bandwidth (0: none)
+  std::vector<std::pair<double, double>> sensor_low_pass_scan;  ///< (f_c Hz, RMS deg/s) at the optimum
+  int evaluations = 0;               ///< model simulations over all searches (not the 1σ ones)
+  std::string termination;           ///< NLopt result of the search that produced `model`
+  bool converged = false;            ///< that search met its xtol/ftol criterion
+  std::vector<ClearanceFitStart> starts;
+  std::vector<ClearanceParameter> parameters;  ///< stiffness, damping, play, exponent
+};
+
+/// Fits the problem: start from the link mode, coarse scans of K_ref and the play, a loose K–D
+/// search, variables scaled by their sensitivity, NLopt BOBYQA on the mean square from every
+/// exponent of `exponent_grid` (n held), then one search with n free from the best (the sensor
+/// bandwidth profiled over its grid until then, fixed for it), basin hops in the play. Throws InvalidArgument on an ill-posed problem (a free parameter that is
+/// unknown, non-finite or non-positive at the start, mismatched lengths) and RuntimeError when
+/// NLopt fails (invalid arguments, out of memory); a search that ends at `max_evaluations` or on
+/// round-off is reported with `converged == false`, never silently.
+ClearanceFitResult fit_clearance(const ClearanceFitProblem& problem);
+
+/// The sensor's first-order low-pass of `clearance_fit`, in place (0: no filtering).
+void apply_sensor_low_pass(std::vector<double>& rate, double bandwidth_hz, double sample_time_s);
+
+/// Eq. 4.1 with the measurement as the mean signal: RMS(model − measured) / range(measured).
+double clearance_agreement(const std::vector<double>& measured, const std::vector<double>& model);
 
 }  // namespace clearshape::study
