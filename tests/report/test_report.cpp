@@ -197,6 +197,33 @@ TEST_F(Report, SelfContainedInThesisOrder) {
   EXPECT_NE(html.find("class=\"verdict "), std::string::npos);
 }
 
+// The clearance section discusses the calibrated flank with numbers read from results.json:
+// quadrupling the fitted stiffness in results.json doubles the flank's mode frequency in the text.
+TEST_F(Report, DiscussesTheCalibratedFlankFromResults) {
+  const auto results = nlohmann::json::parse(read_file(study_ / "results.json"));
+  const auto& sections = results.at("sections");
+  if (!sections.contains("clearance") || !sections.contains("link_mode")) {
+    GTEST_SKIP() << "no clearance or link-mode section in the " << source_;
+  }
+  const std::string html = read_file(study_ / "report.html");
+  const auto clearance = html.find("<section id=\"clearance\"");
+  const auto flank = html.find("The calibrated flank");
+  ASSERT_NE(flank, std::string::npos);
+  EXPECT_GT(flank, clearance);
+  EXPECT_LT(flank, html.find("<section id=\"simulated\""));
+  const std::string script =
+      "import sys, json, math; sys.path.insert(0, sys.argv[1]); import make_report as mr;"
+      "r = json.load(open(sys.argv[2])); cl = r['sections']['clearance'];"
+      "f = lambda k: mr.fmt(math.sqrt(k / cl['link_inertia_kg_m2']) / (2 * math.pi), 3);"
+      "a = mr.flank_discussion(mr.Context(r), r); k = cl['stiffness_n_m_per_rad_pow_n'];"
+      "cl['stiffness_n_m_per_rad_pow_n'] = 4 * k; b = mr.flank_discussion(mr.Context(r), r);"
+      "ok = abs(cl['exponent'] - 1) >= 0.1 or (f(k) + ' Hz' in a and f(4 * k) + ' Hz' in b);"
+      "print(f(k), f(4 * k)); sys.exit(0 if a and a != b and ok else 1)";
+  const Shell r = run("/usr/bin/python3 -c \"" + script + "\" " + quote(python_dir()) + " " +
+                      quote(study_ / "results.json"));
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+}
+
 TEST_F(Report, ChromiumLoadsEveryFigure) {
   if (!have_chromium()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
   const std::string html = read_file(study_ / "report.html");
