@@ -74,7 +74,7 @@ StateSpaceEstimate estimate_state_space(const Experiment& experiment, std::size_
   est.fpe = est.loss * (1.0 + pn) / (1.0 - pn);  // Akaike FPE
   est.aic = static_cast<double>(n) * std::log(est.loss) + 2.0 * static_cast<double>(est.parameters);
   try {
-    est.continuous = continuous_equivalent(est.discrete);
+    est.continuous = lti::continuous_equivalent(est.discrete);
     est.transfer_function = to_transfer_function(*est.continuous);
   } catch (const RuntimeError&) {
     // A pole on the negative real axis: no continuous equivalent; the discrete model stands.

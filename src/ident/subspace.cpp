@@ -2,15 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <string>
-
-// Eigen's Schur–Parlett matrix logarithm trips a false -Wnull-dereference in GCC 12 (the
-// diagnostic is located in the header, so it is silenced for the header's text only).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wnull-dereference"
-#include <unsupported/Eigen/MatrixFunctions>
-#pragma GCC diagnostic pop
 
 #include "clearshape/core/error.hpp"
 
@@ -173,31 +165,6 @@ FreeResponseModel era(std::span<const double> response, std::size_t order, std::
   const Eigen::MatrixXd x = s_half.asDiagonal() * svd.matrixV().leftCols(n).transpose();
   shift_invariance(gamma, out.a, out.c);
   out.x0 = x.col(0);
-  return out;
-}
-
-lti::StateSpace continuous_equivalent(const lti::DiscreteStateSpace& model) {
-  const Eigen::Index n = model.a.rows();
-  const Eigen::Index m = model.b.cols();
-  require_positive("continuous_equivalent sample_time_s", model.sample_time_s);
-  Eigen::MatrixXd aug = Eigen::MatrixXd::Identity(n + m, n + m);
-  aug.topLeftCorner(n, n) = model.a;
-  aug.topRightCorner(n, m) = model.b;
-  Eigen::EigenSolver<Eigen::MatrixXd> es(model.a, false);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const std::complex<double> z = es.eigenvalues()(k);
-    if (std::abs(z.imag()) <= 1e-12 * std::abs(z) && z.real() <= 0.0) {
-      throw RuntimeError("continuous_equivalent: discrete pole " + std::to_string(z.real()) +
-                         " lies on the non-positive real axis; no real continuous model has this ZOH "
-                         "equivalent (the sampling is too slow for that pole).");
-    }
-  }
-  const Eigen::MatrixXd l = aug.log() / model.sample_time_s;  // [A_c B_c; 0 0]
-  lti::StateSpace out;
-  out.a = l.topLeftCorner(n, n);
-  out.b = l.topRightCorner(n, m);
-  out.c = model.c;
-  out.d = model.d;
   return out;
 }
 

@@ -1,8 +1,14 @@
 #include "clearshape/lti/discretize.hpp"
 
+#include <complex>
 #include <string>
 
+#include <Eigen/Eigenvalues>
+// Eigen's MatrixFunction (behind log()) trips GCC 12's -Wnull-dereference inside Eigen itself.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wnull-dereference"
 #include <unsupported/Eigen/MatrixFunctions>
+#pragma GCC diagnostic pop
 
 #include "clearshape/core/error.hpp"
 #include "hold_integrals.hpp"
@@ -61,6 +67,31 @@ std::vector<double> simulate(const DiscreteStateSpace& model, std::span<const do
     x = next;  // same size: no allocation
   }
   return y;
+}
+
+StateSpace continuous_equivalent(const DiscreteStateSpace& model) {
+  const Eigen::Index n = model.a.rows();
+  const Eigen::Index m = model.b.cols();
+  require_positive("continuous_equivalent sample_time_s", model.sample_time_s);
+  Eigen::MatrixXd aug = Eigen::MatrixXd::Identity(n + m, n + m);
+  aug.topLeftCorner(n, n) = model.a;
+  aug.topRightCorner(n, m) = model.b;
+  Eigen::EigenSolver<Eigen::MatrixXd> es(model.a, false);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const std::complex<double> z = es.eigenvalues()(k);
+    if (std::abs(z.imag()) <= 1e-12 * std::abs(z) && z.real() <= 0.0) {
+      throw RuntimeError("continuous_equivalent: discrete pole " + std::to_string(z.real()) +
+                         " lies on the non-positive real axis; no real continuous model has this ZOH "
+                         "equivalent (the sampling is too slow for that pole).");
+    }
+  }
+  const Eigen::MatrixXd l = aug.log() / model.sample_time_s;  // [A_c B_c; 0 0]
+  StateSpace out;
+  out.a = l.topLeftCorner(n, n);
+  out.b = l.topRightCorner(n, m);
+  out.c = model.c;
+  out.d = model.d;
+  return out;
 }
 
 }  // namespace clearshape::lti

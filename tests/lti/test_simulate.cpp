@@ -208,3 +208,23 @@ TEST(StateSpace, DerivativeDrivesAnOdeToTheExactSolution) {
   const auto exact = lti::step_response(lti::thesis_position_mode_model(), 0.05, 1e-4);
   EXPECT_NEAR(lti::output(ss, x, 1.0), exact.values.back(), 1e-9);
 }
+
+TEST(Discretize, ContinuousEquivalentInvertsZoh) {
+  lti::StateSpace c;
+  c.a.resize(3, 3);
+  c.a << 0, 1, 0, -400, -4, 20, 0, 0, -30;
+  c.b.resize(3, 1);
+  c.b << 0, 2, 1;
+  c.c.resize(1, 3);
+  c.c << 1, 0.1, -0.5;
+  c.d = Eigen::MatrixXd::Constant(1, 1, 0.3);
+  const auto d = lti::discretize(c, 0.005);
+  const auto back = lti::continuous_equivalent(d);
+  EXPECT_LT((back.a - c.a).cwiseAbs().maxCoeff(), 1e-9 * c.a.cwiseAbs().maxCoeff());
+  EXPECT_LT((back.b - c.b).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_EQ(back.d(0, 0), 0.3);
+  // A pole on the negative real axis has no real logarithm.
+  lti::DiscreteStateSpace neg = d;
+  neg.a = -Eigen::MatrixXd::Identity(3, 3) * 0.5;
+  EXPECT_THROW(lti::continuous_equivalent(neg), clearshape::RuntimeError);
+}

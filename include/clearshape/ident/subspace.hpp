@@ -56,9 +56,4 @@ struct FreeResponseModel {
 /// is shorter than 2·rows or order ≥ rows, RuntimeError if the response is zero.
 FreeResponseModel era(std::span<const double> response, std::size_t order, std::size_t rows = 0);
 
-/// The continuous model whose ZOH discretization is `model` (inverse of lti::discretize):
-/// [A_c B_c; 0 0]·T = log [Φ Γ; 0 I] (principal matrix logarithm, Eigen MatrixFunctions).
-/// Throws RuntimeError when the logarithm is not real (a pole on the negative real axis).
-lti::StateSpace continuous_equivalent(const lti::DiscreteStateSpace& model);
-
 }  // namespace clearshape::ident

@@ -34,6 +34,11 @@ struct DiscreteStateSpace {
 /// ξ[k] = x(kT) − M13 u[k]. Throws InvalidArgument on a bad model or sample time.
 DiscreteStateSpace discretize(const StateSpace& model, double sample_time_s, Hold hold = Hold::zoh);
 
+/// The continuous model whose ZOH discretization is `model` (the inverse of discretize, as
+/// MATLAB d2c 'zoh'): [A_c B_c; 0 0]·T = log [Φ Γ; 0 I] (principal matrix logarithm).
+/// Throws RuntimeError when the logarithm is not real (a pole on the non-positive real axis).
+StateSpace continuous_equivalent(const DiscreteStateSpace& model);
+
 /// Runs a SISO discrete model (as scipy.signal.dlsim); `x0` empty means zero.
 std::vector<double> simulate(const DiscreteStateSpace& model, std::span<const double> input,
                              const Eigen::VectorXd& x0 = {});
