@@ -126,6 +126,11 @@ ClearanceFitResult fit_clearance(const ClearanceFitProblem& problem);
 /// The sensor's first-order low-pass of `clearance_fit`, in place (0: no filtering).
 void apply_sensor_low_pass(std::vector<double>& rate, double bandwidth_hz, double sample_time_s);
 
+/// What the gyro reports for a model response: its link rate (deg/s) through the sensor
+/// low-pass at `low_pass_hz` (0: none), sampled like the problem's drive command.
+std::vector<double> sensed_link_rate_deg_s(const ClearanceFitProblem& problem,
+                                           const ModelResponse& response, double low_pass_hz);
+
 /// Eq. 4.1 with the measurement as the mean signal: RMS(model − measured) / range(measured).
 double clearance_agreement(const std::vector<double>& measured, const std::vector<double>& model);
 
