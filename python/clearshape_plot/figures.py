@@ -11,7 +11,9 @@ Kinds:
                  steady_mean, start_time_s, mean_deviation, start_rule) mark where Eq. 5.1's
                  steady state starts (circle: first crossing of M, diamond: entry into the ±b band)
                  and add MD to the legend; a series with role "command" is the reference input.
-  sensitivity    residual vibration against frequency ratio, per shaper, in % with the 5 % line.
+  sensitivity    residual vibration against frequency ratio, per shaper, in % with the 5 % line;
+                 series with variant "designed" (the shaper before the update grid) thin and
+                 dotted; "markers" [{x, label}] draw vertical lines (default: design frequency at 1).
   mean-deviation one response with its steady-state mean M, the start of the steady state, the
                  start band ±b and the ±MD band (Eq. 5.1, Fig. 5.9); MD is computed from M and the
                  start when not given.
@@ -231,12 +233,17 @@ def _draw_sensitivity(ax, panel: dict, cache: CsvCache) -> None:
     as_fraction = max(float(np.nanmax(y)) for _, _, y in ys) <= 1.0 + 1e-9
     scale = 100.0 if as_fraction else 1.0
     for i, (s, x, y) in enumerate(ys):
-        role, source = roles.infer_role(_y_column(s))
-        ax.plot(x, y * scale, label=s.get("label") or roles.label_for(role), **roles.style_for(role, i, source))
+        role, source = roles.infer_role(_y_column(s).removesuffix("_designed"))
+        style = roles.style_for(role, i, source)
+        if s.get("variant") == "designed":  # the shaper before the drive's update grid: thin, dotted
+            style.update(linestyle=(0, (1, 1.2)), linewidth=1.0, alpha=0.9, zorder=2)
+        ax.plot(x, y * scale, label=s.get("label") or roles.label_for(role), **style)
     tol = panel.get("tolerance_percent", 5.0)
     ax.axhline(float(tol), color="#7A7A7A", linestyle=":", linewidth=1.0, label=f"{tol:g} % (usual tolerance)")
-    ax.axvline(float(panel.get("design_x", 1.0)), color="#1a1a1a", linewidth=0.8, linestyle=(0, (2, 2)),
-               label="design frequency")
+    markers = panel.get("markers") or [{"x": panel.get("design_x", 1.0), "label": "design frequency"}]
+    for i, mk in enumerate(markers):
+        ax.axvline(float(mk["x"]), color="#1a1a1a" if i == 0 else "#7A7A7A", linewidth=0.8,
+                   linestyle=(0, (2, 2)) if i == 0 else (0, (6, 2, 1, 2)), label=mk.get("label"))
     ax.set_ylim(bottom=0)
     ax.set_xlabel(_x_label(panel, _x_column(panel, series[0])))
     text = panel.get("y_label") or "residual vibration"
@@ -437,8 +444,12 @@ def draw(spec: dict, cache: CsvCache, index: int = 0):
             ax.set_ylim(*panel["ylim"])
         handles, _ = ax.get_legend_handles_labels()
         if len(handles) > 7 and len(panels) == 1:  # many curves: the legend goes beside the axes
-            fig.set_size_inches(8.2, fig.get_size_inches()[1])
-            ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+            small = len(handles) > 12
+            # Tall enough for the legend: about 0.17 in per entry at 7.5 pt (0.21 at the default size).
+            height = max(fig.get_size_inches()[1], 0.8 + (0.17 if small else 0.21) * len(handles))
+            fig.set_size_inches(8.2 if not small else 9.0, height)
+            ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
+                      fontsize=7.5 if small else None)
         elif handles:
             ax.legend(loc=panel.get("legend", "best"))
     num = spec.get("thesis_figure")

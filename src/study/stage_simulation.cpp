@@ -1,7 +1,9 @@
 // Stage 5: simulated tests (thesis §5.1.1, §5.2.1): every input on the study's calibrated model,
 // unshaped and with each shaper designed from each mode source; Eq. 5.1, the delay each shaper
 // adds, and the shapers' sensitivity curves.
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -15,8 +17,11 @@
 
 namespace clearshape::study::detail {
 
-std::optional<shaping::Shaper> design_for(const Context& c, const std::string& method,
-                                          const std::string& mode_source, std::string& reason) {
+namespace {
+
+// The shaper as designed for a mode source, before the update grid (nullopt with a reason).
+std::optional<shaping::Shaper> design_off_grid(const Context& c, const std::string& method,
+                                               const std::string& mode_source, std::string& reason) {
   const ModeResult& m = mode_source == "drive-model" ? c.drive_mode : c.link_mode;
   if (!m.available) {
     reason = m.note.empty() ? fmt::format("no {} mode", mode_source) : m.note;
@@ -26,7 +31,31 @@ std::optional<shaping::Shaper> design_for(const Context& c, const std::string& m
     shaping::DesignRequest request;
     request.method = shaping::method_from_string(method);
     request.mode = m.mode;
-    shaping::Shaper designed = shaping::design(request);
+    return shaping::design(request);
+  } catch (const std::exception& e) {
+    reason = e.what();
+    return std::nullopt;
+  }
+}
+
+bool same_impulses(const shaping::Shaper& a, const shaping::Shaper& b) {
+  const auto& x = a.impulses();
+  const auto& y = b.impulses();
+  if (x.size() != y.size()) return false;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (std::abs(x[i].time_s - y[i].time_s) > 1e-9 || std::abs(x[i].amplitude - y[i].amplitude) > 1e-12) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::optional<shaping::Shaper> design_for(const Context& c, const std::string& method,
+                                          const std::string& mode_source, std::string& reason) {
+  auto off_grid = design_off_grid(c, method, mode_source, reason);
+  if (!off_grid) return std::nullopt;
+  try {
+    const shaping::Shaper& designed = *off_grid;
     if (!(c.p.shaping.grid_hz > 0.0)) return designed;
     // The drive's update grid (§3.2): nearest update instant, coincident impulses merged.
     const double t_u = 1.0 / c.p.shaping.grid_hz;
@@ -243,36 +272,124 @@ void stage_simulation(Context& c) {
   }
   c.tables.push_back(table);
 
-  // Shaper sensitivity curves V(ω/ωm) (Eq. 2.19) of every designed shaper.
+  // Shaper sensitivity curves (Eq. 2.19) of every designed shaper, all evaluated on the vibration
+  // that matters — the link's identified residual mode (ω_link, ζ_link) — against r = ω/ω_link:
+  // a drive-model shaper is designed for ζ ≈ 1 (position) and its own-ζ curve says nothing about
+  // the link. Where the drive's 30 Hz update grid moved or merged impulses (design_for), the curve
+  // as applied is drawn and, beside it, the curve as designed: the grid is real (the driver
+  // applies the position at its updates), so the as-applied curve is what the rig sees; e.g. an
+  // MZV for a 15 Hz mode needs impulses 22 and 45 ms apart, the grid gives 33 and 67 ms, and its
+  // V(1) is far from 0. Without an identified link mode every shaper is drawn at its own mode.
+  const bool on_link = c.link_mode.available;
   std::vector<std::string> names{"frequency_ratio"};
   std::vector<std::vector<double>> curves;
   json series = json::array();
   const std::size_t points = 251;
   std::vector<double> ratio(points);
   for (std::size_t k = 0; k < points; ++k) ratio[k] = 2.5 * static_cast<double>(k) / static_cast<double>(points - 1);
+  // Eq. 2.19 compares the residual after the last impulse t_N with one impulse applied at t_N, so
+  // an impulse of no consequence (a drive-model ZV for ζ ≈ 1 ends with one of 1e-10) would let the
+  // unshaped vibration decay until t_N and read as cancelled: impulses below 1e-9 of the sum are
+  // left out of the curves (the shaper is then the single impulse it is, V = 1).
+  auto curve_of = [&](const shaping::Shaper& full, const shaping::Mode& reference) {
+    double total = 0.0;
+    for (const auto& i : full.impulses()) total += std::abs(i.amplitude);
+    std::vector<shaping::Impulse> kept;
+    for (const auto& i : full.impulses()) {
+      if (std::abs(i.amplitude) >= 1e-9 * total) kept.push_back(i);
+    }
+    const shaping::Shaper shaper(full.method(), std::move(kept), shaping::Shaper::Normalize::no);
+    const auto curve = shaping::sensitivity_curve(shaper, reference, reference.damping_ratio, 0.0, 2.5, points);
+    std::vector<double> v(points);
+    for (std::size_t k = 0; k < points; ++k) v[k] = curve[k].residual;
+    return v;
+  };
+  auto add_curve = [&](std::vector<double> v, const std::string& column, const std::string& label,
+                       const char* variant) {
+    // A curve identical to one already drawn (the drive-model ZV family for ζ ≈ 1: one impulse
+    // each, V ≡ 1) joins it: one line, both names.
+    for (std::size_t i = 0; i < curves.size(); ++i) {
+      if (series[i].at("variant") != variant) continue;
+      double diff = 0.0;
+      for (std::size_t k = 0; k < points; ++k) diff = std::max(diff, std::abs(curves[i][k] - v[k]));
+      if (diff < 1e-12) {
+        // "zv (drive-model)" + "zvd (drive-model)" → "zv = zvd (drive-model)"
+        std::string merged = series[i].at("label").get<std::string>();
+        const auto paren = label.find(" (");
+        const auto tail = paren == std::string::npos ? std::string() : label.substr(paren);
+        if (!tail.empty() && merged.size() > tail.size() && merged.ends_with(tail)) {
+          merged = fmt::format("{} = {}{}", merged.substr(0, merged.size() - tail.size()), label.substr(0, paren), tail);
+        } else {
+          merged = fmt::format("{} = {}", merged, label);
+        }
+        series[i]["label"] = merged;
+        return;
+      }
+    }
+    curves.push_back(std::move(v));
+    names.push_back(column);
+    series.push_back({{"column", column}, {"label", label}, {"variant", variant}});
+  };
+  // The as-designed curve is drawn only where the grid changes V by more than this (in V, a
+  // fraction): a shift of a fraction of a millisecond is not worth a second line.
+  constexpr double kGridEffect = 0.02;
+  json markers = json::array();
   for (std::size_t j = 1; j < cols.size(); ++j) {
     if (!cols[j].shaper) continue;
     const std::string src = cols[j].key.substr(cols[j].key.find('@') + 1);
-    const shaping::Mode mode = src == "drive-model" ? c.drive_mode.mode : c.link_mode.mode;
-    const auto curve = shaping::sensitivity_curve(*cols[j].shaper, mode, 0.0, 2.5, points);
-    std::vector<double> v(points);
-    for (std::size_t k = 0; k < points; ++k) v[k] = curve[k].residual;
-    curves.push_back(std::move(v));
-    names.push_back(fmt::format("residual_{}", cols[j].key));
-    series.push_back({{"column", names.back()}, {"label", cols[j].label}});
+    const shaping::Mode& own = src == "drive-model" ? c.drive_mode.mode : c.link_mode.mode;
+    const shaping::Mode& reference = on_link ? c.link_mode.mode : own;
+    std::vector<double> applied = curve_of(*cols[j].shaper, reference);
+    std::string ignored;
+    const auto designed = design_off_grid(c, cols[j].key.substr(0, cols[j].key.find('@')), src, ignored);
+    std::vector<double> as_designed;
+    if (designed && !same_impulses(*designed, *cols[j].shaper)) {
+      as_designed = curve_of(*designed, reference);
+      double effect = 0.0;
+      for (std::size_t k = 0; k < points; ++k) effect = std::max(effect, std::abs(as_designed[k] - applied[k]));
+      if (!(effect > kGridEffect)) as_designed.clear();
+    }
+    add_curve(std::move(applied), fmt::format("residual_{}", cols[j].key),
+              as_designed.empty() ? cols[j].label : fmt::format("{}, on the {:g} Hz grid", cols[j].label, c.p.shaping.grid_hz),
+              "applied");
+    if (!as_designed.empty()) {
+      add_curve(std::move(as_designed), fmt::format("residual_{}_designed", cols[j].key),
+                fmt::format("{}, as designed (off the grid)", cols[j].label), "designed");
+    }
+  }
+  if (on_link) {
+    markers.push_back({{"x", 1.0},
+                       {"label", fmt::format("link mode {:.3g} Hz, ζ {:.2g}",
+                                             c.link_mode.mode.natural_frequency_rad_s / (2.0 * std::numbers::pi),
+                                             c.link_mode.mode.damping_ratio)}});
+    if (c.drive_mode.available) {
+      markers.push_back({{"x", c.drive_mode.mode.natural_frequency_rad_s / c.link_mode.mode.natural_frequency_rad_s},
+                         {"label", fmt::format("drive model {:.3g} Hz, ζ {:.2g}",
+                                               c.drive_mode.mode.natural_frequency_rad_s / (2.0 * std::numbers::pi),
+                                               c.drive_mode.mode.damping_ratio)}});
+    }
   }
   if (!curves.empty()) {
     std::vector<const std::vector<double>*> data{&ratio};
     for (const auto& v : curves) data.push_back(&v);
     write_data_csv(c, "sensitivity.csv", names, data);
-    c.figures.push_back({{"id", "shaper-sensitivity"},
-                         {"thesis_figure", nullptr},
-                         {"kind", "sensitivity"},
-                         {"title", "Shaper sensitivity: residual vibration V vs frequency ratio ω/ωm (Eq. 2.19)"},
-                         {"file", c.data_file("sensitivity.csv")},
-                         {"x", {{"column", "frequency_ratio"}, {"label", "ω / ωm"}}},
-                         {"y_label", "residual vibration V"},
-                         {"series", series}});
+    c.figures.push_back(
+        {{"id", "shaper-sensitivity"},
+         {"thesis_figure", nullptr},
+         {"kind", "sensitivity"},
+         {"title", on_link ? fmt::format("Shaper sensitivity on the link's residual mode (ζ = {:.2g}): residual "
+                                         "vibration V (Eq. 2.19) vs ω/ω_link, every shaper as applied{}",
+                                         c.link_mode.mode.damping_ratio,
+                                         c.p.shaping.grid_hz > 0.0
+                                             ? fmt::format(" on the {:g} Hz update grid", c.p.shaping.grid_hz)
+                                             : std::string())
+                           : std::string("Shaper sensitivity: residual vibration V vs frequency ratio ω/ωm (Eq. 2.19)")},
+         {"file", c.data_file("sensitivity.csv")},
+         {"x", {{"column", "frequency_ratio"}, {"label", on_link ? "ω / ω_link" : "ω / ωm"}}},
+         {"y_label", "residual vibration V"},
+         {"series", series},
+         {"markers", markers},
+         {"reference_mode", on_link ? "link-mode" : "own"}});
   }
   json designs = json::array();
   for (std::size_t j = 1; j < cols.size(); ++j) {
