@@ -744,9 +744,14 @@ def flank_discussion(ctx: Context, results: dict) -> str:
              "shaped number is a prediction of a model whose vibration is essentially one linear mode — the case "
              "input shaping is exact for. The play is the model's only nonlinearity")
     if md_without is not None and md_with is not None and ctx.mode == "position":
-        trust += (f": it is {fmt(play / md_without, 2)}× the unshaped residual ({fmt(md_without, 3)}°) but "
-                  f"{fmt(play / md_with, 2)}× the shaped one ({fmt(md_with, 3)}°), so the shaped mean deviations are "
-                  "set by the play and the gyro's drift rather than by the mode")
+        trust += f": the fitted play is {fmt(play / md_without, 2)}× the unshaped residual ({fmt(md_without, 3)}°)"
+        if play >= 0.5 * md_with:
+            trust += (f" but {fmt(play / md_with, 2)}× the shaped one ({fmt(md_with, 3)}°), so the shaped mean "
+                      "deviations are set by the play and the gyro's drift rather than by the mode")
+        else:
+            trust += (f" and {fmt(play / md_with, 2)}× even the shaped one ({fmt(md_with, 3)}°), so the model is "
+                      "linear at every amplitude the tables measure, and the shaped mean deviations are set by the "
+                      "gyro's drift and what the shaper leaves of the mode")
     trust += (". If the real contact is the stiff, impacting law the thesis identified, its vibration depends on "
               "amplitude and each impact excites a broad band that a shaper tuned to one mode cannot cancel: the "
               "shaped mean deviations and improvements here are then the best case for the modelled physics, and "
