@@ -67,6 +67,13 @@ std::vector<Section> schema(RigConfig& c, DriveEdit& position, DriveEdit& speed)
   auto num = [](double& field) {
     return [&field](const toml::node& n, const std::string& k) { field = number(n, k); };
   };
+  auto ranged = [](double& field, double lo, double hi) {
+    return [&field, lo, hi](const toml::node& n, const std::string& k) {
+      const double v = number(n, k);
+      require_in_closed(k, v, lo, hi);
+      field = v;
+    };
+  };
   auto drive_keys = [&](DriveEdit& d) {
     auto p = [&d](double lti::ProcessParameters::*member) {
       return [&d, member](const toml::node& n, const std::string& k) {
@@ -163,6 +170,13 @@ std::vector<Section> schema(RigConfig& c, DriveEdit& position, DriveEdit& speed)
            t.analog_output.resolution_bits = static_cast<int>(v);
          }},
         {"full_scale_v", num(t.analog_output.full_scale_v)}}},
+      {"variation",  // run-to-run variation (rig/variation.hpp); SimRig only
+       {{"position_gain_rel_sigma", ranged(t.variation.position_gain_rel_sigma, 0.0, 0.1)},
+        {"speed_gain_rel_sigma", ranged(t.variation.speed_gain_rel_sigma, 0.0, 0.1)},
+        {"start_latency_max_s", ranged(t.variation.start_latency_max_s, 0.0, 1e-3)},
+        {"analog_noise_v", ranged(t.variation.analog_noise_v, 0.0, 0.1)},
+        {"analog_offset_sigma_v", ranged(t.variation.analog_offset_sigma_v, 0.0, 0.1)},
+        {"flank_damping_rel_sigma", ranged(t.variation.flank_damping_rel_sigma, 0.0, 1.0)}}},
       {"solver",
        {{"integrator",
          [&t](const toml::node& n, const std::string& k) {
@@ -274,7 +288,9 @@ RigConfig load_rig_config(const std::filesystem::path& path) {
 
 rig::ContactSpec resolve_contact(const RigConfig& config, rig::ContactModel model,
                                  rig::CommandMode mode) {
-  rig::ContactSpec spec = rig::ContactSpec::defaults(model, mode);
+  // The built-in (calibrated) truth's contact when the model is its own, else the model's defaults.
+  const rig::ContactSpec& built_in = config.truth.contact(mode);
+  rig::ContactSpec spec = built_in.model == model ? built_in : rig::ContactSpec::defaults(model, mode);
   const auto& o = config.contact_overrides;
   if (config.has_stiffness) spec.stiffness = o.stiffness;
   if (config.has_exponent) spec.exponent = o.exponent;

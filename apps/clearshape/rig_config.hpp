@@ -1,6 +1,6 @@
 #pragma once
 // The rig configuration file of `clearshape simulate` (TOML, read with toml++). Every key is
-// optional; what is absent keeps the built-in thesis rig (rig/truth.hpp). Unknown tables or
+// optional; what is absent keeps the built-in (calibrated) thesis rig (rig/truth.hpp). Unknown tables or
 // keys, values of the wrong type and values out of range are InputErrors naming the file, the
 // line and the key. Schema (units in the key names; see README "clearshape simulate"):
 //   [run]            duration_s, output_rate_hz, initial_play_fraction, seed, sensor_noise
@@ -15,6 +15,9 @@
 //                    latency_samples
 //   [position_path]  update_rate_hz, counts_per_rev, gear_ratio, max_pulse_frequency_hz
 //   [speed_path]     volts_per_unit, resolution_bits, full_scale_v
+//   [variation]      position_gain_rel_sigma, speed_gain_rel_sigma, start_latency_max_s,
+//                    analog_noise_v, analog_offset_sigma_v, flank_damping_rel_sigma
+//                    (run-to-run variation, rig/variation.hpp; SimRig only)
 //   [solver]         integrator ("bdf" | "adams"), relative_tolerance, angle_tolerance_rad,
 //                    rate_tolerance_rad_s, max_step_s
 #include <cstdint>
@@ -41,7 +44,8 @@ struct RigConfig {
 /// Reads `path` over the defaults. Throws InputError (file, line, key).
 RigConfig load_rig_config(const std::filesystem::path& path);
 
-/// The contact spec for `mode`: the model's defaults (ContactSpec::defaults), then the
+/// The contact spec for `mode`: the truth's own contact if it uses `model` (the built-in rig:
+/// the calibrated thesis law), else the model's defaults (ContactSpec::defaults); then the
 /// config's numbers.
 rig::ContactSpec resolve_contact(const RigConfig& config, rig::ContactModel model,
                                  rig::CommandMode mode);

@@ -4,6 +4,8 @@
 #include <optional>
 #include <random>
 
+#include <fmt/format.h>
+
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/plant/encoder.hpp"
@@ -19,6 +21,21 @@ namespace clearshape::rig {
 void SimRigOptions::validate() const {
   require_in_closed("sample_rate_hz", sample_rate_hz, 1.0, 1e5);
 }
+
+namespace {
+// Independent streams of the variation (far from the initial-play and gyro streams 1, 2, …).
+constexpr std::uint64_t kVariationStream = std::uint64_t{1} << 62;
+constexpr std::uint64_t kAnalogNoiseStream = (std::uint64_t{1} << 62) + (std::uint64_t{1} << 61);
+
+// The plant of one activation: the truth with the drawn flank damping.
+plant::PlantModel varied_plant(const RigTruth& truth, CommandMode mode, double damping_factor) {
+  if (damping_factor == 1.0) return plant_model(truth, mode);
+  RigTruth t = truth;
+  t.position_contact.damping *= damping_factor;
+  t.speed_contact.damping *= damping_factor;
+  return plant_model(t, mode);
+}
+}  // namespace
 
 struct SimRig::Impl {
   explicit Impl(const RigTruth& t) : truth(t) {}
@@ -43,6 +60,12 @@ struct SimRig::Impl {
   double previous_motor_rate = 0.0;
   std::uint32_t pending_flags = 0;
   std::uint64_t events_at_activation = 0;
+  // Run-to-run variation (truth.variation): this activation's draw and the D/A noise source.
+  RunDraw draw{};
+  double drive_gain = 1.0;          // draw.position_gain or draw.speed_gain
+  double applied_command = 0.0;     // speed mode: the drive command in force (after latency)
+  std::mt19937_64 noise_rng{1};
+  std::normal_distribution<double> noise{0.0, 1.0};
 };
 
 SimRig::SimRig(const SimRigOptions& options)
@@ -73,6 +96,11 @@ void SimRig::on_configure() {
   options_.validate();
   Impl& m = *impl_;
   m.truth.validate();
+  if (m.truth.variation.start_latency_max_s > sample_time_s()) {
+    throw_invalid("truth.variation.start_latency_max_s", m.truth.variation.start_latency_max_s,
+                  fmt::format("[0, {}] s (one sample period at {} Hz)", sample_time_s(), options_.sample_rate_hz),
+                  "Lower the latency or the sample rate");
+  }
   m.rigid = m.truth.clearance_rad == 0.0;
   m.simulator.emplace(plant_model(m.truth, options_.mode), m.truth.solver);
   m.encoder.emplace(m.truth.encoder);
@@ -93,6 +121,20 @@ void SimRig::on_activate() {
   }
   plant::InitialState initial;
   initial.relative_angle_rad = m.rigid ? 0.0 : fraction * m.truth.half_play_rad();
+  // Run-to-run variation: one draw per activation (own stream; nothing drawn when all σ are 0,
+  // so such a rig gives the same bytes as one without variation).
+  const RunVariation& v = m.truth.variation;
+  m.draw = RunDraw{};
+  if (v.any()) {
+    std::mt19937_64 rng(detail::mix_seed(options_.seed, kVariationStream + run));
+    m.draw = draw_run_variation(v, rng);
+    m.noise_rng.seed(detail::mix_seed(options_.seed, kAnalogNoiseStream + run));
+    m.noise.reset();
+    if (m.draw.flank_damping_factor != 1.0 || v.flank_damping_rel_sigma > 0.0) {
+      m.simulator.emplace(varied_plant(m.truth, options_.mode, m.draw.flank_damping_factor), m.truth.solver);
+    }
+  }
+  m.drive_gain = options_.mode == CommandMode::position ? m.draw.position_gain : m.draw.speed_gain;
   m.simulator->reset(initial, 0.0);
   m.events_at_activation = static_cast<std::uint64_t>(m.simulator->stats().events);
   m.simulator->clear_events();
@@ -103,7 +145,9 @@ void SimRig::on_activate() {
   m.sequence = 0;
   m.target = 0.0;
   m.drive_command = 0.0;
-  m.next_update_s = 0.0;
+  m.applied_command = 0.0;
+  // Position mode: the 30 Hz update clock's phase is the drawn latency.
+  m.next_update_s = m.draw.start_latency_s;
   m.update_start_s = 0.0;
   m.previous_motor_rate = 0.0;
   m.pending_flags = 0;
@@ -133,6 +177,21 @@ Status SimRig::on_read(Measurement& out) noexcept {
   if (m.sequence > 0) {
     const double t_previous = t - ts;
     double command = m.drive_command;
+    Status status = Status::ok;
+    if (!m.pulses) {
+      // Speed mode: the D/A output is the written command times the drawn gain, plus the drawn
+      // offset and white noise; a new value takes effect start_latency_s after the sample.
+      const RunVariation& v = m.truth.variation;
+      command = m.drive_gain * m.drive_command + m.draw.analog_offset_v / m.truth.analog_output.volts_per_unit;
+      if (v.analog_noise_v > 0.0) {
+        command += v.analog_noise_v * m.noise(m.noise_rng) / m.truth.analog_output.volts_per_unit;
+      }
+      if (m.draw.start_latency_s > 1e-9 * ts && command != m.applied_command) {
+        status = m.simulator->advance(t_previous + m.draw.start_latency_s, m.applied_command);
+        if (status != Status::ok) return Status::device_error;
+      }
+      m.applied_command = command;
+    }
     if (m.pulses) {
       // Position mode: the pulse generator takes a new target at each 30 Hz update instant.
       if (t_previous >= m.next_update_s - 1e-9 * ts) {
@@ -142,10 +201,10 @@ Status SimRig::on_read(Measurement& out) noexcept {
           flags |= bit(MeasurementFlag::command_limited);
         }
       }
-      command = drive_units(CommandMode::position,
-                            m.pulses->commanded_rad(t_previous - m.update_start_s));
+      command = m.drive_gain * drive_units(CommandMode::position,
+                                           m.pulses->commanded_rad(t_previous - m.update_start_s));
     }
-    const Status status = m.simulator->advance(t, command);
+    status = m.simulator->advance(t, command);
     if (status != Status::ok) return Status::device_error;
   }
   if (m.pacer && m.pacer->wait() == Status::overrun) flags |= bit(MeasurementFlag::overrun);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <ostream>
@@ -16,6 +17,7 @@
 #include "clearshape/dsp/encoder_speed.hpp"
 #include "clearshape/dsp/sosfilt.hpp"
 #include "clearshape/lti/simulate.hpp"
+#include "clearshape/metrics/consistency.hpp"
 #include "clearshape/plant/drive.hpp"
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/signal/signal.hpp"
@@ -106,12 +108,53 @@ DriveChainFit fit_drive_under_chain(const lti::ProcessModel& identified, double 
 // ---------------------------------------------------------------------------------------------
 // Unshaped trials on a SimRig with a given truth.
 
+namespace {
+
+// One run of `input` on a fresh SimRig with `truth` (seed from `id`, as the study derives it).
+struct RunJob {
+  const InputSpec* input = nullptr;
+  std::string id;
+};
+
+// Runs every job on `threads` threads; `use(j, record)` consumes job j's record (called from
+// the worker threads, each j once; it must write only to j's own slot).
+void run_jobs(const rig::RigTruth& truth, const Protocol& protocol, const std::vector<RunJob>& jobs,
+              std::uint64_t seed, int threads, const std::function<void(std::size_t, const Record&)>& use) {
+  std::atomic<std::size_t> next{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  auto worker = [&]() {
+    for (std::size_t j = next.fetch_add(1); j < jobs.size(); j = next.fetch_add(1)) {
+      try {
+        const InputSpec& in = *jobs[j].input;
+        RunRequest req;
+        req.id = jobs[j].id;
+        req.seed = run_seed(seed, req.id);
+        req.command = signal::sample(in.signal, protocol.sample_rate_hz, protocol.record_s);
+        req.record_s = protocol.record_s;
+        rig::SimRigOptions o;
+        o.mode = protocol.mode;
+        o.sample_rate_hz = protocol.sample_rate_hz;
+        o.seed = req.seed;
+        auto sim = rig::make_sim_rig_with_truth(o, truth);
+        use(j, execute_run(*sim, req));
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
 std::vector<TargetResidual> unshaped_residuals(const rig::RigTruth& truth, const Protocol& protocol,
                                                int trials, std::uint64_t seed, int threads) {
-  struct Job {
-    std::size_t target;
-    int trial;
-  };
   std::vector<TargetResidual> out;
   std::vector<const InputSpec*> inputs;
   for (const auto& table : protocol.rig_tests.tables) {
@@ -127,45 +170,22 @@ std::vector<TargetResidual> unshaped_residuals(const rig::RigTruth& truth, const
       inputs.push_back(&protocol.input(table.input));
     }
   }
-  std::vector<Job> jobs;
+  std::vector<RunJob> jobs;
+  std::vector<std::size_t> target_of;
   for (std::size_t i = 0; i < out.size(); ++i) {
-    for (int t = 0; t < trials; ++t) jobs.push_back({i, t});
+    for (int t = 0; t < trials; ++t) {
+      jobs.push_back({inputs[i], fmt::format("calibration/{}/r{:02d}", out[i].table, t + 1)});
+      target_of.push_back(i);
+    }
   }
   std::vector<double> md(jobs.size(), 0.0);
-  std::atomic<std::size_t> next{0};
-  std::mutex error_mutex;
-  std::exception_ptr error;
-  auto worker = [&]() {
-    for (std::size_t j = next.fetch_add(1); j < jobs.size(); j = next.fetch_add(1)) {
-      try {
-        const InputSpec& in = *inputs[jobs[j].target];
-        RunRequest req;
-        req.id = fmt::format("calibration/{}/r{:02d}", out[jobs[j].target].table, jobs[j].trial + 1);
-        req.seed = run_seed(seed, req.id);
-        req.command = signal::sample(in.signal, protocol.sample_rate_hz, protocol.record_s);
-        req.record_s = protocol.record_s;
-        rig::SimRigOptions o;
-        o.mode = protocol.mode;
-        o.sample_rate_hz = protocol.sample_rate_hz;
-        o.seed = req.seed;
-        auto sim = rig::make_sim_rig_with_truth(o, truth);
-        const Record r = execute_run(*sim, req);
-        md[j] = run_mean_deviation(r, protocol.measure, in).mean_deviation;
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  run_jobs(truth, protocol, jobs, seed, threads, [&](std::size_t j, const Record& r) {
+    md[j] = run_mean_deviation(r, protocol.measure, *jobs[j].input).mean_deviation;
+  });
   for (std::size_t i = 0; i < out.size(); ++i) {
     std::vector<double> v;
     for (std::size_t j = 0; j < jobs.size(); ++j) {
-      if (jobs[j].target == i) v.push_back(md[j]);
+      if (target_of[j] == i) v.push_back(md[j]);
     }
     const MeanStd ms = mean_std(v);
     out[i].ours_mean = ms.mean;
@@ -232,6 +252,189 @@ double position_objective(unsigned, const double* x, double*, void* data) {
 
 }  // namespace
 
+// ---------------------------------------------------------------------------------------------
+// Step 4: run-to-run variation.
+
+double VariationResidual::log_error() const { return std::log(std::max(ours, 1e-300) / target); }
+
+namespace {
+
+// Eq. 4.1 mean error of each consistency input (Tables 4.1–4.2) over `repetitions` runs.
+void consistency_residuals(const rig::RigTruth& truth, const Protocol& p, int repetitions, std::uint64_t seed,
+                           int threads, std::vector<VariationResidual>& out) {
+  const auto& cs = p.consistency;
+  std::vector<RunJob> jobs;
+  for (const auto& name : cs.inputs) {
+    for (int r = 0; r < repetitions; ++r) jobs.push_back({&p.input(name), fmt::format("calibration/{}/{}/r{:02d}", cs.table, name, r + 1)});
+  }
+  const bool speed = p.mode == rig::CommandMode::speed;
+  const bool zero_phase = p.identification.speed_chain == "zero-phase";
+  std::vector<std::vector<double>> signals(jobs.size());
+  run_jobs(truth, p, jobs, seed, threads, [&](std::size_t j, const Record& r) {
+    signals[j] = speed ? motor_speed_deg_s(r, zero_phase) : r.motor_angle_deg;  // as stage_consistency
+  });
+  for (std::size_t i = 0; i < cs.inputs.size(); ++i) {
+    const auto th = cs.thesis.find(cs.inputs[i]);
+    if (th == cs.thesis.end()) continue;
+    VariationResidual v;
+    v.table = cs.table;
+    v.input = cs.inputs[i];
+    v.quantity = "eq41_mean";
+    v.target = th->second.mean.value_or(mean_std(th->second.values).mean);
+    const std::span<const std::vector<double>> runs(signals.data() + i * static_cast<std::size_t>(repetitions),
+                                                    static_cast<std::size_t>(repetitions));
+    v.ours = metrics::consistency_errors(runs).mean_error;
+    out.push_back(v);
+  }
+}
+
+}  // namespace
+
+std::vector<VariationResidual> variation_residuals(const rig::RigTruth& truth, const Protocol& position,
+                                                   const Protocol& speed, int repetitions,
+                                                   std::uint64_t seed, int threads) {
+  std::vector<VariationResidual> out;
+  for (const Protocol* p : {&speed, &position}) {
+    consistency_residuals(truth, *p, repetitions, seed, threads, out);
+    for (const auto& r : unshaped_residuals(truth, *p, repetitions, seed, threads)) {
+      out.push_back({r.table, r.input, "md_std", r.target_std, r.ours_std});
+      out.push_back({r.table, r.input, "md_mean", r.target_mean, r.ours_mean});
+    }
+  }
+  return out;
+}
+
+namespace {
+
+struct VariationData {
+  const Protocol* position = nullptr;
+  const Protocol* speed = nullptr;
+  rig::RigTruth base;
+  VariationCalibrationOptions options;
+  int evaluations = 0;
+  double best = std::numeric_limits<double>::infinity();
+};
+
+// The fitted σ's, as logs (x) ↔ RunVariation.
+constexpr int kVariationParameters = 6;
+rig::RunVariation variation_from(const double* x) {
+  rig::RunVariation v;
+  v.position_gain_rel_sigma = std::exp(x[0]);
+  v.speed_gain_rel_sigma = std::exp(x[1]);
+  v.start_latency_max_s = std::exp(x[2]);
+  v.analog_noise_v = std::exp(x[3]);
+  v.analog_offset_sigma_v = std::exp(x[4]);
+  v.flank_damping_rel_sigma = std::exp(x[5]);
+  return v;
+}
+
+// Huber loss on the log errors (quadratic within a factor 2, linear beyond): a target no
+// mechanism can reach (e.g. Table 4.2's double step) does not dominate the fit of the others.
+double variation_score(const std::vector<VariationResidual>& res, double mean_weight) {
+  const double k = std::log(2.0);
+  double s = 0.0;
+  for (const auto& r : res) {
+    if (!(r.target > 0.0)) continue;
+    const double e = std::abs(r.log_error());
+    s += (r.quantity == "md_mean" ? mean_weight : 1.0) * (e <= k ? e * e : k * (2.0 * e - k));
+  }
+  return s;
+}
+
+double variation_objective(unsigned, const double* x, double*, void* data) {
+  auto* d = static_cast<VariationData*>(data);
+  ++d->evaluations;
+  double s = 1e30;
+  rig::RigTruth t = d->base;
+  t.variation = variation_from(x);
+  try {
+    const auto res = variation_residuals(t, *d->position, *d->speed, d->options.repetitions, d->options.seed,
+                                         d->options.threads);
+    s = variation_score(res, d->options.mean_weight);
+  } catch (const std::exception&) {
+  }
+  if (s < d->best) d->best = s;
+  if (d->options.progress) {
+    const auto& v = t.variation;
+    *d->options.progress << fmt::format(
+        "calibrate-rig: variation {:3d}: gain {:.3g}/{:.3g}, latency {:.3g} s, D/A noise {:.3g} V, offset {:.3g} V, "
+        "flank D {:.3g} -> {:.5f} (best {:.5f})\n",
+        d->evaluations, v.position_gain_rel_sigma, v.speed_gain_rel_sigma, v.start_latency_max_s, v.analog_noise_v,
+        v.analog_offset_sigma_v, v.flank_damping_rel_sigma, s, d->best);
+    d->options.progress->flush();
+  }
+  return s;
+}
+
+}  // namespace
+
+VariationCalibrationResult calibrate_variation(const Protocol& position, const Protocol& speed,
+                                               const rig::RigTruth& truth,
+                                               const VariationCalibrationOptions& options) {
+  if (position.mode != rig::CommandMode::position || speed.mode != rig::CommandMode::speed) {
+    throw InvalidArgument("calibrate_variation needs a position-mode and a speed-mode protocol, in that order");
+  }
+  require_in_closed("repetitions", static_cast<double>(options.repetitions), 2.0, 100.0);
+  VariationData d;
+  d.position = &position;
+  d.speed = &speed;
+  d.base = truth;
+  d.options = options;
+  // Bounds (logs): relative gains 1e-6…0.05, latency 1e-7…0.9e-3 s (under one 1 kHz sample),
+  // D/A 1e-6…0.05 V, flank 1e-3…1.
+  const std::vector<double> lo{std::log(1e-6), std::log(1e-6), std::log(1e-7), std::log(1e-6), std::log(1e-6),
+                               std::log(1e-3)};
+  const std::vector<double> hi{std::log(0.05), std::log(0.05), std::log(0.9e-3), std::log(0.05), std::log(0.05),
+                               std::log(1.0)};
+  const auto& v0 = truth.variation;
+  // Start: the truth's σ's where set, else an order-of-magnitude guess from Tables 4.1–4.2.
+  const auto start = [](double value, double guess) { return std::log(value > 0.0 ? value : guess); };
+  std::vector<double> x{start(v0.position_gain_rel_sigma, 1e-4), start(v0.speed_gain_rel_sigma, 2e-3),
+                        start(v0.start_latency_max_s, 4e-4), start(v0.analog_noise_v, 1.2e-3),
+                        start(v0.analog_offset_sigma_v, 1e-3), start(v0.flank_damping_rel_sigma, 0.15)};
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::clamp(x[i], lo[i], hi[i]);
+  nlopt_opt opt = nlopt_create(NLOPT_LN_BOBYQA, kVariationParameters);
+  nlopt_set_lower_bounds(opt, lo.data());
+  nlopt_set_upper_bounds(opt, hi.data());
+  nlopt_set_min_objective(opt, variation_objective, &d);
+  nlopt_set_maxeval(opt, options.max_evaluations);
+  nlopt_set_xtol_rel(opt, 1e-3);
+  const std::vector<double> step(kVariationParameters, 0.7);  // a factor 2 per step
+  nlopt_set_initial_step(opt, step.data());
+  double value = 0.0;
+  nlopt_optimize(opt, x.data(), &value);
+  nlopt_destroy(opt);
+  VariationCalibrationResult result;
+  result.variation = variation_from(x.data());
+  result.evaluations = d.evaluations;
+  result.objective = value;
+  rig::RigTruth t = truth;
+  t.variation = result.variation;
+  // Residuals on other seeds than the search's (a check against fitting the draws).
+  result.residuals =
+      variation_residuals(t, position, speed, options.final_repetitions, options.seed + 1, options.threads);
+  return result;
+}
+
+json VariationCalibrationResult::to_json() const {
+  json j;
+  j["variation"] = {{"position_gain_rel_sigma", variation.position_gain_rel_sigma},
+                    {"speed_gain_rel_sigma", variation.speed_gain_rel_sigma},
+                    {"start_latency_max_s", variation.start_latency_max_s},
+                    {"analog_noise_v", variation.analog_noise_v},
+                    {"analog_offset_sigma_v", variation.analog_offset_sigma_v},
+                    {"flank_damping_rel_sigma", variation.flank_damping_rel_sigma}};
+  json res = json::array();
+  for (const auto& r : residuals) {
+    res.push_back({{"table", r.table}, {"input", r.input}, {"quantity", r.quantity}, {"target", r.target},
+                   {"ours", r.ours}, {"ratio", r.target > 0.0 ? r.ours / r.target : 0.0}});
+  }
+  j["residuals"] = res;
+  j["evaluations"] = evaluations;
+  j["objective"] = objective;
+  return j;
+}
+
 RigCalibrationResult calibrate_rig(const Protocol& position, const Protocol& speed,
                                    const rig::RigTruth& start, const RigCalibrationOptions& options) {
   if (position.mode != rig::CommandMode::position || speed.mode != rig::CommandMode::speed) {
@@ -268,20 +471,37 @@ RigCalibrationResult calibrate_rig(const Protocol& position, const Protocol& spe
   std::vector<double> lo{std::log(0.005), std::log(1.0), std::log(1e-4), std::log(1e-3)};
   std::vector<double> hi{std::log(2.0), std::log(1e5), std::log(1e2), std::log(0.1)};
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::clamp(x[i], lo[i], hi[i]);
-  nlopt_opt opt = nlopt_create(NLOPT_LN_BOBYQA, 4);
-  nlopt_set_lower_bounds(opt, lo.data());
-  nlopt_set_upper_bounds(opt, hi.data());
-  nlopt_set_min_objective(opt, position_objective, &d);
-  nlopt_set_maxeval(opt, options.max_evaluations);
-  nlopt_set_xtol_rel(opt, 1e-3);
-  std::vector<double> step{0.3, 0.3, 0.3, 0.3};
-  nlopt_set_initial_step(opt, step.data());
-  double value = 0.0;
-  nlopt_optimize(opt, x.data(), &value);
-  nlopt_destroy(opt);
-  result.truth = position_truth(d, x.data());
-  result.evaluations = d.evaluations;
-  result.objective = value;
+  if (options.fit_joint) {
+    nlopt_opt opt = nlopt_create(NLOPT_LN_BOBYQA, 4);
+    nlopt_set_lower_bounds(opt, lo.data());
+    nlopt_set_upper_bounds(opt, hi.data());
+    nlopt_set_min_objective(opt, position_objective, &d);
+    nlopt_set_maxeval(opt, options.max_evaluations);
+    nlopt_set_xtol_rel(opt, 1e-3);
+    std::vector<double> step{0.3, 0.3, 0.3, 0.3};
+    nlopt_set_initial_step(opt, step.data());
+    double value = 0.0;
+    nlopt_optimize(opt, x.data(), &value);
+    nlopt_destroy(opt);
+    result.truth = position_truth(d, x.data());
+    result.evaluations = d.evaluations;
+    result.objective = value;
+  } else {
+    result.truth = base;  // the start's joint, kept
+  }
+
+  // 4. Run-to-run variation with the joint fixed.
+  if (options.variation_evaluations > 0) {
+    VariationCalibrationOptions vo;
+    vo.final_repetitions = std::max(2, std::min(10, position.repetitions));
+    vo.repetitions = std::min(vo.repetitions, vo.final_repetitions);
+    vo.max_evaluations = options.variation_evaluations;
+    vo.seed = options.seed;
+    vo.threads = options.threads;
+    vo.progress = options.progress;
+    result.variation = calibrate_variation(position, speed, result.truth, vo);
+    result.truth.variation = result.variation.variation;
+  }
 
   // 3. Residuals of both modes with the calibrated truth (more trials than during the search).
   const int trials = std::max(options.trials, std::min(10, position.repetitions));
@@ -315,6 +535,7 @@ json RigCalibrationResult::to_json() const {
   j["residuals"] = res;
   j["evaluations"] = evaluations;
   j["objective"] = objective;
+  if (variation.evaluations > 0) j["variation"] = variation.to_json();
   return j;
 }
 
@@ -338,6 +559,11 @@ std::string truth_to_toml(const rig::RigTruth& t, const std::string& header_comm
                    t.link.ground_viscous_n_m_s_per_rad);
   s += fmt::format("\n[gyroscope]\nnoise_density_dps_per_rthz = {}\nlow_pass_hz = {}\nbias_dps = {}\n",
                    t.gyro.noise_density_dps_per_rthz, plant::bandwidth_hz(t.gyro.low_pass), t.gyro.bias_dps);
+  const auto& v = t.variation;
+  s += fmt::format("\n[variation]\nposition_gain_rel_sigma = {}\nspeed_gain_rel_sigma = {}\nstart_latency_max_s = {}\n"
+                   "analog_noise_v = {}\nanalog_offset_sigma_v = {}\nflank_damping_rel_sigma = {}\n",
+                   v.position_gain_rel_sigma, v.speed_gain_rel_sigma, v.start_latency_max_s, v.analog_noise_v,
+                   v.analog_offset_sigma_v, v.flank_damping_rel_sigma);
   if (speed_drive) {
     const auto& p = speed_drive->parameters();
     s += fmt::format("\n[drive.speed]\nkp = {}\ntz_s = {}\nzeta = {}\ntw_s = {}\ntp3_s = {}\n", p.kp, p.tz, p.zeta,

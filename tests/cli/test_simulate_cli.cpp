@@ -49,15 +49,16 @@ TEST(SimulateCli, WritesUnitSuffixedCsvAndJsonSidecar) {
   EXPECT_DOUBLE_EQ(t.column("command_deg").back(), 20.0);
   // Motor: Kp·20° = 19.918° (Eq. 4.2), the command in whole pulses of 0.12°.
   EXPECT_NEAR(t.column("motor_deg").back(), 0.9959 * t.column("drive_command_deg").back(), 1e-3);
-  // The link stays within the ±0.5° play (plus a small penetration).
+  // The link settles within the built-in rig's ±0.016° play (plus the flank's deflection).
   EXPECT_LE(std::abs(t.column("link_deg").back() - t.column("motor_deg").back()), 0.6);
 
   const auto side = nlohmann::json::parse(std::ifstream(temp("position.json")));
   EXPECT_EQ(side["command"], "simulate");
   EXPECT_EQ(side["configuration"]["mode"], "position");
-  EXPECT_EQ(side["configuration"]["rig"]["clearance_deg"], 1.0);
+  // The built-in rig is the calibrated one (rig/truth.hpp, studies/sim-rig-truth.toml).
+  EXPECT_NEAR(side["configuration"]["rig"]["clearance_deg"].get<double>(), 0.032007, 1e-5);
   EXPECT_EQ(side["configuration"]["rig"]["contact"]["model"], "thesis");
-  EXPECT_EQ(side["configuration"]["rig"]["contact"]["stiffness_n_m_per_rad_pow_n"], 10000.0);
+  EXPECT_NEAR(side["configuration"]["rig"]["contact"]["stiffness_n_m_per_rad_pow_n"].get<double>(), 45.159, 0.01);
   EXPECT_NEAR(side["configuration"]["rig"]["drive"]["dc_gain"].get<double>(), 0.9959, 1e-9);
 
   const auto doc = nlohmann::json::parse(r.out);
@@ -70,12 +71,15 @@ TEST(SimulateCli, WritesUnitSuffixedCsvAndJsonSidecar) {
 }
 
 // --clearance-deg 0: the rigid drive. The link column equals the motor column and follows the
-// thesis Eq. 4.2 speed model: steady speed Kp·u = 25.47 °/s per V, overshoot 10.9 % (closed form
-// of the model's step response, cf. examples/04 and `clearshape demo`).
+// thesis Eq. 4.2 speed model (set by the config: the built-in rig's calibrated speed drive is
+// the one whose filtered response is Eq. 4.2): steady speed Kp·u = 25.47 °/s per V, overshoot
+// 10.9 % (closed form of the model's step response, cf. examples/04 and `clearshape demo`).
 TEST(SimulateCli, ZeroClearanceIsTheRigidDriveResponse) {
   const auto csv = temp("rigid.csv");
-  const auto doc = run_json("--mode speed --signal step --amplitude 1 --duration 3 --clearance-deg 0 --no-noise -o " +
-                            csv.string());
+  const auto eq42 = temp("eq42.toml");
+  std::ofstream(eq42) << "[drive.speed]\nkp = 25.47\ntz_s = -0.0398\nzeta = 0.2880\ntw_s = 0.0479\ntp3_s = 0.0857\n";
+  const auto doc = run_json("--mode speed --signal step --amplitude 1 --duration 3 --clearance-deg 0 --no-noise --config " +
+                            eq42.string() + " -o " + csv.string());
   EXPECT_EQ(doc["events"], 0);
   EXPECT_EQ(doc["rigid"], true);
   const auto t = clearshape::io::read_table(csv);

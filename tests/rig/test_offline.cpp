@@ -59,8 +59,11 @@ TEST(SimulateRun, ZeroClearanceReproducesTheRigidDriveResponsePositionMode) {
   EXPECT_NEAR(run.command_drive.back(), 10.0, 0.12 + 1e-9);  // whole pulses of 0.12°
 }
 
+// Speed mode: the prior's drive is the thesis's Eq. 4.2 speed model itself (the calibrated
+// rig's drive is the one whose response through the 30 rad/s chain is Eq. 4.2; see
+// tests/study/test_rig_calibration.cpp), so the reference is lti's Eq. 4.2.
 TEST(SimulateRun, ZeroClearanceReproducesTheRigidDriveResponseSpeedMode) {
-  rig::RigTruth truth = rig::thesis_rig_truth();
+  rig::RigTruth truth = rig::uncalibrated_thesis_rig_prior();
   truth.clearance_rad = 0.0;
   const auto run = rig::simulate_run(truth, rig::CommandMode::speed, step_command(1.0, 0.0, 2.0),
                                      quiet(2.0));
@@ -99,8 +102,9 @@ TEST(SimulateRun, SmallClearanceConvergesToRigid) {
   }
 }
 
+// The prior's stiff thesis law (K = 1e4 N·m/rad^1.5): impacts, and the link stays in the play.
 TEST(SimulateRun, ClearanceProducesImpactsAndKeepsTheLinkInThePlay) {
-  const rig::RigTruth truth = rig::thesis_rig_truth();
+  const rig::RigTruth truth = rig::uncalibrated_thesis_rig_prior();
   const auto run = rig::simulate_run(truth, rig::CommandMode::position,
                                      step_command(cs::deg_to_rad(20.0), 0.1, 1.5), quiet(1.5));
   const auto& s = run.simulation;
@@ -142,4 +146,28 @@ TEST(SimulateRun, RejectsBadInput) {
   bad.initial_play_fraction = 2.0;
   EXPECT_THROW(rig::simulate_run(truth, rig::CommandMode::speed, step_command(1, 0, 1), bad),
                cs::InvalidArgument);
+}
+
+// The calibrated rig's flank is compliant (linear, K = 45 N·m/rad): the link lags the shaft
+// by the flank's deflection. Physics bound (linear spring–damper driven through its support,
+// dynamic amplification <= 2): |φ| <= β + 2·J·max|α_motor|/K; and the deflection is far
+// beyond the stiff prior's 0.1°.
+TEST(SimulateRun, CalibratedFlankDeflectionIsBoundedByTheMotorAcceleration) {
+  const rig::RigTruth truth = rig::thesis_rig_truth();
+  const auto run = rig::simulate_run(truth, rig::CommandMode::position,
+                                     step_command(cs::deg_to_rad(20.0), 0.1, 1.5), quiet(1.5));
+  const auto& s = run.simulation;
+  double max_accel = 0.0, max_phi = 0.0;
+  for (std::size_t k = 1; k < s.size(); ++k) {
+    max_accel = std::max(max_accel, std::abs(s.motor_rate_rad_s[k] - s.motor_rate_rad_s[k - 1]) / 1e-3);
+    max_phi = std::max(max_phi, std::abs(s.relative_angle_rad[k]));
+  }
+  const double bound = truth.half_play_rad() +
+                       2.0 * truth.link.inertia_kg_m2 * max_accel / truth.position_contact.stiffness;
+  EXPECT_LE(max_phi, bound);
+  EXPECT_GT(max_phi, truth.half_play_rad() + cs::deg_to_rad(0.1));
+  EXPECT_GT(s.stats.events, 0);
+  // At rest the link settles against the shaft within the play.
+  EXPECT_NEAR(cs::rad_to_deg(s.link_angle_rad.back()), cs::rad_to_deg(s.motor_angle_rad.back()),
+              cs::rad_to_deg(truth.half_play_rad()) + 0.01);
 }

@@ -105,6 +105,7 @@ TEST(SimRig, StreamingMatchesTheOfflineRunInSpeedMode) {
   truth.gyro.noise_density_dps_per_rthz = 0.0;
   truth.random_initial_play = false;
   truth.initial_play_fraction = 0.3;
+  truth.variation = rig::RunVariation{};  // simulate_run runs the nominal rig
   rig::SimRigOptions options;
   options.mode = rig::CommandMode::speed;
   auto r = rig::make_sim_rig_with_truth(options, truth);
