@@ -342,7 +342,8 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
     ax.axvspan(float(start_s), float(t[-1]), color="#F2F2F2", zorder=0, linewidth=0,
                label="steady state (enters Eq. 5.1)")
     ax.axhspan(mean - md, mean + md, color="#0072B2", alpha=0.13, linewidth=0, label=f"M ± MD, MD = {md:.3g} {unit}")
-    ax.plot(t, y, label=s.get("label") or "response", **roles.style_for("unshaped"))
+    role, source = roles.infer_role(_y_column(s))  # md_signal_zvdd@link-mode → the ZVDD colour
+    ax.plot(t, y, label=s.get("label") or "response", **roles.style_for(role or "unshaped", 0, source))
     ax.axhline(mean, label=f"steady-state mean M = {mean:.4g} {unit}", **roles.style_for("mean"))
     if band:
         ax.axhline(mean - float(band), color="#7A7A7A", linewidth=0.7, linestyle=":",

@@ -208,6 +208,29 @@ void stage_rig_tests(Context& c) {
                            {"start_time_s", a.at("start_time_s")},
                            {"start_rule", a.at("start_rule")},
                            {"band_half_width", a.at("band_half_width")}});
+      // The same on a shaped trial whose start is a band entry (the one-sided approach the band
+      // rule is for, metrics/mean_deviation.hpp), when trial 1 of a shaped column has one.
+      for (const auto& pl : plan) {
+        if (pl.table != &table || pl.column->key() == "none") continue;
+        const auto& s = annotations[pl.column->key()];
+        if (s.at("start_rule") != "band-entry") continue;
+        c.figures.push_back({{"id", "mean-deviation-illustration-shaped"},
+                             {"thesis_figure", nullptr},
+                             {"kind", "mean-deviation"},
+                             {"title", fmt::format("Eq. 5.1 on trial 1 of the {} {}: the response approaches M from "
+                                                   "one side; the steady state starts where it enters ±b around M",
+                                                   in.label, pl.column->label)},
+                             {"file", c.data_file(file)},
+                             {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
+                             {"y_label", fmt::format("{} ({})", speed ? "link rate" : "link angle", md_unit)},
+                             {"series", {{{"column", fmt::format("md_signal_{}", pl.column->key())},
+                                          {"label", "response"}}}},
+                             {"steady_mean", s.at("steady_mean")},
+                             {"start_time_s", s.at("start_time_s")},
+                             {"start_rule", s.at("start_rule")},
+                             {"band_half_width", s.at("band_half_width")}});
+        break;
+      }
     }
   }
 
