@@ -13,7 +13,6 @@
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/rig/sim_rig.hpp"
-#include "clearshape/study/calibrated_truth.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "context.hpp"
 
@@ -25,14 +24,13 @@ RigFactory sim_rig_factory() {
   RigFactory f;
   f.description = "sim (rig::SimRig, calibrated thesis truth)";
   f.parallel_runs = 64;
-  // The truth is captured by the factory; the runner only receives rigs and their measurements.
-  auto truth = std::make_shared<const rig::RigTruth>(calibrated_thesis_rig_truth());
-  f.make = [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
+  // SimRig's built-in truth is the calibrated thesis rig (rig/truth.hpp); nobody here reads it.
+  f.make = [](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
     rig::SimRigOptions o;
     o.mode = mode;
     o.sample_rate_hz = rate_hz;
     o.seed = seed;
-    return rig::make_sim_rig_with_truth(o, *truth);
+    return std::make_unique<rig::SimRig>(o);
   };
   return f;
 }

@@ -226,6 +226,7 @@ void stage_clearance(Context& c) {
                        {"y_label", "link rate (deg/s)"},
                        {"series", {{{"column", "gyro_mean_deg_s"}, {"label", "experiment (mean gyro)"}},
                                    {{"column", "model_link_rate_deg_s"}, {"label", "model with clearance (through the gyro's low-pass)"}}}}});
+  c.model = fitted;  // the model of the simulated tests (stage 5)
 }
 
 }  // namespace detail

@@ -1,7 +1,8 @@
 // Integration: the quick studies run on the simulated thesis rig and their tables hold the
 // thesis's qualitative results (issue "The thesis study end to end"):
 //   * ZVDD (designed from the link's identified mode) reduces the 20° step's MD by > 80 %;
-//   * ZVDD designed from the ζ ≈ 1 position drive model alone does almost nothing (< 5 %);
+//   * ZVDD designed from the ζ ≈ 1 position drive model alone does almost nothing (its trials
+//     are the unshaped ones within the run-to-run scatter);
 //   * larger steps benefit more (B.6: 20° > 10° > 5°);
 //   * speed mode: ZV, ZVD, ZVDD from the drive model each reduce the MD, ZVDD the most.
 // And the runner's contracts: same protocol + seed → same bytes; a restart reuses finished runs
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -46,6 +48,21 @@ double improvement(const json& table, const std::string& key) {
   return column(table, key).at("improvement_percent").get<double>();
 }
 
+// |mean_a − mean_b| in standard errors of the difference (Welch) over the columns' trials.
+double welch_t(const json& table, const std::string& a, const std::string& b) {
+  const auto stats = [&](const std::string& key) {
+    const auto v = column(table, key).at("ours").get<std::vector<double>>();
+    double mean = 0.0;
+    for (double x : v) mean += x / static_cast<double>(v.size());
+    double ss = 0.0;
+    for (double x : v) ss += (x - mean) * (x - mean);
+    return std::array<double, 3>{mean, ss / static_cast<double>(v.size() - 1), static_cast<double>(v.size())};
+  };
+  const auto sa = stats(a);
+  const auto sb = stats(b);
+  return std::abs(sa[0] - sb[0]) / std::sqrt(sa[1] / sa[2] + sb[1] / sb[2]);
+}
+
 st::StudyResult run(const std::string& protocol, const std::filesystem::path& out, bool fresh = true) {
   st::StudyOptions options;
   options.out_dir = out;
@@ -69,8 +86,12 @@ TEST(StudyQuick, PositionModeReproducesTheThesisQualitatively) {
 
   const json& b1 = r.table("B.1");
   EXPECT_GT(improvement(b1, "zvdd@link-mode"), 80.0);
-  EXPECT_LT(std::abs(improvement(b1, "zvdd@drive-model")), 5.0);
-  EXPECT_LT(std::abs(improvement(r.table("B.5"), "zvdd@drive-model")), 5.0);
+  // The ζ≈1 drive model's ZVDD is (nearly) one impulse: its trials are the unshaped ones within
+  // the rig's run-to-run scatter (Welch, 3 standard errors), while the link-mode ZVDD is not.
+  for (const char* id : {"B.1", "B.5"}) {
+    EXPECT_LT(welch_t(r.table(id), "none", "zvdd@drive-model"), 3.0) << id;
+    EXPECT_GT(welch_t(r.table(id), "none", "zvdd@link-mode"), 3.0) << id;
+  }
   const double i20 = improvement(b1, "zvdd@link-mode");
   const double i10 = improvement(r.table("B.2"), "zvdd@link-mode");
   const double i5 = improvement(r.table("B.3"), "zvdd@link-mode");
@@ -133,6 +154,7 @@ TEST(StudyQuick, PositionModeReproducesTheThesisQualitatively) {
   // the designs themselves).
   bool simulated = false;
   for (const auto& t : r.results.at("tables")) simulated = simulated || t.at("id") == "5.2-simulation";
+  EXPECT_TRUE(simulated) << "stage 5 did not run: no clearance model reached it";
   if (simulated) {
     const json* sens = nullptr;
     for (const auto& fig : r.figures.at("figures")) {
@@ -182,7 +204,13 @@ TEST(StudyQuick, PositionModeReproducesTheThesisQualitatively) {
       }
     }
     EXPECT_EQ(applied, applied_series);  // every curve checked, the drive-model shapers' too
-    EXPECT_GE(applied, 2);
+    // one curve per designed shaper (a drive model identified with ζ ≥ 1 has none to draw)
+    int designed = 0;
+    for (const auto& sh : r.results.at("sections").at("shapers")) {
+      designed += sh.contains("impulses") && !sh.at("impulses").empty() ? 1 : 0;
+    }
+    EXPECT_EQ(applied, designed);
+    EXPECT_GE(applied, 1);
 }
 }
 

@@ -38,7 +38,7 @@ namespace clearshape::study {
 
 inline constexpr int kResultsSchemaVersion = 1;
 
-/// The simulated thesis rig: a rig::SimRig with the calibrated truth (calibrated_truth.hpp),
+/// The simulated thesis rig: a rig::SimRig with its built-in (calibrated) truth, rig/truth.hpp;
 /// any number of parallel runs.
 RigFactory sim_rig_factory();
 
