@@ -60,6 +60,12 @@ json ambiguities(const Protocol& p) {
       "Torsional play: K in N·m/rad^n, D in N·m·s/rad, δ in rad; the model's link inertia is fixed "
       "(only K/J and D/J are identifiable from the gyro).",
       "The thesis gives K and D without units (DESIGN.md §2).");
+  add("gyro-filter", "Which digital low-pass did the thesis's gyroscope use?",
+      "The clearance fit compares the model's link rate through each ITG-3205 DLPF setting (none, "
+      "256 … 5 Hz, first order) with the mean gyro record and keeps the setting that fits best "
+      "(gyro_low_pass_hz in results.json).",
+      "The thesis names the ITG-3205 but not its DLPF_CFG; left out, the filter's lag alone costs "
+      "more Eq. 4.1 agreement than the whole published figure (0.0042 position).");
   add("input-timing", "What exactly were the inputs?",
       position ? "Moves start at 0.5 s (after a rest window for the gyro bias); a step is a ramp over one "
                  "30 Hz pulse update, the 56 deg 'low jerk' step a ramp over 0.1 s (three updates), and "
@@ -69,7 +75,8 @@ json ambiguities(const Protocol& p) {
       "low-jerk step or the spacing and size of the double step.");
   add("rig-truth", "What is the simulated rig?",
       "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
-      "unshaped responses reproduce the thesis's 'without is' means and the spread of its trials; "
+      "unshaped responses reproduce the thesis's 'without is' means, the spread of its trials and "
+      "the repeatability of Tables 4.1–4.2 (seeded run-to-run variation, rig/variation.hpp); "
       "the study never reads that truth, and the shaped results are predictions.",
       "DESIGN.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
   return a;

@@ -119,7 +119,7 @@ TEST(StudyQuick, PositionModeReproducesTheThesisQualitatively) {
   }
   EXPECT_GT(with_file, 10);
   EXPECT_NE(r.tables_markdown.find("thesis"), std::string::npos);
-  EXPECT_EQ(r.results.at("ambiguities").size(), 8u);
+  EXPECT_EQ(r.results.at("ambiguities").size(), 9u);
   // Every trial of a rig table says where its Eq. 5.1 steady state starts and which rule put it
   // there; the unshaped steps ring, so their start is the first crossing of M.
   for (const char* id : {"B.1", "B.2", "B.3", "B.4", "B.5"}) {
