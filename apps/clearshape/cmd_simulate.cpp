@@ -377,7 +377,7 @@ void setup(CLI::App& sub) {
   st->shaper_zeta_option = sub.add_option("--shaper-zeta", st->shaper_zeta, "Damping ratio of that mode, [0, 1)");
 
   st->clearance_option = sub.add_option("--clearance-deg", st->clearance_deg,
-                                        "Total play of the joint (deg); 0 = rigid (default 1.0)");
+                                        "Total play of the joint (deg); 0 = rigid (default: the calibrated rig, 0.032)");
   sub.add_option("--contact", st->contact,
                  "Contact law: thesis|kelvin-voigt|hunt-crossley|lankarani-nikravesh|flores|impulse")
       ->check(CLI::IsMember({"thesis", "kelvin-voigt", "hunt-crossley", "lankarani-nikravesh", "flores", "impulse"}));
