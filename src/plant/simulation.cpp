@@ -126,7 +126,7 @@ void on_command_stop(void* context, double t, detail::JointSystem& system) {
   c->engine->set_next_stop(c->next_after(t));
 }
 
-void append(Simulation& r, double t, double command, const Sample& s, bool planar) {
+void append(Simulation& r, double t, double command, const Sample& s, bool planar, bool energy) {
   r.time_s.push_back(t);
   r.command.push_back(command);
   r.motor_angle_rad.push_back(s.motor_angle);
@@ -143,6 +143,7 @@ void append(Simulation& r, double t, double command, const Sample& s, bool plana
     r.pivot_y_m.push_back(s.pivot_y);
     r.friction_force_n.push_back(s.friction_force);
   }
+  if (!energy) return;
   r.kinetic_energy_j.push_back(s.kinetic);
   r.potential_energy_j.push_back(s.potential);
   r.contact_energy_j.push_back(s.contact_energy);
@@ -179,9 +180,14 @@ Simulation simulate(const PlantModel& model, const Command& command,
   for (auto* v : {&result.time_s, &result.command, &result.motor_angle_rad,
                   &result.motor_rate_rad_s, &result.link_angle_rad, &result.link_rate_rad_s,
                   &result.relative_angle_rad, &result.contact_torque_n_m, &result.penetration,
-                  &result.normal_force, &result.kinetic_energy_j, &result.potential_energy_j,
-                  &result.contact_energy_j, &result.dissipated_energy_j, &result.drive_work_j}) {
+                  &result.normal_force}) {
     v->reserve(n);
+  }
+  if (options.record_energy) {
+    for (auto* v : {&result.kinetic_energy_j, &result.potential_energy_j, &result.contact_energy_j,
+                    &result.dissipated_energy_j, &result.drive_work_j}) {
+      v->reserve(n);
+    }
   }
   // Output sampling from CVODE's dense output: one interpolation per output time within each
   // internal step (CV_ONE_STEP) instead of one CVode call per output; an output that falls on
@@ -195,7 +201,7 @@ Simulation simulate(const PlantModel& model, const Command& command,
                          engine.system().describe(t, y) +
                          "; reduce the contact stiffness K or damping D, or tighten the tolerances");
     }
-    append(result, t, engine.system().input.value(t), s, planar);
+    append(result, t, engine.system().input.value(t), s, planar, options.record_energy);
   };
   emit(0.0, engine.state());
   const double t_end = output_time(n - 1);

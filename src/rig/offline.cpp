@@ -114,6 +114,7 @@ RunRecord simulate_run(const RigTruth& truth, CommandMode mode, const UniformSer
   sim_options.duration_s = options.duration_s;
   sim_options.output_rate_hz = options.output_rate_hz;
   sim_options.solver = truth.solver;
+  sim_options.record_energy = false;  // a rig run records what its sensors and logs would
   sim_options.initial.relative_angle_rad =
       run.rigid ? 0.0 : options.initial_play_fraction * truth.half_play_rad();
   // The rig rests at zero before t = 0 (a command at t = 0 is a step at t = 0⁺).

@@ -67,6 +67,8 @@ struct SimulationOptions {
   SolverOptions solver{};
   InitialState initial{};
   bool record_events = true;
+  /// Record the energy columns (kinetic … drive_work, energy_balance_j); off leaves them empty.
+  bool record_energy = true;
   void validate() const;
 };
 

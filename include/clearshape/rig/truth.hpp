@@ -41,7 +41,7 @@
 //                   no bias, no latency
 //   command paths   position: 30 Hz pulse-train updates, 3000 pulses/rev, ≤ 500 kHz;
 //                   speed: 12-bit D/A, ±10 V, 1 V per command unit (drive input in V)
-//   solver          CVODE BDF, rtol 1e-9, atol 1e-11 rad and 1e-9 rad/s (see truth.cpp)
+//   solver          CVODE BDF, rtol 1e-8, atol 1e-11 rad and 1e-9 rad/s (see truth.cpp)
 //   initial play    SimRig draws φ(0) uniformly in [−β, β] at each activation (seeded): the
 //                   link rests anywhere in the play
 //   variation       none (every RunVariation σ zero)
