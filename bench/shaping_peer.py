@@ -24,7 +24,13 @@ from math import comb
 import numpy as np
 from scipy import signal
 
+# The digitised shaper sequence (Vaughan's digseq) and its convolution, as the golden generator
+# of the shaping tests builds them (same 1 ms sample time).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "golden"))
+from gen_apply import TS as GOLDEN_TS, digseq, shape_convolve  # noqa: E402
+
 TS = 1e-3
+assert TS == GOLDEN_TS
 F_HZ = 10.0
 ZETA = 0.1
 
@@ -35,24 +41,6 @@ def zvd_impulses():
     td = 1.0 / (F_HZ * np.sqrt(1 - ZETA**2))
     a = np.array([comb(2, i) * k**i for i in range(3)])
     return np.arange(3) * td / 2, a / a.sum()
-
-
-def digseq(times, amps):
-    """Vaughan's digseq idea: dense sequence, impulse A at (m+f)·Ts → A(1−f) at m, A·f at m+1."""
-    x = times / TS
-    m = np.floor(x).astype(int)
-    f = x - m
-    seq = np.zeros(m.max() + 2)
-    for mi, fi, a in zip(m, f, amps):
-        seq[mi] += a * (1 - fi)
-        seq[mi + 1] += a * fi
-    return np.trim_zeros(seq, "b")
-
-
-def peer_convolve(u, seq):
-    d = len(seq) - 1
-    padded = np.concatenate([np.full(d, u[0]), u, np.full(d, u[-1])])
-    return np.convolve(padded, seq, mode="valid")
 
 
 def peer_lfilter(u, seq):
@@ -107,7 +95,7 @@ def main():
 
     seq = digseq(*zvd_impulses())
     peers = {
-        "numpy.convolve (dense digseq)": lambda: peer_convolve(u, seq),
+        "numpy.convolve (dense digseq)": lambda: shape_convolve(u, seq),
         "scipy.signal.lfilter (same FIR)": lambda: peer_lfilter(u, seq),
         "numpy sparse shifted sum": lambda: peer_sparse(u, seq),
     }

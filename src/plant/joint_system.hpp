@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "clearshape/plant/command.hpp"
+#include "clearshape/plant/drive.hpp"
 #include "clearshape/plant/joint.hpp"
 #include "clearshape/plant/simulation.hpp"
 
@@ -57,6 +58,10 @@ class ZenoGuard {
   std::size_t count_ = 0;
   double window_s_ = 0.0;
 };
+
+/// The drive's state at t = 0: the given one (nd finite values, else InvalidArgument) or the
+/// rest state under the command u0 (with the initial motor-angle offset).
+DriveModel::Vector initial_drive_state(const DriveModel& drive, const InitialState& init, double u0);
 
 class JointSystem {
  public:

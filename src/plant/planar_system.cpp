@@ -123,16 +123,7 @@ int PlanarSystem::roots(double, const double* y, double* g) noexcept {
 
 void PlanarSystem::initial_state(const InitialState& init, double u0, double* y, EventLog& log) {
   reset_discrete();
-  DriveModel::Vector x;
-  if (init.drive_state) {
-    if (init.drive_state->size() != nd_ || !init.drive_state->allFinite()) {
-      throw_invalid("initial.drive_state.size", static_cast<double>(init.drive_state->size()),
-                    std::to_string(nd_) + " finite values", "give the drive's full state or none");
-    }
-    x = *init.drive_state;
-  } else {
-    x = drive_.rest_state(u0, init.motor_angle_offset_rad);
-  }
+  const DriveModel::Vector x = initial_drive_state(drive_, init, u0);
   require_finite("initial.pivot_x_m", init.pivot_x_m);
   require_finite("initial.pivot_y_m", init.pivot_y_m);
   require_finite("initial.pivot_vx_m_s", init.pivot_vx_m_s);

@@ -213,16 +213,7 @@ int TorsionalSystem::jacobian(double t, const double* y, double* jac) noexcept {
 
 void TorsionalSystem::initial_state(const InitialState& init, double u0, double* y, EventLog& log) {
   reset_discrete();
-  DriveModel::Vector x;
-  if (init.drive_state) {
-    if (init.drive_state->size() != nd_ || !init.drive_state->allFinite()) {
-      throw_invalid("initial.drive_state.size", static_cast<double>(init.drive_state->size()),
-                    std::to_string(nd_) + " finite values", "give the drive's full state or none");
-    }
-    x = *init.drive_state;
-  } else {
-    x = drive_.rest_state(u0, init.motor_angle_offset_rad);
-  }
+  const DriveModel::Vector x = initial_drive_state(drive_, init, u0);
   require_finite("initial.relative_angle_rad", init.relative_angle_rad);
   require_finite("initial.link_rate_rad_s", init.link_rate_rad_s);
   for (int i = 0; i < nd_; ++i) y[i] = x(i);

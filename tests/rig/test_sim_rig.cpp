@@ -9,6 +9,7 @@
 #include "clearshape/rig/offline.hpp"
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/rig/truth.hpp"
+#include "rig_trace.hpp"
 #include "support/alloc_counter.hpp"
 
 namespace cs = clearshape;
@@ -16,24 +17,11 @@ namespace rig = clearshape::rig;
 using cs::Status;
 
 namespace {
-struct Trace {
-  std::vector<std::int64_t> counts;
-  std::vector<std::int16_t> gyro;
-  std::vector<std::uint32_t> flags;
-};
+using Trace = clearshape::testing::RigTrace;
 // Runs `samples` cycles: read, then write command(t).
 template <class F>
 Trace run_loop(rig::Rig& r, std::size_t samples, F command) {
-  Trace t;
-  rig::Measurement m;
-  for (std::size_t k = 0; k < samples; ++k) {
-    EXPECT_EQ(r.read(m), Status::ok) << k;
-    t.counts.push_back(m.encoder_counts);
-    t.gyro.push_back(m.gyro_raw);
-    t.flags.push_back(m.flags);
-    r.write(command(m.time_s));
-  }
-  return t;
+  return clearshape::testing::run_rig_loop(r, samples, command);
 }
 }  // namespace
 

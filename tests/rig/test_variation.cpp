@@ -14,6 +14,7 @@
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/rig/truth.hpp"
 #include "clearshape/rig/variation.hpp"
+#include "rig_trace.hpp"
 #include "support/alloc_counter.hpp"
 
 namespace cs = clearshape;
@@ -38,24 +39,11 @@ Stats stats(const std::vector<double>& v) {
   return s;
 }
 
-struct Trace {
-  std::vector<std::int64_t> counts;
-  std::vector<std::int16_t> gyro;
-  std::vector<double> gyro_rate;
-};
-
+using Trace = clearshape::testing::RigTrace;
+// Runs `samples` cycles: read, then write command(t).
 template <class F>
 Trace run(rig::Rig& r, std::size_t samples, F command) {
-  Trace t;
-  rig::Measurement m;
-  for (std::size_t k = 0; k < samples; ++k) {
-    EXPECT_EQ(r.read(m), Status::ok) << k;
-    t.counts.push_back(m.encoder_counts);
-    t.gyro.push_back(m.gyro_raw);
-    t.gyro_rate.push_back(m.gyro_rate_rad_s);
-    r.write(command(m.time_s));
-  }
-  return t;
+  return clearshape::testing::run_rig_loop(r, samples, command);
 }
 
 // A truth whose sensors and initial play add nothing random.
