@@ -16,6 +16,7 @@
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/rig/truth.hpp"
 #include "clearshape/study/protocol.hpp"
+#include "clearshape/study/recordings.hpp"
 #include "clearshape/study/runner.hpp"
 #include "command.hpp"
 #include "rig_config.hpp"
@@ -31,6 +32,8 @@ struct StudyCliOptions {
   bool json = false;
   int threads = 0;
   std::string rig_config;
+  std::string recordings;
+  bool print_manifest = false;
 };
 
 std::string file_hash(const std::filesystem::path& path) {
@@ -59,6 +62,7 @@ study::RigFactory configured_sim_rig(const std::filesystem::path& path) {
   truth->validate();
   study::RigFactory f;
   f.description = fmt::format("sim (rig::SimRig, truth from {} {})", path.filename().string(), file_hash(path));
+  f.kind = "simulated-config";
   f.parallel_runs = 64;
   f.make = [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
     rig::SimRigOptions o;
@@ -73,6 +77,13 @@ study::RigFactory configured_sim_rig(const std::filesystem::path& path) {
 void run(const StudyCliOptions& o) {
   study::Protocol protocol = study::load_protocol(o.protocol);
   if (o.quick) protocol = study::quick_variant(protocol);
+  if (o.print_manifest) {
+    std::cout << study::recordings_manifest_template(protocol);
+    return;
+  }
+  if (!o.recordings.empty() && !o.rig_config.empty()) {
+    throw InvalidArgument("study: give either --recordings or --rig-config, not both");
+  }
   study::StudyOptions options;
   options.out_dir = o.out_dir.empty() ? std::filesystem::path("out") / (protocol.name + (o.quick ? "-quick" : ""))
                                       : std::filesystem::path(o.out_dir);
@@ -80,6 +91,9 @@ void run(const StudyCliOptions& o) {
   options.threads = o.threads;
   options.progress = &std::cerr;
   if (!o.rig_config.empty()) options.rig = configured_sim_rig(o.rig_config);
+  if (!o.recordings.empty()) {
+    options.source = study::recordings_run_source(study::load_recordings_manifest(o.recordings, protocol), protocol);
+  }
   const study::StudyResult result = study::run_study(protocol, options);
   if (o.json) {
     auto summary = result.summary();
@@ -107,6 +121,10 @@ const bool registered = register_command(
        sub.add_option("--rig-config", o->rig_config,
                       "Run against a simulated rig with this truth (a `clearshape simulate --config` file) "
                       "instead of the built-in thesis rig");
+       sub.add_option("--recordings", o->recordings,
+                      "Run the study on recorded runs: a folder of CSVs with a manifest.toml (docs/recordings.md)");
+       sub.add_flag("--print-manifest", o->print_manifest,
+                    "Print the recordings manifest template listing every run the protocol expects, and exit");
        sub.callback([o] { run(*o); });
      }});
 

@@ -33,6 +33,7 @@ struct Context {
 
   const Protocol& p;
   const StudyOptions& options;
+  std::shared_ptr<const RunSource> source;  ///< where the runs come from
   std::string hash;
   std::filesystem::path out;
   std::filesystem::path runs_dir;
@@ -54,6 +55,7 @@ struct Context {
   json figures = json::array();
   json sections = json::object();  ///< per-stage detail (identification, link_mode, …)
   std::vector<StageTiming> timing;
+  json skipped = json::array();  ///< stages skipped for want of runs (results.json "skipped_stages")
 
   void log(const std::string& line);
   double elapsed_s() const;
@@ -82,6 +84,9 @@ std::optional<shaping::Shaper> design_for(const Context& c, const std::string& m
 /// A uniform table record for results.json.
 json make_table(const std::string& id, const std::string& kind, const std::string& title,
                 const std::string& unit);
+
+/// True (logged, recorded in c.skipped) when the source lacks a run `stage` needs.
+bool skip_for_missing_runs(Context& c, const std::vector<StagePlan>& plan, const std::string& stage);
 
 /// Writes a CSV under <out>/data/.
 void write_data_csv(const Context& c, const std::string& name, const std::vector<std::string>& columns,

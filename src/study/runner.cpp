@@ -103,13 +103,16 @@ json StudyResult::summary() const {
 namespace detail {
 
 Context::Context(const Protocol& protocol, const StudyOptions& opts)
-    : p(protocol), options(opts), start(std::chrono::steady_clock::now()) {
-  hash = protocol_hash(p, opts.rig.description);
+    : p(protocol),
+      options(opts),
+      source(opts.source ? opts.source : rig_run_source(opts.rig, protocol.mode, protocol.sample_rate_hz)),
+      start(std::chrono::steady_clock::now()) {
+  hash = protocol_hash(p, source->description());
   out = opts.out_dir;
   runs_dir = out / "runs";
   data_dir = out / "data";
   const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = opts.threads > 0 ? opts.threads : std::min(std::max(1, opts.rig.parallel_runs), hw);
+  threads = opts.threads > 0 ? opts.threads : std::min(std::max(1, source->parallel_runs()), hw);
 }
 
 void Context::log(const std::string& line) {
@@ -137,7 +140,8 @@ std::vector<Record> Context::run_all(const std::vector<RunRequest>& requests, co
   std::vector<std::optional<Record>> found(requests.size());
   std::vector<std::size_t> pending;
   for (std::size_t i = 0; i < requests.size(); ++i) {
-    found[i] = options.fresh ? std::nullopt : read_record(runs_dir, requests[i], p.mode, hash);
+    found[i] = options.fresh || !source->reuse_finished_runs() ? std::nullopt
+                                                               : read_record(runs_dir, requests[i], p.mode, hash);
     if (!found[i]) pending.push_back(i);
   }
   const int reused = static_cast<int>(requests.size() - pending.size());
@@ -163,14 +167,9 @@ std::vector<Record> Context::run_all(const std::vector<RunRequest>& requests, co
         const RunRequest& req = requests[pending[j]];
         try {
           const auto t0 = std::chrono::steady_clock::now();
-          std::unique_ptr<rig::Rig> rig = options.rig.make(p.mode, p.sample_rate_hz, req.seed);
-          Record rec = execute_run(*rig, req);
-          const auto& cnt = rig->counters();
-          const json counters = {{"reads", cnt.reads},
-                                 {"writes", cnt.writes},
-                                 {"failed_reads", cnt.failed_reads},
-                                 {"failed_writes", cnt.failed_writes}};
-          write_record(runs_dir, rec, req, hash, options.rig.description, counters);
+          ObtainedRun obtained = source->obtain(req);
+          Record& rec = obtained.record;
+          write_record(runs_dir, rec, req, hash, source->description(), obtained.counters);
           const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
           const std::size_t d = done.fetch_add(1) + 1;
           log(fmt::format("{}: {} done in {:.2f} s ({}/{})", stage, req.id, dt, d, pending.size()));
@@ -224,6 +223,28 @@ json make_table(const std::string& id, const std::string& kind, const std::strin
   return t;
 }
 
+bool skip_for_missing_runs(Context& c, const std::vector<StagePlan>& plan, const std::string& stage) {
+  std::vector<std::string> missing;
+  for (const auto& sp : plan) {
+    if (sp.stage != stage) continue;
+    for (const auto& run : sp.runs) {
+      if (!c.source->has(run) && std::find(missing.begin(), missing.end(), run.id) == missing.end()) {
+        missing.push_back(run.id);
+      }
+    }
+  }
+  if (missing.empty()) return false;
+  std::string shown;
+  for (std::size_t i = 0; i < missing.size() && i < 6; ++i) shown += (i ? ", " : "") + missing[i];
+  if (missing.size() > 6) shown += fmt::format(", … ({} more)", missing.size() - 6);
+  c.log(fmt::format("stage {} SKIPPED: {} run(s) missing from {}: {}", stage, missing.size(),
+                    c.source->description(), shown));
+  c.skipped.push_back({{"stage", stage},
+                       {"reason", fmt::format("{} run(s) missing from the source", missing.size())},
+                       {"missing_runs", missing}});
+  return true;
+}
+
 void write_data_csv(const Context& c, const std::string& name, const std::vector<std::string>& columns,
                     const std::vector<const std::vector<double>*>& data) {
   io::write_csv(c.data_dir / name, columns, data);
@@ -232,7 +253,9 @@ void write_data_csv(const Context& c, const std::string& name, const std::vector
 }  // namespace detail
 
 StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
-  if (!options.rig.make) throw InvalidArgument("StudyOptions.rig.make is empty; give a rig factory");
+  if (!options.source && !options.rig.make) {
+    throw InvalidArgument("StudyOptions.rig.make is empty; give a rig factory or a run source");
+  }
   detail::Context c(protocol, options);
   if (options.fresh) {
     std::error_code ec;
@@ -242,7 +265,7 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
   std::filesystem::create_directories(c.data_dir);
   c.log(fmt::format("study '{}' ({} mode{}), protocol hash {}, rig {}, {} parallel run(s), out {}",
                     protocol.name, rig::to_string(protocol.mode), protocol.quick ? ", quick" : "",
-                    c.hash, options.rig.description, c.threads, c.out.string()));
+                    c.hash, c.source->description(), c.threads, c.out.string()));
 
   using Stage = void (*)(detail::Context&);
   const std::pair<const char*, Stage> stages[] = {
@@ -250,10 +273,11 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
       {"link-mode", detail::stage_link_mode},       {"clearance", detail::stage_clearance},
       {"simulation", detail::stage_simulation},     {"rig-tests", detail::stage_rig_tests},
   };
+  const std::vector<StagePlan> plan = plan_runs(protocol);
   for (const auto& [name, fn] : stages) {
     const double t0 = c.elapsed_s();
     c.begin_stage(name);
-    fn(c);
+    if (!detail::skip_for_missing_runs(c, plan, name)) fn(c);
     auto& st = c.timing.back();
     st.seconds = c.elapsed_s() - t0;
     c.log(fmt::format("stage {} finished in {:.1f} s ({} run(s) executed, {} reused)", name, st.seconds,
@@ -269,7 +293,8 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
                   {"quick", protocol.quick},
                   {"protocol_hash", c.hash},
                   {"seed", protocol.seed},
-                  {"rig", options.rig.description}};
+                  {"rig", c.source->description()}};
+  doc["rig"] = {{"kind", c.source->kind()}, {"description", c.source->description()}};
   doc["protocol"] = to_json(protocol);
   doc["units"] = {{"time", "s"},
                   {"command", protocol.command_unit()},
@@ -284,6 +309,7 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
                   {"contact_stiffness", "N·m/rad^n"},
                   {"contact_damping", "N·m·s/rad"}};
   doc["ambiguities"] = detail::ambiguities(protocol);
+  doc["skipped_stages"] = c.skipped;
   doc["sections"] = c.sections;
   doc["tables"] = c.tables;
   doc["figures_index"] = "figures.json";

@@ -27,6 +27,9 @@ namespace clearshape::study {
 struct RigFactory {
   /// Recorded in every sidecar and in the protocol hash ("sim", "sim:<config hash>", …).
   std::string description = "sim";
+  /// What the rig is, for results.json "rig": "simulated-thesis" | "simulated-config" |
+  /// "physical" (study/run_source.hpp).
+  std::string kind = "simulated-thesis";
   /// Runs that may execute at the same time (1 for hardware; the simulated rig allows more).
   int parallel_runs = 1;
   /// A configured-or-unconfigured rig for `mode` sampling at `sample_rate_hz`; `seed` seeds

@@ -33,6 +33,7 @@
 
 #include "clearshape/study/protocol.hpp"
 #include "clearshape/study/record.hpp"
+#include "clearshape/study/run_source.hpp"
 
 namespace clearshape::study {
 
@@ -46,6 +47,10 @@ struct StudyOptions {
   std::filesystem::path out_dir = "out/study";
   bool fresh = false;        ///< discard finished runs (<out>/runs) before starting
   RigFactory rig = sim_rig_factory();
+  /// Where the runs come from; nullptr = rig_run_source(rig, …) (a recordings folder:
+  /// study/recordings.hpp). Stages whose runs the source lacks are skipped and listed in
+  /// results.json "skipped_stages".
+  std::shared_ptr<const RunSource> source;
   int threads = 0;           ///< parallel runs; 0 = min(rig.parallel_runs, hardware threads)
   std::ostream* progress = nullptr;  ///< one line per stage and run (nullptr: silent)
 };

@@ -1,0 +1,251 @@
+// A study on recorded runs: the manifest, the conversion of a recording to a run's records and
+// the recordings-backed run source (study/recordings.hpp, docs/recordings.md).
+#include "clearshape/study/recordings.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/io/table.hpp"
+#include "clearshape/io/time_column.hpp"
+#include "toml_reader.hpp"
+
+namespace clearshape::study {
+
+namespace {
+
+using detail::TomlSection;
+
+constexpr const char* kColumnKeys =
+    "time, command, command_unit, command_applied, motor_angle, motor_angle_unit, counts_per_rev, "
+    "link_rate, link_rate_unit, lsb_per_deg_s";
+
+std::string fnv_hex(std::string_view text) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a 64
+  for (const unsigned char c : text) h = (h ^ c) * 0x100000001b3ULL;
+  return fmt::format("{:016x}", h);
+}
+
+RecordingColumns default_columns(const Protocol& p) {
+  const auto names = record_columns(p.mode);
+  RecordingColumns c;
+  c.command = names[1];
+  c.command_unit = p.mode == rig::CommandMode::position ? "deg" : "V";
+  return c;
+}
+
+std::string one_of(const TomlSection& t, std::string_view key, std::string fallback,
+                   std::initializer_list<std::string_view> allowed) {
+  const std::string v = t.text(key, std::move(fallback));
+  for (const auto a : allowed) {
+    if (v == a) return v;
+  }
+  std::string list;
+  for (const auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+  t.fail(key, fmt::format("'{}' is not a unit here; allowed: {}", v, list));
+}
+
+// The keys of [columns] (or a [[run]]'s overrides) on top of `base`.
+RecordingColumns read_columns(const TomlSection& t, RecordingColumns c, rig::CommandMode mode) {
+  c.time = t.text("time", c.time);
+  c.command = t.text("command", c.command);
+  c.command_unit = mode == rig::CommandMode::position ? one_of(t, "command_unit", c.command_unit, {"deg", "rad"})
+                                                      : one_of(t, "command_unit", c.command_unit, {"V"});
+  c.command_applied = t.text("command_applied", c.command_applied);
+  c.motor_angle = t.text("motor_angle", c.motor_angle);
+  c.motor_angle_unit = one_of(t, "motor_angle_unit", c.motor_angle_unit, {"deg", "rad", "counts"});
+  c.counts_per_rev = t.positive("counts_per_rev", c.counts_per_rev);
+  c.link_rate = t.text("link_rate", c.link_rate);
+  c.link_rate_unit = one_of(t, "link_rate_unit", c.link_rate_unit, {"deg/s", "rad/s", "lsb"});
+  c.lsb_per_deg_s = t.positive("lsb_per_deg_s", c.lsb_per_deg_s);
+  return c;
+}
+
+std::vector<double> to_command_units(std::vector<double> v, const std::string& unit) {
+  if (unit == "rad") {
+    for (auto& x : v) x = rad_to_deg(x);
+  }
+  return v;
+}
+
+class RecordingsRunSource final : public RunSource {
+ public:
+  RecordingsRunSource(RecordingsManifest m, const Protocol& p) : m_(std::move(m)), p_(p) {}
+  std::string kind() const override { return "recordings"; }
+  std::string description() const override {
+    return fmt::format("recordings {} (manifest {}){}", m_.dir.string(), m_.hash,
+                       m_.description.empty() ? "" : ": " + m_.description);
+  }
+  int parallel_runs() const override { return 64; }
+  bool reuse_finished_runs() const override { return false; }
+  bool has(const PlannedRun& run) const override { return m_.runs.count(run.id) > 0; }
+  ObtainedRun obtain(const RunRequest& request) const override {
+    const auto it = m_.runs.find(request.id);
+    if (it == m_.runs.end()) {
+      throw RuntimeError(fmt::format("run {} is not in the recordings manifest {}", request.id, m_.path.string()));
+    }
+    ObtainedRun out{read_recording(it->second, p_, request.record_s), {}};
+    out.counters = {{"source", "recording"}, {"file", it->second.file.string()}};
+    return out;
+  }
+
+ private:
+  RecordingsManifest m_;
+  Protocol p_;
+};
+
+}  // namespace
+
+RecordingsManifest load_recordings_manifest(const std::filesystem::path& dir, const Protocol& protocol) {
+  RecordingsManifest m;
+  m.dir = dir;
+  m.path = dir / "manifest.toml";
+  const std::string file = m.path.string();
+  std::ifstream in(m.path, std::ios::binary);
+  if (!in) {
+    throw InputError(file, 0, "", "cannot read the recordings manifest; write one with "
+                                  "`clearshape study PROTOCOL --print-manifest > DIR/manifest.toml`");
+  }
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  m.hash = fnv_hex(text);
+  toml::table root;
+  try {
+    root = toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "", std::string(e.description()));
+  }
+  const TomlSection top(root, "", file);
+  const std::string format = top.text("format");
+  if (format != kRecordingsFormat) {
+    top.fail("format", fmt::format("is '{}'; this clearshape reads '{}'", format, kRecordingsFormat));
+  }
+  m.description = top.text("description", "");
+  RecordingColumns base = default_columns(protocol);
+  if (const auto cols = top.table("columns")) {
+    base = read_columns(*cols, base, protocol.mode);
+    cols->finish(kColumnKeys);
+  }
+  std::map<std::string, PlannedRun> expected;
+  for (const auto& r : distinct_runs(protocol)) expected.emplace(r.id, r);
+  for (const auto& run : top.tables("run")) {
+    RecordingEntry e;
+    e.id = run.text("id");
+    e.manifest_line = run.line();
+    if (!expected.count(e.id)) {
+      run.fail("id", fmt::format("'{}' is not a run of protocol '{}' (`clearshape study PROTOCOL "
+                                 "--print-manifest` lists them)", e.id, protocol.name));
+    }
+    if (m.runs.count(e.id)) run.fail("id", fmt::format("run '{}' is listed twice", e.id));
+    const std::string rel = run.text("file");
+    e.file = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : dir / rel;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(e.file, ec)) {
+      run.fail("file", fmt::format("'{}' does not exist", e.file.string()));
+    }
+    e.columns = read_columns(run, base, protocol.mode);
+    run.finish(fmt::format("id, file, {}", kColumnKeys));
+    m.runs.emplace(e.id, std::move(e));
+  }
+  top.finish("format, description, columns, run");
+  return m;
+}
+
+Record read_recording(const RecordingEntry& e, const Protocol& p, double record_s) {
+  const io::Table t = io::read_table(e.file);
+  const RecordingColumns& c = e.columns;
+  const std::string time = io::require_time_column(t, c.time);
+  const double ts = io::uniform_sample_time(t, time);
+  const double want = p.sample_time_s();
+  if (std::abs(ts - want) > 1e-3 * want) {
+    throw InputError(t.source, 0, time,
+                     fmt::format("samples every {} s; the protocol '{}' samples every {} s ({} Hz) — "
+                                 "resample the recording or set the protocol's sample_rate_hz",
+                                 ts, p.name, want, p.sample_rate_hz));
+  }
+  const std::size_t n = sample_count(record_s, want);
+  if (t.rows() < n) {
+    throw InputError(t.source, 0, time,
+                     fmt::format("holds {} samples ({} s); the protocol records {} s ({} samples)", t.rows(),
+                                 static_cast<double>(t.rows()) * ts, record_s, n));
+  }
+  Record r;
+  r.id = e.id;
+  r.mode = p.mode;
+  r.sample_time_s = want;
+  const auto& tv = t.column(time);
+  r.time_s.resize(n);
+  for (std::size_t k = 0; k < n; ++k) r.time_s[k] = tv[k] - tv[0];
+  r.command = to_command_units(t.column(c.command), c.command_unit);
+  r.command_applied =
+      c.command_applied.empty() ? r.command : to_command_units(t.column(c.command_applied), c.command_unit);
+  const auto& motor = t.column(c.motor_angle);
+  const double counts_per_deg = c.counts_per_rev / 360.0;
+  r.motor_angle_deg.resize(motor.size());
+  r.encoder_counts.resize(motor.size());
+  for (std::size_t k = 0; k < motor.size(); ++k) {
+    const double x = motor[k];
+    r.motor_angle_deg[k] = c.motor_angle_unit == "deg" ? x : c.motor_angle_unit == "rad" ? rad_to_deg(x) : x / counts_per_deg;
+    r.encoder_counts[k] = c.motor_angle_unit == "counts" ? x : std::round(r.motor_angle_deg[k] * counts_per_deg);
+  }
+  const auto& rate = t.column(c.link_rate);
+  r.link_rate_deg_s.resize(rate.size());
+  r.gyro_raw.resize(rate.size());
+  for (std::size_t k = 0; k < rate.size(); ++k) {
+    const double x = rate[k];
+    r.link_rate_deg_s[k] = c.link_rate_unit == "deg/s" ? x : c.link_rate_unit == "rad/s" ? rad_to_deg(x) : x / c.lsb_per_deg_s;
+    r.gyro_raw[k] = c.link_rate_unit == "lsb" ? x : std::round(r.link_rate_deg_s[k] * c.lsb_per_deg_s);
+  }
+  r.flags.assign(n, 0.0);
+  for (auto* v : {&r.command, &r.command_applied, &r.motor_angle_deg, &r.encoder_counts, &r.link_rate_deg_s,
+                  &r.gyro_raw}) {
+    v->resize(n);
+  }
+  return r;
+}
+
+std::string recordings_manifest_template(const Protocol& p) {
+  const auto names = record_columns(p.mode);
+  const RecordingColumns c = default_columns(p);
+  std::string s;
+  s += fmt::format("# Recordings of protocol '{}' ({} mode): map each run to a CSV in this folder.\n", p.name,
+                   rig::to_string(p.mode));
+  s += "# Runs you did not record: delete their run entries (the stages needing them are skipped).\n";
+  s += fmt::format("format = \"{}\"\ndescription = \"\"\n\n", kRecordingsFormat);
+  s += "[columns]  # every run's columns; a run entry may override any of these keys\n";
+  s += "time = \"time_s\"  # seconds; default: the first of time_s, time, t\n";
+  s += fmt::format("command = \"{}\"\ncommand_unit = \"{}\"  # {}\n", c.command, c.command_unit,
+                   p.mode == rig::CommandMode::position ? "deg | rad" : "V");
+  s += fmt::format("command_applied = \"{}\"  # what the drive received; delete the key to use the command\n",
+                   names[2]);
+  s += "motor_angle = \"motor_angle_deg\"\nmotor_angle_unit = \"deg\"  # deg | rad | counts\n";
+  s += "counts_per_rev = 12000  # with motor_angle_unit = \"counts\"\n";
+  s += "link_rate = \"link_rate_deg_s\"  # the gyroscope on the link\nlink_rate_unit = \"deg/s\"  # deg/s | rad/s | lsb\n";
+  s += "lsb_per_deg_s = 14.375  # with link_rate_unit = \"lsb\"\n";
+  std::map<std::string, std::vector<std::string>> users;
+  for (const auto& stage : plan_runs(p)) {
+    for (const auto& r : stage.runs) {
+      auto& u = users[r.id];
+      if (u.empty() || u.back() != stage.stage) u.push_back(stage.stage);
+    }
+  }
+  for (const auto& r : distinct_runs(p)) {
+    std::string used;
+    for (const auto& st : users[r.id]) used += (used.empty() ? "" : ", ") + st;
+    s += fmt::format("\n[[run]]  # input {}, {}, repetition {}; used by: {}\nid = \"{}\"\nfile = \"{}\"\n", r.input,
+                     r.column == "none" ? std::string("unshaped") : "shaped " + r.column, r.repetition, used, r.id,
+                     record_csv_path("", r.id).filename().string());
+  }
+  return s;
+}
+
+std::shared_ptr<const RunSource> recordings_run_source(RecordingsManifest manifest, const Protocol& protocol) {
+  return std::make_shared<RecordingsRunSource>(std::move(manifest), protocol);
+}
+
+}  // namespace clearshape::study
