@@ -1,0 +1,234 @@
+// `clearshape fit-clearance`: the clearance fit of thesis §4.2 (Eq. 4.3 contact parameters, with
+// the Eq. 4.1 agreement) as its own command — a drive model (identify --json, or Eq. 4.2
+// parameters) and one or more link records (command the drive received + link gyro) in; the
+// contact parameters with their 1σ, identifiability and the agreement out (study::fit_clearance).
+// Untrustworthy results (not converged, a parameter at its bound or not identifiable) are marked
+// `trusted: false` with `warnings`, printed on stderr; the exit status stays 0 (docs/recordings.md).
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/io/json.hpp"
+#include "clearshape/io/table.hpp"
+#include "clearshape/io/time_column.hpp"
+#include "clearshape/plant/gyroscope.hpp"
+#include "clearshape/rig/types.hpp"
+#include "clearshape/study/model.hpp"
+#include "command.hpp"
+
+namespace clearshape::cli {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+struct FitClearanceOptions {
+  std::string drive_json, model, mode = "position";
+  std::vector<std::string> params, data, fit{"stiffness", "damping", "play", "exponent"};
+  std::string time_column, command_column, gyro_column = "link_rate_deg_s", gyro_unit = "deg/s";
+  double link_inertia_kg_m2 = 5e-3, play_deg = 0.1, stiffness = 300.0, exponent = 1.5, damping = 0.1;
+  double window_s = 2.0, link_wn_rad_s = 0.0, link_zeta = 0.0;
+  std::string low_pass = "auto";
+  int max_evaluations = 150;
+  bool json = false;
+};
+
+// The drive: `identify --json` (a fit, or cross-validation's best model) or --model + --param.
+lti::ProcessModel read_drive(const FitClearanceOptions& o) {
+  lti::ProcessParameters p;
+  if (!o.drive_json.empty()) {
+    std::ifstream in(o.drive_json);
+    if (!in) throw InputError(o.drive_json, 0, "", "cannot read the drive model");
+    json doc;
+    try {
+      doc = json::parse(in);
+    } catch (const json::parse_error& e) {
+      throw InputError(o.drive_json, 0, "", fmt::format("not JSON: {}", e.what()));
+    }
+    if (doc.contains("models") && doc.contains("best")) doc = doc["models"].at(doc["best"].at("index").get<std::size_t>());
+    if (!doc.contains("model") || !doc.contains("parameters")) {
+      throw InputError(o.drive_json, 0, "model", "expected the output of `clearshape identify --json` (keys model, parameters)");
+    }
+    for (const auto& [name, v] : doc["parameters"].items()) p.set(name, v.at("value").get<double>());
+    return lti::ProcessModel(doc["model"].get<std::string>(), p);
+  }
+  if (o.model.empty()) throw InvalidArgument("fit-clearance: give --drive FILE (identify --json) or --model CODE with --param");
+  for (const auto& kv : o.params) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw InvalidArgument(fmt::format("--param '{}': expected NAME=VALUE, e.g. Kp=0.99", kv));
+    p.set(kv.substr(0, eq), std::stod(kv.substr(eq + 1)));
+  }
+  return lti::ProcessModel(o.model, p);
+}
+
+double gyro_scale(const std::string& unit) {
+  if (unit == "deg/s") return 1.0;
+  if (unit == "rad/s") return rad_to_deg(1.0);
+  if (unit == "lsb") return 1.0 / 14.375;  // ITG-3205 sensitivity, LSB per deg/s
+  throw InvalidArgument(fmt::format("--gyro-unit '{}': allowed deg/s, rad/s, lsb", unit));
+}
+
+// The drive command of the first record and the link rate averaged over the records (as the study).
+void read_records(const FitClearanceOptions& o, rig::CommandMode mode, study::ClearanceFitProblem& fp) {
+  const std::string unit = mode == rig::CommandMode::position ? "deg" : "v";
+  std::vector<double> sum;
+  for (const auto& file : o.data) {
+    const io::Table t = io::read_table(file);
+    const std::string time = io::require_time_column(t, o.time_column);
+    const double ts = io::uniform_sample_time(t, time);
+    std::string cmd = o.command_column;
+    if (cmd.empty()) cmd = t.find("command_applied_" + unit) ? "command_applied_" + unit : "command_" + unit;
+    const auto& rate = t.column(o.gyro_column);
+    const double scale = gyro_scale(o.gyro_unit);
+    const std::size_t n = std::min(t.rows(), sample_count(o.window_s, ts));
+    if (sum.empty()) {
+      fp.drive_command.sample_time_s = ts;
+      fp.drive_command.values.assign(t.column(cmd).begin(), t.column(cmd).begin() + static_cast<std::ptrdiff_t>(n));
+      fp.duration_s = static_cast<double>(n - 1) * ts;
+      sum.assign(n, 0.0);
+    } else if (n != sum.size() || std::abs(ts - fp.drive_command.sample_time_s) > 1e-9) {
+      throw InputError(file, 0, time, "every --data record must have the first one's sample time and length");
+    }
+    for (std::size_t k = 0; k < n; ++k) sum[k] += scale * rate[k] / static_cast<double>(o.data.size());
+  }
+  fp.measured_link_rate_deg_s = sum;
+}
+
+std::vector<double> low_pass_grid(const std::string& spec) {
+  if (spec == "none") return {0.0};
+  if (spec == "auto") {
+    std::vector<double> g{0.0};
+    for (auto lp : {plant::GyroLowPass::hz256, plant::GyroLowPass::hz188, plant::GyroLowPass::hz98, plant::GyroLowPass::hz42,
+                    plant::GyroLowPass::hz20, plant::GyroLowPass::hz10, plant::GyroLowPass::hz5}) {
+      g.push_back(plant::bandwidth_hz(lp));
+    }
+    return g;
+  }
+  const double hz = std::stod(spec);
+  if (!(hz > 0.0)) throw InvalidArgument(fmt::format("--sensor-low-pass '{}': allowed auto, none or a bandwidth > 0 Hz", spec));
+  return {hz};
+}
+
+json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFitResult& fit) {
+  json doc = io::make_document();
+  doc["command"] = "fit-clearance";
+  json params = json::object();
+  json warnings = json::array();
+  for (const auto& q : fit.parameters) {
+    const bool angle = q.name == "play";
+    params[q.name] = {{"value", angle ? rad_to_deg(q.value) : q.value},
+                      {"unit", q.name == "stiffness" ? "N·m/rad^n" : q.name == "damping" ? "N·m·s/rad" : angle ? "deg" : "1"},
+                      {"start", angle ? rad_to_deg(q.start) : q.start},
+                      {"free", q.free},
+                      {"std", std::isfinite(q.std_error) ? json(q.std_error) : json(nullptr)},
+                      {"std_kind", q.name == "exponent" ? "absolute" : "relative (of log value)"},
+                      {"identifiable", q.identifiable},
+                      {"at_bound", q.at_bound}};
+    if (q.free && q.at_bound) warnings.push_back(fmt::format("{} ended on its bound", q.name));
+    if (q.free && !q.identifiable) warnings.push_back(fmt::format("{} is not identifiable from this record (1σ too large or not finite)", q.name));
+  }
+  if (!fit.converged) warnings.push_back(fmt::format("the search did not converge ({})", fit.termination));
+  doc["parameters"] = params;
+  doc["agreement"] = fit.agreement;  // Eq. 4.1: RMS(model − measured) / range(measured)
+  doc["start_agreement"] = study::clearance_agreement(
+      fp.measured_link_rate_deg_s,
+      study::sensed_link_rate_deg_s(fp, study::simulate_drive_command(fit.start_model, fp.drive_command, fp.duration_s),
+                                    fit.sensor_low_pass_hz));
+  doc["rms_error_deg_s"] = fit.rms_error_deg_s;
+  doc["sensor_low_pass_hz"] = fit.sensor_low_pass_hz;
+  doc["evaluations"] = fit.evaluations;
+  doc["termination"] = fit.termination;
+  doc["converged"] = fit.converged;
+  doc["trusted"] = warnings.empty();
+  doc["warnings"] = warnings;
+  return doc;
+}
+
+void print_text(const json& doc) {
+  fmt::print("clearance fit (thesis §4.2, Eq. 4.3 F = K·δ^n + D·δ̇)\n\n");
+  fmt::print("  {:<10} {:>14} {:<10} {:>12} {:>10} {:>13} {:>9}\n", "parameter", "value", "unit", "start", "1σ", "identifiable", "at bound");
+  for (const auto& [name, p] : doc["parameters"].items()) {
+    std::string sigma = "fixed";
+    if (p["free"].get<bool>()) {
+      sigma = p["std"].is_null() ? "n/a"
+              : name == "exponent" ? fmt::format("{:.2g}", p["std"].get<double>())
+                                   : fmt::format("{:.2g} %", 100.0 * p["std"].get<double>());
+    }
+    fmt::print("  {:<10} {:>14.6g} {:<10} {:>12.4g} {:>10} {:>13} {:>9}\n", name, p["value"].get<double>(),
+               p["unit"].get<std::string>(), p["start"].get<double>(), sigma, p["identifiable"].get<bool>() ? "yes" : "no",
+               p["at_bound"].get<bool>() ? "yes" : "no");
+  }
+  fmt::print("\n  Eq. 4.1 agreement {:.4g} (start {:.4g}), RMS {:.4g} deg/s, sensor low-pass {} Hz\n",
+             doc["agreement"].get<double>(), doc["start_agreement"].get<double>(), doc["rms_error_deg_s"].get<double>(),
+             doc["sensor_low_pass_hz"].get<double>());
+  fmt::print("  {} after {} evaluations: {}\n", doc["termination"].get<std::string>(), doc["evaluations"].get<int>(),
+             doc["converged"].get<bool>() ? "converged" : "NOT converged");
+  fmt::print("  trusted: {}\n", doc["trusted"].get<bool>() ? "yes" : "no (see the warnings on stderr)");
+}
+
+void run(const FitClearanceOptions& o) {
+  const rig::CommandMode mode = rig::command_mode_from_string(o.mode);
+  study::ClearanceFitProblem fp;
+  fp.start.mode = mode;
+  fp.start.drive = read_drive(o);
+  fp.start.link_inertia_kg_m2 = o.link_inertia_kg_m2;
+  fp.start.play_rad = deg_to_rad(o.play_deg);
+  fp.start.stiffness = o.stiffness;
+  fp.start.exponent = o.exponent;
+  fp.start.damping = o.damping;
+  fp.free = o.fit;
+  fp.link_natural_frequency_rad_s = o.link_wn_rad_s;
+  fp.link_damping_ratio = o.link_zeta;
+  fp.max_evaluations = o.max_evaluations;
+  fp.sensor_low_pass_grid_hz = low_pass_grid(o.low_pass);
+  read_records(o, mode, fp);
+  std::cerr << fmt::format("clearshape fit-clearance: {} drive {}, {} record(s), {:.3g} s, fitting {}\n", o.mode,
+                           fp.start.drive.code(), o.data.size(), fp.duration_s, fmt::join(fp.free, ", "));
+  const json doc = result_json(fp, study::fit_clearance(fp));
+  for (const auto& w : doc["warnings"]) std::cerr << "clearshape fit-clearance: warning: " << w.get<std::string>() << "\n";
+  if (o.json) {
+    print_json(doc);
+  } else {
+    print_text(doc);
+  }
+}
+
+const bool registered = register_command(
+    {"fit-clearance", "Fit the Eq. 4.3 contact parameters to a link record, given a drive model", 55,
+     [](CLI::App& sub) {
+       auto o = std::make_shared<FitClearanceOptions>();
+       sub.add_option("--drive", o->drive_json, "Drive model: the output of `clearshape identify --json`");
+       sub.add_option("--model", o->model, "Drive model structure instead of --drive (Eq. 4.2: P3UZ)");
+       sub.add_option("--param", o->params, "A drive parameter with --model, e.g. --param Kp=0.99 (repeatable)");
+       sub.add_option("--mode", o->mode, "Command mode of the record: position (deg) or speed (V)")->capture_default_str();
+       sub.add_option("--data", o->data, "Link record(s) (CSV); several are averaged")->required();
+       sub.add_option("--time-column", o->time_column, "Time column in s (default: time_s, time or t)");
+       sub.add_option("--command-column", o->command_column,
+                      "What the drive received (default: command_applied_deg|v, else command_deg|v)");
+       sub.add_option("--gyro-column", o->gyro_column, "Link gyroscope column")->capture_default_str();
+       sub.add_option("--gyro-unit", o->gyro_unit, "deg/s, rad/s or lsb (14.375 LSB per deg/s)")->capture_default_str();
+       sub.add_option("--window-s", o->window_s, "Record length compared, from t = 0, s")->capture_default_str()->check(CLI::PositiveNumber);
+       sub.add_option("--link-inertia", o->link_inertia_kg_m2, "Link inertia J, kg·m² (held fixed)")->capture_default_str()->check(CLI::PositiveNumber);
+       sub.add_option("--play-deg", o->play_deg, "Total play 2β, deg (start value when fitted)")->capture_default_str();
+       sub.add_option("--stiffness", o->stiffness, "K, N·m/rad^n (start value when fitted)")->capture_default_str();
+       sub.add_option("--exponent", o->exponent, "n (start value when fitted)")->capture_default_str();
+       sub.add_option("--damping", o->damping, "D, N·m·s/rad (start value when fitted)")->capture_default_str();
+       sub.add_option("--fit", o->fit, "Free parameters: of stiffness, damping, play, exponent")->capture_default_str();
+       sub.add_option("--link-wn", o->link_wn_rad_s, "The link's residual mode ωn, rad/s (start of K/J; `modes`)");
+       sub.add_option("--link-zeta", o->link_zeta, "The link's residual mode ζ (start of D/J)");
+       sub.add_option("--sensor-low-pass", o->low_pass, "Gyro low-pass: auto (ITG-3205 settings), none, or Hz")->capture_default_str();
+       sub.add_option("--max-evaluations", o->max_evaluations, "Per local search")->capture_default_str()->check(CLI::Range(5, 100000));
+       sub.add_flag("--json", o->json, "Print the result as JSON");
+       sub.callback([o] { run(*o); });
+     }});
+
+}  // namespace
+}  // namespace clearshape::cli

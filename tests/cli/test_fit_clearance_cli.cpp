@@ -1,0 +1,106 @@
+// `clearshape fit-clearance` on SimRig records with a known truth: three 20° position steps of
+// the simulated thesis rig (rig::thesis_rig_truth()), the drive identified by `identify --json`,
+// the contact parameters recovered within stated tolerances. Cost ≈ 2 s.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "clearshape/core/units.hpp"
+#include "clearshape/io/table.hpp"
+#include "clearshape/rig/sim_rig.hpp"
+#include "clearshape/rig/truth.hpp"
+#include "clearshape/signal/signal.hpp"
+#include "clearshape/study/protocol.hpp"
+#include "clearshape/study/record.hpp"
+#include "support/cli.hpp"
+#include "support/paths.hpp"
+
+using clearshape::testing::run_cli;
+namespace cs = clearshape;
+
+namespace {
+
+std::filesystem::path temp(const std::string& name) {
+  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+}
+
+std::filesystem::path protocol() {
+  return cs::testing::golden_path("").parent_path().parent_path().parent_path() / "studies" / "thesis-position.toml";
+}
+
+// A run of the protocol's 20° step on the simulated thesis rig, written like a study's run.
+std::string record_step(const std::filesystem::path& dir, int repetition) {
+  const auto p = cs::study::load_protocol(protocol());
+  cs::study::RunRequest req;
+  req.id = "step-" + std::to_string(repetition);
+  req.command = cs::signal::sample(p.input("step-20").signal, p.sample_rate_hz, 3.0);
+  req.record_s = 3.0;
+  cs::rig::SimRigOptions o;
+  o.mode = cs::rig::CommandMode::position;
+  o.sample_rate_hz = p.sample_rate_hz;
+  o.seed = static_cast<std::uint64_t>(100 + repetition);
+  cs::rig::SimRig rig(o);
+  const cs::study::Record r = cs::study::execute_run(rig, req);
+  const auto path = dir / (req.id + ".csv");
+  cs::io::write_csv(path, cs::study::record_columns(r.mode),
+                    {&r.time_s, &r.command, &r.command_applied, &r.encoder_counts, &r.motor_angle_deg, &r.gyro_raw,
+                     &r.link_rate_deg_s, &r.flags});
+  return path.string();
+}
+
+}  // namespace
+
+TEST(FitClearanceCli, RecoversTheSimulatedRigsContactWithinTolerance) {
+  const auto dir = temp("clearshape_cli_fit_clearance");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string a = record_step(dir, 1), b = record_step(dir, 2), c = record_step(dir, 3);
+  const auto id = run_cli("identify --model P3UZ --data " + a +
+                          " --input-column command_applied_deg --output-column motor_angle_deg --json");
+  ASSERT_EQ(id.exit_code, 0) << id.err;
+  { std::ofstream(dir / "drive.json") << id.out; }
+
+  const auto fit = run_cli("fit-clearance --drive " + (dir / "drive.json").string() + " --data " + a + " --data " + b +
+                           " --data " + c + " --json");
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  const auto doc = nlohmann::json::parse(fit.out);
+  const auto truth = cs::rig::thesis_rig_truth();
+  const auto& contact = truth.contact(cs::rig::CommandMode::position);
+  const auto& q = doc.at("parameters");
+  const auto rel = [](double got, double want) { return std::abs(got / want - 1.0); };
+  // Tolerances: K and the play to 5 % and 10 %; D to 25 % (the rig draws the flank damping per
+  // run, σ(ln D) 0.18, so three runs pin its mean only to ≈ 10 %); n to 0.05.
+  EXPECT_LT(rel(q["stiffness"]["value"].get<double>(), contact.stiffness), 0.05) << fit.out;
+  EXPECT_LT(rel(q["damping"]["value"].get<double>(), contact.damping), 0.25) << fit.out;
+  EXPECT_LT(rel(q["play"]["value"].get<double>(), cs::rad_to_deg(truth.clearance_rad)), 0.10) << fit.out;
+  EXPECT_NEAR(q["exponent"]["value"].get<double>(), contact.exponent, 0.05) << fit.out;
+  for (const char* name : {"stiffness", "damping", "play", "exponent"}) {
+    EXPECT_TRUE(q[name]["identifiable"].get<bool>()) << name;
+    EXPECT_TRUE(std::isfinite(q[name]["std"].get<double>())) << name;
+  }
+  EXPECT_LT(doc.at("agreement").get<double>(), 0.01);  // Eq. 4.1, the thesis reached ≈ 0.02
+  EXPECT_LT(doc.at("agreement").get<double>(), doc.at("start_agreement").get<double>());
+  EXPECT_TRUE(doc.at("converged").get<bool>());
+  EXPECT_TRUE(doc.at("trusted").get<bool>()) << doc.at("warnings");
+
+  // An exhausted budget is reported: trusted false, a warning on stderr, exit 0.
+  const auto short_fit = run_cli("fit-clearance --drive " + (dir / "drive.json").string() + " --data " + a +
+                                 " --max-evaluations 5 --json");
+  ASSERT_EQ(short_fit.exit_code, 0) << short_fit.err;
+  const auto s = nlohmann::json::parse(short_fit.out);
+  EXPECT_FALSE(s.at("trusted").get<bool>());
+  EXPECT_NE(short_fit.err.find("warning: the search did not converge"), std::string::npos) << short_fit.err;
+
+  // Bad input: exit 2 naming the option or the file.
+  EXPECT_EQ(run_cli("fit-clearance --data " + a).exit_code, 2);  // no drive model
+  EXPECT_EQ(run_cli("fit-clearance --model P3UZ --param Kp=1 --data " + a + " --gyro-unit rpm").exit_code, 2);
+  EXPECT_EQ(run_cli("fit-clearance --drive " + a + " --data " + a).exit_code, 2);  // not JSON
+  std::filesystem::remove_all(dir);
+}
