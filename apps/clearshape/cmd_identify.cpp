@@ -14,8 +14,12 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
+#include "clearshape/dsp/butterworth.hpp"
+#include "clearshape/dsp/differentiate.hpp"
+#include "clearshape/dsp/sosfilt.hpp"
 #include "clearshape/ident/cross_validation.hpp"
 #include "clearshape/ident/process_fit.hpp"
+#include "clearshape/ident/trust.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
 #include "command.hpp"
@@ -40,6 +44,10 @@ struct IdentifyState {
   bool crossval = false;
   bool json = false;
   std::string simulated_csv;
+  bool derivative = false;  ///< differentiate the output (backward difference)
+  std::string butterworth;  ///< low-pass the output: 4th-order Butterworth, "30rad/s" or "5Hz"
+  mutable std::string output_name;  ///< the output column's name, set by load (guard rails)
+  mutable std::string input_name;
 };
 
 std::string lower(std::string s) {
@@ -106,6 +114,22 @@ Columns choose_columns(const io::Table& t, const std::string& input, const std::
   return c;
 }
 
+// "30rad/s" or "5Hz" → rad/s.
+double parse_cutoff_rad_s(const std::string& text) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  const std::string unit = lower(text.substr(used));
+  if (used == 0 || !(v > 0.0) || (unit != "rad/s" && unit != "hz")) {
+    throw InvalidArgument(fmt::format("--butterworth '{}': expected a cutoff > 0 with its unit, e.g. 30rad/s or 5Hz", text));
+  }
+  return unit == "hz" ? 2.0 * kPi * v : v;
+}
+
 ident::Experiment load(const std::string& path, const IdentifyState& st) {
   const io::Table t = io::read_table(path);
   const bool have_ts = st.sample_time_option != nullptr && st.sample_time_option->count() > 0;
@@ -123,7 +147,36 @@ ident::Experiment load(const std::string& path, const IdentifyState& st) {
   }
   e.input = t.columns[c.input];
   e.output = t.columns[c.output];
+  st.input_name = t.names[c.input];
+  st.output_name = t.names[c.output];
+  if (st.derivative) e.output = dsp::backward_difference(e.output, e.sample_time_s);
+  if (!st.butterworth.empty()) {
+    e.output = dsp::sosfilt(dsp::butter_lowpass_rad_s(4, parse_cutoff_rad_s(st.butterworth), 1.0 / e.sample_time_s), e.output);
+  }
   return e;
+}
+
+// The guard rails (ident/trust.hpp) plus one only the command sees: a speed-mode model (input
+// in V) fitted to an angle (output in deg, rad or counts) — the study fits the speed instead.
+std::vector<std::string> identify_warnings(const ident::ProcessEstimate& est, const IdentifyState& st) {
+  auto w = ident::assess(est).warnings;
+  const auto ends = [](const std::string& s, const char* tail) {
+    const std::string t = tail;
+    return s.size() >= t.size() && lower(s).compare(s.size() - t.size(), t.size(), t) == 0;
+  };
+  const bool speed_input = ends(st.input_name, "_v");
+  const bool angle_output = ends(st.output_name, "_deg") || ends(st.output_name, "_rad") || ends(st.output_name, "counts");
+  if (speed_input && angle_output && !st.derivative) {
+    w.push_back(fmt::format("a speed-mode model (input '{}' in V) is fitted to an angle ('{}'): fit the speed "
+                            "instead, e.g. --derivative --butterworth 30rad/s (the thesis's §3.3 chain)",
+                            st.input_name, st.output_name));
+  }
+  return w;
+}
+
+void report_warnings(const std::vector<std::string>& warnings) {
+  for (const auto& w : warnings) fmt::print(stderr, "clearshape identify: warning: {}\n", w);
+  if (!warnings.empty()) fmt::print(stderr, "clearshape identify: the model is NOT to be trusted (\"trusted\": false)\n");
 }
 
 double parse_value(const std::string& text, const std::string& option) {
@@ -308,6 +361,12 @@ void run_identify(const IdentifyState& st) {
     co.fit = options;
     fmt::print(stderr, "clearshape identify: cross-validating {} on {} runs\n", requested_model, experiments.size());
     const auto cv = ident::cross_validate(structure, experiments, co);
+    std::vector<std::vector<std::string>> warnings;
+    for (const auto& e : cv.estimates) warnings.push_back(identify_warnings(e, st));
+    for (std::size_t i = 0; i < warnings.size(); ++i) {
+      for (const auto& w : warnings[i]) fmt::print(stderr, "clearshape identify: warning: model from {}: {}\n", cv.names[i], w);
+    }
+    if (!cv.best_trusted) fmt::print(stderr, "clearshape identify: no model is to be trusted; the best is marked untrusted\n");
     if (st.json) {
       auto doc = io::make_document();
       doc["command"] = "identify";
@@ -328,11 +387,14 @@ void run_identify(const IdentifyState& st) {
         auto j = estimate_json(cv.estimates[i], {st.data[i]}, requested_model);
         j["identified_on"] = cv.names[i];
         j["mean_validation_fit_percent"] = cv.mean_validation_fit_percent[i];
+        j["trusted"] = warnings[i].empty();
+        j["warnings"] = warnings[i];
         models.push_back(j);
       }
       doc["models"] = models;
       doc["best"] = {{"index", cv.best}, {"identified_on", cv.names[cv.best]},
-                     {"mean_validation_fit_percent", cv.mean_validation_fit_percent[cv.best]}};
+                     {"mean_validation_fit_percent", cv.mean_validation_fit_percent[cv.best]},
+                     {"trusted", warnings[cv.best].empty()}};
       if (cv.joint) {
         auto j = estimate_json(*cv.joint, st.data, requested_model);
         doc["joint"] = j;
@@ -350,7 +412,8 @@ void run_identify(const IdentifyState& st) {
       for (std::size_t j = 0; j < cv.names.size(); ++j) {
         fmt::print(" {:>12.3f}", cv.fit_percent(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
       }
-      fmt::print(" {:>12.3f}{}\n", cv.mean_validation_fit_percent[i], i == cv.best ? "  <- best" : "");
+      fmt::print(" {:>12.3f}{}{}\n", cv.mean_validation_fit_percent[i], i == cv.best ? "  <- best" : "",
+                 warnings[i].empty() ? "" : "  (not trusted)");
     }
     if (cv.joint) {
       fmt::print("  {:<16}", "joint (all)");
@@ -368,12 +431,16 @@ void run_identify(const IdentifyState& st) {
     if (experiments.size() != 1) throw InvalidArgument("identify: --simulated needs exactly one --data file");
     write_simulated(st.simulated_csv, experiments[0], est.experiments[0]);
   }
+  const auto warnings = identify_warnings(est, st);
+  report_warnings(warnings);
   if (st.json) {
     auto doc = io::make_document();
     doc["command"] = "identify";
     doc["mode"] = "fit";
     const nlohmann::ordered_json result = estimate_json(est, st.data, requested_model);
     for (const auto& [k, v] : result.items()) doc[k] = v;
+    doc["trusted"] = warnings.empty();
+    doc["warnings"] = warnings;
     doc["configuration"] = {{"initial_state", st.initial_state},
                             {"hold", st.hold},
                             {"output_offset", st.output_offset},
@@ -410,7 +477,10 @@ void setup(CLI::App& sub) {
   sub.add_option("--starts", st->starts, "Levenberg-Marquardt runs from the best-ranked starting points")->capture_default_str();
   sub.add_flag("--crossval", st->crossval, "Thesis §4.2 cross-validation: identify on each run, simulate on every other");
   sub.add_option("--simulated", st->simulated_csv, "Write time_s, input, measured, simulated to this CSV (one --data)");
-  sub.add_flag("--json", st->json, "Print the result as JSON");
+  sub.add_flag("--json", st->json, "Print the result as JSON (with \"trusted\" and \"warnings\"; docs/recordings.md)");
+  sub.add_flag("--derivative", st->derivative, "Differentiate the output (backward difference): fit a speed to an angle record");
+  sub.add_option("--butterworth", st->butterworth,
+                 "Low-pass the output, 4th-order Butterworth at this cutoff (30rad/s = the thesis's §3.3 chain)");
   sub.callback([st] { run_identify(*st); });
 }
 

@@ -1,5 +1,6 @@
 #include "clearshape/ident/cross_validation.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -25,6 +26,8 @@ CrossValidation cross_validate(const lti::ProcessStructure& structure, std::span
   co.hold = options.fit.hold;
   co.initial_state = options.validation_initial_state;
   co.estimate_output_offset = options.fit.estimate_output_offset;
+  for (const auto& e : cv.estimates) cv.trust.push_back(assess(e));
+  cv.best_trusted = std::any_of(cv.trust.begin(), cv.trust.end(), [](const auto& t) { return t.trusted; });
   double best_mean = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < count; ++i) {
     double sum = 0.0;
@@ -40,7 +43,7 @@ CrossValidation cross_validate(const lti::ProcessStructure& structure, std::span
     }
     const double mean = sum / static_cast<double>(count - 1);
     cv.mean_validation_fit_percent.push_back(mean);
-    if (mean > best_mean) {
+    if (mean > best_mean && (cv.trust[i].trusted || !cv.best_trusted)) {
       best_mean = mean;
       cv.best = i;
     }

@@ -647,6 +647,10 @@ ProcessEstimate estimate_process_model(const lti::ProcessStructure& structure, s
     pe.name = layout.names[i];
     pe.value = values[i];
     pe.fixed = layout.is_fixed(static_cast<int>(i));
+    if (!pe.fixed) {
+      const auto on = [&](double bound) { return std::isfinite(bound) && std::abs(pe.value - bound) <= 1e-6 * std::max(std::abs(bound), 1e-9); };
+      pe.at_bound = on(layout.lower[i]) || on(layout.upper[i]);
+    }
     for (std::size_t slot = 0; slot < layout.free.size(); ++slot) {
       if (layout.free[slot] == static_cast<int>(i)) {
         const auto s = static_cast<Eigen::Index>(slot);

@@ -8,6 +8,7 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/ident/modes.hpp"
 #include "clearshape/ident/process_fit.hpp"
+#include "clearshape/ident/trust.hpp"
 #include "clearshape/metrics/consistency.hpp"
 #include "clearshape/study/measures.hpp"
 #include "context.hpp"
@@ -174,7 +175,19 @@ void stage_identification(Context& c) {
     }
     score[i] = sum / count;
   }
-  const std::size_t best = static_cast<std::size_t>(std::max_element(score.begin(), score.end()) - score.begin());
+  // The guard rails (ident/trust.hpp): an untrusted model is selected only when no model is trusted.
+  std::vector<ident::TrustAssessment> trust;
+  for (const auto& e : estimates) trust.push_back(ident::assess(e));
+  const bool any_trusted = std::any_of(trust.begin(), trust.end(), [](const auto& t) { return t.trusted; });
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const bool eligible = trust[i].trusted || !any_trusted;
+    const bool best_eligible = trust[best].trusted || !any_trusted;
+    if (eligible && (!best_eligible || score[i] > score[best])) best = i;
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    for (const auto& w : trust[i].warnings) c.log(fmt::format("identification: the {} model is not trusted: {}", id.inputs[i], w));
+  }
   c.drive = estimates[best];
   c.drive_input = id.inputs[best];
   c.log(fmt::format("identification: selected the {} model (mean cross-validation fit {:.1f} %)",
@@ -283,7 +296,8 @@ void stage_identification(Context& c) {
     for (const auto& pe : estimates[i].parameters) fitted[pe.name] = {{"value", pe.value}, {"std", pe.std_dev}};
     models.push_back({{"input", id.inputs[i]}, {"structure", estimates[i].model.code()},
                       {"parameters", fitted}, {"fit_percent", fit[i][i]}, {"loss", estimates[i].loss},
-                      {"converged", estimates[i].converged}});
+                      {"converged", estimates[i].converged}, {"trusted", trust[i].trusted},
+                      {"warnings", trust[i].warnings}});
   }
   section["models"] = models;
   c.sections["identification"] = section;

@@ -15,6 +15,7 @@
 
 #include "clearshape/ident/experiment.hpp"
 #include "clearshape/ident/process_fit.hpp"
+#include "clearshape/ident/trust.hpp"
 
 namespace clearshape::ident {
 
@@ -31,7 +32,11 @@ struct CrossValidation {
   std::vector<ProcessEstimate> estimates;  ///< estimates[i]: identified on experiment i alone
   Eigen::MatrixXd fit_percent;             ///< (i, j): model i simulated on experiment j
   std::vector<double> mean_validation_fit_percent;  ///< per model: mean over j ≠ i
-  std::size_t best = 0;                    ///< index of the best model
+  /// index of the best model: the best mean validation fit among the trusted models
+  /// (ident/trust.hpp); among all of them only when none is trusted (best_trusted false)
+  std::size_t best = 0;
+  bool best_trusted = true;
+  std::vector<TrustAssessment> trust;      ///< per model
   std::optional<ProcessEstimate> joint;    ///< identified on all experiments at once
   std::vector<double> joint_fit_percent;   ///< the joint model on each experiment
 };

@@ -72,6 +72,7 @@ struct ParameterEstimate {
   double value = 0.0;
   double std_dev = 0.0;  ///< 1σ from (JᵀJ)⁻¹σ² (0 for fixed, NaN if not determined by the data)
   bool fixed = false;
+  bool at_bound = false;  ///< free and on a finite bound of the search (ident/trust.hpp)
 };
 
 /// How well a model reproduces one experiment (MATLAB compare, simulation horizon ∞).

@@ -1,0 +1,25 @@
+#include "clearshape/ident/trust.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace clearshape::ident {
+
+TrustAssessment assess(const ProcessEstimate& e, const TrustOptions& options) {
+  TrustAssessment t;
+  if (!e.converged) t.warnings.push_back("the optimizer did not converge");
+  for (const auto& p : e.parameters) {
+    if (p.fixed) continue;
+    if (p.at_bound) t.warnings.push_back(fmt::format("{} = {:.6g} sits at a bound of the search", p.name, p.value));
+    if (!std::isfinite(p.std_dev)) t.warnings.push_back(fmt::format("the 1σ of {} is not finite (the data do not determine it)", p.name));
+  }
+  const double fit = e.fit_percent();
+  if (!(fit >= options.min_fit_percent)) {
+    t.warnings.push_back(fmt::format("poor fit: {:.1f} % (below {:.0f} %)", fit, options.min_fit_percent));
+  }
+  t.trusted = t.warnings.empty();
+  return t;
+}
+
+}  // namespace clearshape::ident
