@@ -42,6 +42,9 @@ constexpr ParameterOption kNumberOptions[] = {
      "Parabolic: acceleration (command units per s^2)"},
     {"--hold-s", "hold_s", "Trapezoid: time at the amplitude (s)"},
     {"--fall-s", "fall_s", "Trapezoid: fall time (s); 0 = vertical edge"},
+    {"--f0-hz", "f0_hz", "Chirp: start frequency (Hz)"},
+    {"--f1-hz", "f1_hz", "Chirp: end frequency (Hz)"},
+    {"--sweep-s", "sweep_s", "Chirp: duration of the sweep (s)"},
 };
 
 std::string canonical(const char* names) {
@@ -53,6 +56,7 @@ std::string option_of_key(std::string_view key) {
   if (key == "rise_shape") return "--rise-shape";
   if (key == "levels") return "--levels";
   if (key == "repeat") return "--repeat";
+  if (key == "sweep") return "--sweep";
   for (const auto& o : kNumberOptions) {
     if (key == o.key) return canonical(o.names);
   }
@@ -105,6 +109,8 @@ void SignalOptions::add_to(CLI::App& sub, std::string type_flag) {
           ->check(CLI::IsMember({"linear", "s-curve"}));
   levels_option_ = sub.add_option("--levels", levels_, "Stacked steps: comma-separated levels, e.g. 1,2,3 (command units)");
   repeat_option_ = sub.add_flag("--repeat", repeat_, "Stacked steps: start the sequence again after the last level");
+  sweep_option_ = sub.add_option("--sweep", sweep_, "Chirp: linear (default) or logarithmic frequency sweep")
+                      ->check(CLI::IsMember({"linear", "logarithmic"}));
 }
 
 signal::Signal SignalOptions::build(const std::string& type) const {
@@ -136,6 +142,10 @@ signal::Signal SignalOptions::build(const std::string& type) const {
   if (repeat_option_->count() > 0) {
     if (!takes("repeat")) reject("--repeat");
     p["repeat"] = repeat_;
+  }
+  if (sweep_option_->count() > 0) {
+    if (!takes("sweep")) reject("--sweep");
+    p["sweep"] = sweep_;
   }
   try {
     return signal::make_signal(type, p);

@@ -34,6 +34,8 @@ class SignalOptions {
   CLI::Option* levels_option_ = nullptr;
   bool repeat_ = false;
   CLI::Option* repeat_option_ = nullptr;
+  std::string sweep_;
+  CLI::Option* sweep_option_ = nullptr;
 };
 
 /// "1, 2,3" → {1, 2, 3}; anything else throws InvalidArgument naming --levels and the item.

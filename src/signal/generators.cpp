@@ -144,4 +144,40 @@ double Trapezoid::value_at(double t_s) const noexcept {
                       transition(rise_shape, fall_s, fall_start_s, t_s));
 }
 
+// ---- Chirp ---------------------------------------------------------------------------------
+
+std::string_view to_string(ChirpSweep sweep) noexcept {
+  return sweep == ChirpSweep::linear ? "linear" : "logarithmic";
+}
+
+ChirpSweep chirp_sweep_from_string(std::string_view name, std::string_view field) {
+  if (name == "linear") return ChirpSweep::linear;
+  if (name == "logarithmic") return ChirpSweep::logarithmic;
+  throw InvalidArgument(fmt::format("{} = '{}' is not a sweep; allowed: linear, logarithmic", field, name));
+}
+
+void Chirp::validate() const {
+  require_finite("amplitude", amplitude);
+  require_positive("f0_hz", f0_hz);
+  require_positive("f1_hz", f1_hz);
+  require_positive("sweep_s", sweep_s);
+  require_finite("phase_rad", phase_rad);
+  require_finite("offset", offset);
+  require_non_negative("start_s", start_s);
+}
+
+double Chirp::value_at(double t_s) const noexcept {
+  if (!reached(t_s, start_s)) return offset;
+  const double tau = t_s - start_s;
+  if (tau > sweep_s) return offset;
+  double theta = 0.0;
+  if (sweep == ChirpSweep::linear || f0_hz == f1_hz) {
+    theta = kTwoPi * (f0_hz * tau + 0.5 * (f1_hz - f0_hz) * tau * tau / sweep_s);  // scipy.signal.chirp, linear
+  } else {
+    const double log_ratio = std::log(f1_hz / f0_hz);  // scipy.signal.chirp, logarithmic
+    theta = kTwoPi * f0_hz * sweep_s / log_ratio * std::expm1(log_ratio * tau / sweep_s);
+  }
+  return offset + amplitude * std::sin(theta + phase_rad);
+}
+
 }  // namespace clearshape::signal

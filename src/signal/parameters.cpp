@@ -16,8 +16,8 @@ namespace {
 
 using Names = std::span<const std::string_view>;
 
-constexpr std::array<std::string_view, 8> kTypes = {
-    "step", "ramp", "sine", "prbs", "double-step", "stacked-steps", "parabolic", "trapezoid"};
+constexpr std::array<std::string_view, 9> kTypes = {
+    "step", "ramp", "sine", "prbs", "double-step", "stacked-steps", "parabolic", "trapezoid", "chirp"};
 
 constexpr std::array<std::string_view, 4> kStep = {"amplitude", "start_s", "rise_s", "rise_shape"};
 constexpr std::array<std::string_view, 3> kRamp = {"slope_per_s", "start_s", "limit"};
@@ -30,6 +30,8 @@ constexpr std::array<std::string_view, 6> kDoubleStep = {
 constexpr std::array<std::string_view, 6> kStacked = {"levels", "dwell_s", "start_s",
                                                       "rise_s", "rise_shape", "repeat"};
 constexpr std::array<std::string_view, 2> kParabolic = {"acceleration_per_s2", "start_s"};
+constexpr std::array<std::string_view, 8> kChirp = {"amplitude", "f0_hz", "f1_hz", "sweep_s",
+                                                    "sweep", "phase_rad", "offset", "start_s"};
 constexpr std::array<std::string_view, 6> kTrapezoid = {"amplitude", "start_s", "rise_s",
                                                         "hold_s", "fall_s", "rise_shape"};
 
@@ -76,6 +78,12 @@ class Reader {
     if (!v) return fallback;
     if (const auto* s = std::get_if<std::string>(v)) return rise_shape_from_string(*s, key);
     throw InvalidArgument(fmt::format("parameter '{}' must be a name: linear or s-curve", key));
+  }
+  ChirpSweep sweep(std::string_view key, ChirpSweep fallback) const {
+    const auto* v = find(key);
+    if (!v) return fallback;
+    if (const auto* s = std::get_if<std::string>(v)) return chirp_sweep_from_string(*s, key);
+    throw InvalidArgument(fmt::format("parameter '{}' must be a name: linear or logarithmic", key));
   }
   std::vector<double> list(std::string_view key, const std::vector<double>& fallback) const {
     const auto* v = find(key);
@@ -138,6 +146,12 @@ Signal build(std::string_view type, const Reader& r) {
     return Parabolic{r.number("acceleration_per_s2", d.acceleration_per_s2),
                      r.number("start_s", d.start_s)};
   }
+  if (type == "chirp") {
+    const Chirp d;
+    return Chirp{r.number("amplitude", d.amplitude), r.number("f0_hz", d.f0_hz),     r.number("f1_hz", d.f1_hz),
+                 r.number("sweep_s", d.sweep_s),     r.sweep("sweep", d.sweep),     r.number("phase_rad", d.phase_rad),
+                 r.number("offset", d.offset),       r.number("start_s", d.start_s)};
+  }
   const Trapezoid d;  // "trapezoid" (the type was checked by the caller)
   return Trapezoid{r.number("amplitude", d.amplitude), r.number("start_s", d.start_s),
                    r.number("rise_s", d.rise_s),       r.number("hold_s", d.hold_s),
@@ -157,6 +171,7 @@ std::span<const std::string_view> parameter_names(std::string_view type) {
   if (type == "stacked-steps") return kStacked;
   if (type == "parabolic") return kParabolic;
   if (type == "trapezoid") return kTrapezoid;
+  if (type == "chirp") return kChirp;
   throw InvalidArgument(fmt::format("signal type '{}' is unknown; allowed: {}", type, joined(kTypes)));
 }
 
@@ -201,6 +216,10 @@ SignalParameters parameters_of(const Signal& signal) {
                   {"rise_s", s.rise_s}, {"rise_shape", shape(s.rise_shape)}, {"repeat", s.repeat}};
         } else if constexpr (std::is_same_v<T, Parabolic>) {
           return {{"acceleration_per_s2", s.acceleration_per_s2}, {"start_s", s.start_s}};
+        } else if constexpr (std::is_same_v<T, Chirp>) {
+          return {{"amplitude", s.amplitude}, {"f0_hz", s.f0_hz},         {"f1_hz", s.f1_hz},
+                  {"sweep_s", s.sweep_s},     {"sweep", ParameterValue(std::string(to_string(s.sweep)))},
+                  {"phase_rad", s.phase_rad}, {"offset", s.offset},       {"start_s", s.start_s}};
         } else {
           static_assert(std::is_same_v<T, Trapezoid>);
           return {{"amplitude", s.amplitude}, {"start_s", s.start_s}, {"rise_s", s.rise_s},

@@ -13,7 +13,7 @@ namespace clearshape::signal {
 namespace {
 
 constexpr std::array<std::string_view, std::variant_size_v<SignalSpec>> kTypeNames = {
-    "step", "ramp", "sine", "prbs", "double-step", "stacked-steps", "parabolic", "trapezoid"};
+    "step", "ramp", "sine", "prbs", "double-step", "stacked-steps", "parabolic", "trapezoid", "chirp"};
 
 // PRBS sampled bit by bit: the register steps forward as the bit index grows.
 void sample_prbs(const Prbs& prbs, UniformSeries& series) {

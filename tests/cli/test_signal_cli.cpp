@@ -87,7 +87,7 @@ TEST(SignalCli, BadInputExitsWithTwoAndNamesTheOption) {
     const char* args;
     const char* message;
   } cases[] = {
-      {"signal --type chirp", "chirp"},
+      {"signal --type sawtooth", "sawtooth"},
       {"signal --type step --rise-s -1", "--rise-s = -1 is out of range; allowed: finite and >= 0"},
       {"signal --type step --slope 2", "--slope does not apply to --type step; it takes: --amplitude"},
       {"signal --type prbs --order 40", "order = 40"},

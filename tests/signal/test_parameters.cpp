@@ -49,7 +49,7 @@ TEST(Parameters, ErrorsNameTheProblem) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message([] { sig::make_signal("chirp", {}); }).find("allowed: step, ramp, sine, prbs"), std::string::npos);
+  EXPECT_NE(message([] { sig::make_signal("sawtooth", {}); }).find("allowed: step, ramp, sine, prbs"), std::string::npos);
   const auto foreign = message([] { sig::make_signal("step", {{"slope_per_s", 1.0}}); });
   EXPECT_NE(foreign.find("'slope_per_s' does not apply to signal type 'step'"), std::string::npos) << foreign;
   EXPECT_NE(foreign.find("it takes: amplitude, start_s, rise_s, rise_shape"), std::string::npos) << foreign;

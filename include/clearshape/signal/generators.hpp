@@ -116,4 +116,28 @@ struct Trapezoid {
   double value_at(double t_s) const noexcept;
 };
 
+/// How a chirp's frequency moves from f0 to f1 (scipy.signal.chirp's `method`).
+enum class ChirpSweep { linear, logarithmic };
+std::string_view to_string(ChirpSweep sweep) noexcept;
+/// "linear" | "logarithmic"; throws InvalidArgument naming `field` otherwise.
+ChirpSweep chirp_sweep_from_string(std::string_view name, std::string_view field = "sweep");
+
+/// A swept sine for resonance tests: offset + amplitude·sin(θ(τ) + phase), τ = t − start, for
+/// 0 ≤ τ ≤ sweep_s, with the instantaneous frequency θ'/2π going from f0_hz to f1_hz —
+/// linear: θ = 2π(f0 τ + (f1 − f0) τ²/(2T)); logarithmic: θ = 2π f0 T (r^(τ/T) − 1)/ln r,
+/// r = f1/f0 (scipy.signal.chirp with phi = phase − 90°). The offset before and after.
+struct Chirp {
+  double amplitude = 1.0;
+  double f0_hz = 0.5;
+  double f1_hz = 10.0;
+  double sweep_s = 10.0;
+  ChirpSweep sweep = ChirpSweep::linear;
+  double phase_rad = 0.0;
+  double offset = 0.0;
+  double start_s = 0.0;
+
+  void validate() const;
+  double value_at(double t_s) const noexcept;
+};
+
 }  // namespace clearshape::signal

@@ -14,7 +14,7 @@
 namespace clearshape::signal {
 
 using SignalSpec =
-    std::variant<Step, Ramp, Sine, Prbs, DoubleStep, StackedSteps, Parabolic, Trapezoid>;
+    std::variant<Step, Ramp, Sine, Prbs, DoubleStep, StackedSteps, Parabolic, Trapezoid, Chirp>;
 
 /// A validated command signal (value semantics: copy freely).
 class Signal {
@@ -26,7 +26,7 @@ class Signal {
   Signal(T spec) : Signal(SignalSpec(std::move(spec))) {}  // NOLINT(google-explicit-constructor)
 
   /// The type name used by the CLI and the study: "step", "ramp", "sine", "prbs",
-  /// "double-step", "stacked-steps", "parabolic" or "trapezoid".
+  /// "double-step", "stacked-steps", "parabolic", "trapezoid" or "chirp".
   std::string_view type() const noexcept;
   const SignalSpec& spec() const noexcept { return spec_; }
   template <class T>
