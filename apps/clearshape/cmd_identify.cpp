@@ -22,6 +22,7 @@
 #include "clearshape/ident/trust.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
+#include "clearshape/io/time_column.hpp"
 #include "command.hpp"
 
 namespace clearshape::cli {
@@ -86,7 +87,7 @@ Columns choose_columns(const io::Table& t, const std::string& input, const std::
     if (have_sample_time) throw InvalidArgument("give either --time-column or --sample-time, not both");
     c.time = column_index(t, time);
   } else if (!have_sample_time) {
-    c.time = find_named(t, {"time_s", "time", "t"}, false);
+    if (const auto name = io::find_time_column(t)) c.time = t.find(*name);  // the shared defaults
   }
   auto others = [&](std::size_t i) { return !c.time || i != *c.time; };
   if (need_input) {

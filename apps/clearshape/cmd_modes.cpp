@@ -16,6 +16,7 @@
 #include "clearshape/ident/modes.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
+#include "clearshape/io/time_column.hpp"
 #include "command.hpp"
 
 namespace clearshape::cli {
@@ -31,16 +32,14 @@ struct ModesState {
   std::size_t order = 0;
   std::size_t from_sample = 0;
   std::size_t to_sample = 0;
+  CLI::Option* from_s_option = nullptr;
+  CLI::Option* to_s_option = nullptr;
+  double from_s = 0.0, to_s = 0.0;
   double max_damping = 0.7;
   bool no_refine = false;
   bool no_offset = false;
   bool json = false;
 };
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 std::size_t column_index(const io::Table& t, const std::string& spec) {
   if (auto i = t.find(spec)) return *i;
@@ -49,11 +48,46 @@ std::size_t column_index(const io::Table& t, const std::string& spec) {
 }
 
 std::optional<std::size_t> time_column(const io::Table& t) {
-  for (std::size_t i = 0; i < t.names.size(); ++i) {
-    const std::string n = lower(t.names[i]);
-    if (n == "time_s" || n == "time" || n == "t") return i;
-  }
+  if (const auto name = io::find_time_column(t)) return t.find(*name);
   return std::nullopt;
+}
+
+// The window in samples: --from-s/--to-s (seconds, need a sample time) or --from-sample/--to-sample.
+std::pair<std::size_t, std::size_t> window(const ModesState& st, std::size_t size, double dt, bool per_sample) {
+  const bool seconds = st.from_s_option->count() > 0 || st.to_s_option->count() > 0;
+  std::size_t from = st.from_sample, end = st.to_sample > 0 ? st.to_sample : size;
+  if (seconds) {
+    if (st.from_sample > 0 || st.to_sample > 0) throw InvalidArgument("modes: give the window in seconds or in samples, not both");
+    if (per_sample) throw InvalidArgument("modes: --from-s/--to-s need a time column or --sample-time");
+    from = static_cast<std::size_t>(std::llround(std::max(0.0, st.from_s) / dt));
+    end = st.to_s_option->count() > 0 ? static_cast<std::size_t>(std::llround(st.to_s / dt)) : size;
+  }
+  if (!(from < end && end <= size)) {
+    throw InvalidArgument(fmt::format("modes: window [{}, {}) samples is out of range; the record has {} samples ({} s)", from, end,
+                                      size, per_sample ? 0.0 : dt * static_cast<double>(size)));
+  }
+  return {from, end};
+}
+
+// The guard rails (docs/recordings.md): a σ that is not finite, a damping ratio on the search's
+// bound (0 or --max-damping), a poor fit, fewer modes than asked.
+std::vector<std::string> modes_warnings(const ident::ModeIdentification& r, const ModesState& st) {
+  std::vector<std::string> w;
+  if (r.modes.size() < st.modes) {
+    w.push_back(fmt::format("asked for {} modes, found {} with damping ratio below {}", st.modes, r.modes.size(), st.max_damping));
+  }
+  for (std::size_t i = 0; i < r.modes.size(); ++i) {
+    const auto& m = r.modes[i];
+    if (!std::isfinite(m.natural_frequency_std_rad_s) || !std::isfinite(m.damping_ratio_std)) {
+      w.push_back(fmt::format("mode {}: its 1σ is not finite (the record does not determine it)", i + 1));
+    }
+    if (m.damping_ratio <= 1e-6 || m.damping_ratio >= st.max_damping * (1.0 - 1e-6)) {
+      w.push_back(fmt::format("mode {}: damping ratio {:.4g} sits at a bound (0 or --max-damping {})", i + 1, m.damping_ratio,
+                              st.max_damping));
+    }
+  }
+  if (!(r.fit_percent >= 80.0)) w.push_back(fmt::format("poor fit: {:.1f} % (below 80 %)", r.fit_percent));
+  return w;
 }
 
 nlohmann::ordered_json number_or_null(double v) {
@@ -81,12 +115,8 @@ void run_modes(const ModesState& st) {
     per_sample = true;  // frequencies in cycles/sample
   }
   const std::vector<double>& y_all = t.columns[column_index(t, st.output_column)];
-  const std::size_t end = st.to_sample > 0 ? st.to_sample : y_all.size();
-  if (!(st.from_sample < end && end <= y_all.size())) {
-    throw InvalidArgument(fmt::format("modes: window [--from-sample {}, --to-sample {}) is out of range; the record has {} samples",
-                                      st.from_sample, end, y_all.size()));
-  }
-  const auto first = static_cast<std::ptrdiff_t>(st.from_sample), last = static_cast<std::ptrdiff_t>(end);
+  const auto [from, end] = window(st, y_all.size(), dt, per_sample);
+  const auto first = static_cast<std::ptrdiff_t>(from), last = static_cast<std::ptrdiff_t>(end);
   const std::vector<double> y(y_all.begin() + first, y_all.begin() + last);
   ident::ModeOptions o;
   o.modes = st.modes;
@@ -105,10 +135,9 @@ void run_modes(const ModesState& st) {
     r = ident::identify_free_response_modes(UniformSeries{0.0, dt, y}, o);
     kind = "free response";
   }
-  if (r.modes.size() < st.modes) {
-    fmt::print(stderr, "clearshape modes: warning: asked for {} modes, found {} with damping ratio below {}\n", st.modes,
-               r.modes.size(), st.max_damping);
-  }
+  const auto warnings = modes_warnings(r, st);
+  for (const auto& w : warnings) fmt::print(stderr, "clearshape modes: warning: {}\n", w);
+  if (!warnings.empty()) fmt::print(stderr, "clearshape modes: the result is NOT to be trusted (\"trusted\": false)\n");
 
   const std::string unit = per_sample ? "cycles/sample" : "Hz";
   const std::string key = per_sample ? "frequency_cycles_per_sample" : "frequency_hz";
@@ -129,7 +158,7 @@ void run_modes(const ModesState& st) {
     doc["kind"] = kind;
     doc["method"] = r.method;
     doc["samples"] = y.size();
-    doc["window"] = {{"from_sample", st.from_sample}, {"to_sample", end}};
+    doc["window"] = {{"from_sample", from}, {"to_sample", end}};
     doc["sample_time_s"] = per_sample ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(dt);
     doc["frequency_unit"] = unit;
     if (per_sample) {
@@ -159,6 +188,8 @@ void run_modes(const ModesState& st) {
     }
     doc["modes"] = modes;
     doc["shape_command"] = shape_command.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(shape_command);
+    doc["trusted"] = warnings.empty();
+    doc["warnings"] = warnings;
     print_json(doc);
     return;
   }
@@ -189,6 +220,8 @@ void setup(CLI::App& sub) {
   sub.add_option("--from-sample", st->from_sample, "First sample of the window (0-based), e.g. the end of the move")
       ->capture_default_str();
   sub.add_option("--to-sample", st->to_sample, "End of the window (exclusive; 0 = end of the record)")->capture_default_str();
+  st->from_s_option = sub.add_option("--from-s", st->from_s, "Start of the window, s (instead of --from-sample)");
+  st->to_s_option = sub.add_option("--to-s", st->to_s, "End of the window, s (instead of --to-sample)");
   sub.add_option("--max-damping", st->max_damping, "Report only modes with damping ratio below this")->capture_default_str();
   sub.add_flag("--no-refine", st->no_refine, "Skip the least-squares refinement (subspace estimate only)");
   sub.add_flag("--no-offset", st->no_offset, "Free response: do not estimate a constant sensor offset");

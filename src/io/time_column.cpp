@@ -1,5 +1,7 @@
 #include "clearshape/io/time_column.hpp"
 
+#include <cctype>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -13,8 +15,12 @@ const std::vector<std::string>& default_time_columns() {
 }
 
 std::optional<std::string> find_time_column(const Table& table) {
-  for (const auto& name : default_time_columns()) {
-    if (table.find(name)) return name;
+  for (const auto& want : default_time_columns()) {
+    for (const auto& name : table.names) {
+      std::string low = name;
+      for (char& ch : low) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (low == want) return name;
+    }
   }
   return std::nullopt;
 }

@@ -3,6 +3,8 @@
 // speed instead; a good fit says "trusted": true. Exit status 0 either way (docs/recordings.md).
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -60,4 +62,47 @@ TEST(GuardRailsCli, SpeedModelOnAnAngleIsFlaggedAndTheDerivativeFixesIt) {
   EXPECT_GT(f.at("fit_percent").get<double>(), 90.0);
   EXPECT_EQ(run_cli("identify --model P3UZ --data " + run + " --derivative --butterworth 30").exit_code, 2);  // no unit
   fs::remove(run);
+}
+
+namespace {
+
+// A 5 Hz, ζ = 0.05 free decay from 0.5 s at 1 kHz with white noise of `noise` (seeded).
+std::string write_decay(const std::string& name, double noise) {
+  std::vector<double> t(3001), y(3001);
+  std::uint64_t state = 12345;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    t[k] = static_cast<double>(k) * 1e-3;
+    const double tau = t[k] - 0.5;
+    const double wn = 2.0 * M_PI * 5.0;
+    y[k] = tau >= 0.0 ? std::exp(-0.05 * wn * tau) * std::cos(wn * std::sqrt(1.0 - 0.0025) * tau) : 0.0;
+    // Uniform noise from a 64-bit LCG (Knuth MMIX constants), variance noise²/3.
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    y[k] += noise * (2.0 * static_cast<double>(state >> 11) / 9007199254740992.0 - 1.0);
+  }
+  const fs::path p = fs::temp_directory_path() / ("clearshape_guard_rails_" + name + std::to_string(::getpid()) + ".csv");
+  clearshape::io::write_csv(p, {"Time", "rate_deg_s"}, {&t, &y});
+  return p.string();
+}
+
+}  // namespace
+
+TEST(GuardRailsCli, ModesWindowInSecondsAndAPoorFitFlagged) {
+  const std::string clean = write_decay("clean", 0.002);
+  const auto r = run_cli("modes --data " + clean + " --output-column rate_deg_s --from-s 0.5 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("window").at("from_sample"), 500);  // "Time" is found by the shared time-column defaults
+  EXPECT_NEAR(j.at("modes")[0].at("frequency_hz").get<double>(), 5.0, 0.01);
+  EXPECT_TRUE(j.at("trusted").get<bool>()) << j.at("warnings");
+
+  const std::string noisy = write_decay("noisy", 1.0);
+  const auto n = run_cli("modes --data " + noisy + " --output-column rate_deg_s --from-s 0.5 --to-s 3 --json");
+  ASSERT_EQ(n.exit_code, 0) << n.err;  // done, but flagged
+  EXPECT_FALSE(nlohmann::json::parse(n.out).at("trusted").get<bool>());
+  EXPECT_NE(n.err.find("poor fit"), std::string::npos) << n.err;
+  // Seconds and samples together, or seconds without a time base: exit 2.
+  EXPECT_EQ(run_cli("modes --data " + clean + " --output-column rate_deg_s --from-s 0.5 --from-sample 3").exit_code, 2);
+  EXPECT_EQ(run_cli("modes --data " + clean + " --output-column rate_deg_s --from-s 9").exit_code, 2);
+  fs::remove(clean);
+  fs::remove(noisy);
 }

@@ -12,7 +12,7 @@ namespace clearshape::io {
 
 /// "time_s", "time", "t".
 const std::vector<std::string>& default_time_columns();
-/// The first default time column present in `table`.
+/// The first default time column present in `table` (names compared case-insensitively).
 std::optional<std::string> find_time_column(const Table& table);
 /// `requested` if given (it must exist; InputError listing the columns otherwise), else the
 /// first default time column, else an InputError naming the file and the accepted names.
