@@ -9,6 +9,14 @@
 
 namespace clearshape::study {
 
+std::string unshaped_run_id(std::string_view input, int repetition) {
+  return fmt::format("unshaped/{}/r{:02d}", input, repetition);
+}
+
+std::string rig_test_run_id(std::string_view table, std::string_view column, int repetition) {
+  return fmt::format("rig/{}/{}/r{:02d}", table, column, repetition);
+}
+
 namespace {
 
 std::vector<PlannedRun> unshaped(const Protocol& p, const std::vector<std::string>& inputs) {
@@ -16,7 +24,7 @@ std::vector<PlannedRun> unshaped(const Protocol& p, const std::vector<std::strin
   for (const auto& input : inputs) {
     if (input.empty()) continue;
     for (int r = 1; r <= p.repetitions; ++r) {
-      runs.push_back({fmt::format("unshaped/{}/r{:02d}", input, r), "unshaped", input, "none", r});
+      runs.push_back({unshaped_run_id(input, r), "unshaped", input, "none", r});
     }
   }
   return runs;
@@ -27,8 +35,7 @@ std::vector<PlannedRun> rig_tests(const Protocol& p) {
   for (const auto& table : p.rig_tests.tables) {
     for (const auto& col : table.columns) {
       for (int r = 1; r <= p.repetitions; ++r) {
-        runs.push_back({fmt::format("rig/{}/{}/r{:02d}", table.id, col.key(), r), "rig-tests", table.input,
-                        col.key(), r});
+        runs.push_back({rig_test_run_id(table.id, col.key(), r), "rig-tests", table.input, col.key(), r});
       }
     }
   }

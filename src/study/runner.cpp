@@ -201,7 +201,7 @@ const std::vector<Record>& Context::unshaped_runs(const std::string& input) {
   std::vector<RunRequest> requests;
   for (int r = 1; r <= p.repetitions; ++r) {
     RunRequest req;
-    req.id = fmt::format("unshaped/{}/r{:02d}", input, r);
+    req.id = unshaped_run_id(input, r);
     req.stage = "unshaped";
     req.input = input;
     req.repetition = r;

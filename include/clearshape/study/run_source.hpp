@@ -33,6 +33,10 @@ struct StagePlan {
   std::vector<PlannedRun> runs;
 };
 
+/// The run ids (the one place they are spelled): "unshaped/<input>/rNN", "rig/<table>/<column>/rNN".
+std::string unshaped_run_id(std::string_view input, int repetition);
+std::string rig_test_run_id(std::string_view table, std::string_view column, int repetition);
+
 /// Every stage of the protocol with the runs it needs (a run shared by stages appears in each).
 std::vector<StagePlan> plan_runs(const Protocol& protocol);
 /// The distinct runs of the protocol, in first-use order.

@@ -1,0 +1,93 @@
+// Stage 6, the summaries (thesis Table 5.2, B.6): the rig tables side by side and the mean
+// improvements per table, from the MDs stage_rig_tests tabulated.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "clearshape/metrics/improvement.hpp"
+#include "clearshape/study/measures.hpp"
+#include "context.hpp"
+#include "rig_tests.hpp"
+
+namespace clearshape::study::detail {
+
+namespace {
+
+std::optional<double> improvement(double without, double with) {
+  if (!(without > 0.0) || !std::isfinite(with)) return std::nullopt;
+  return metrics::improvement_percent(without, with);
+}
+
+json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+
+}  // namespace
+
+void tabulate_rig_summaries(Context& c, RigTestTables& tables) {
+  const std::string md_unit = md_unit_of(c);
+for (const auto& s : c.p.rig_tests.summaries) {
+  if (s.kind == "combine") {
+    json t = make_table(s.id, "mean-deviation", s.title, md_unit);
+    t["row_labels"] = tables.table_json.at(s.tables.front())["row_labels"];
+    json cols = json::array();
+    for (const auto& id : s.tables) {
+      for (auto col : tables.table_json.at(id)["columns"]) {
+        col["key"] = fmt::format("{}:{}", id, col["key"].get<std::string>());
+        col["label"] = fmt::format("{} — {}", c.p.input(c.p.table(id).input).label, col["label"].get<std::string>());
+        cols.push_back(col);
+      }
+    }
+    t["columns"] = cols;
+    t["note"] = fmt::format("The same trials as Tables {} (the thesis prints them twice).", fmt::format("{}", s.tables.front()) +
+                                                                                                 (s.tables.size() > 1 ? " and " + s.tables.back() : ""));
+    c.tables.push_back(t);
+  } else {
+    json t = make_table(s.id, "improvement", s.title, "%");
+    json rows = json::array();
+    std::vector<json> ours, thesis;
+    for (std::size_t i = 0; i < s.tables.size(); ++i) {
+      const auto& id = s.tables[i];
+      rows.push_back(c.p.input(c.p.table(id).input).label);
+      const MeanStd w = mean_std(tables.md[id]["none"]);
+      const MeanStd v = mean_std(tables.md[id][s.column]);
+      ours.push_back(opt(improvement(w.mean, v.mean)));
+      thesis.push_back(i < s.thesis.size() ? json(s.thesis[i]) : json(nullptr));
+    }
+    t["row_labels"] = rows;
+    t["columns"] = {{{"key", "improvement"}, {"label", fmt::format("improvement ({})", s.column)},
+                     {"ours", ours}, {"thesis", thesis}}};
+    t["headline"] = {{"ours", ours}, {"thesis", thesis}};
+    t["note"] = "improvement = (without − with)/without · 100 (Appendix B), from the mean MDs.";
+    c.tables.push_back(t);
+    // Summary figure: means without/with shaping and improvements, ours beside the thesis's.
+    json fig_rows = json::array();
+    for (std::size_t i = 0; i < s.tables.size(); ++i) {
+      const auto& id = s.tables[i];
+      const RigTable& table = c.p.table(id);
+      auto thesis_mean = [&](const std::string& key) -> json {
+        for (const auto& col : table.columns) {
+          if (col.key() == key && col.thesis.mean) return *col.thesis.mean;
+        }
+        return nullptr;
+      };
+      fig_rows.push_back({{"table", id},
+                          {"label", c.p.input(table.input).label},
+                          {"ours_without", mean_std(tables.md[id]["none"]).mean},
+                          {"thesis_without", thesis_mean("none")},
+                          {"ours_with", mean_std(tables.md[id][s.column]).mean},
+                          {"thesis_with", thesis_mean(s.column)},
+                          {"ours_improvement", ours[i]},
+                          {"thesis_improvement", thesis[i]}});
+    }
+    c.figures.push_back({{"id", fmt::format("summary-{}", s.id)},
+                         {"thesis_figure", nullptr},
+                         {"thesis_table", s.id},
+                         {"kind", "md-summary"},
+                         {"title", fmt::format("{}: mean deviations without and with {} and the improvement, "
+                                               "clearshape beside the thesis", s.title, s.column)},
+                         {"unit", md_unit},
+                         {"rows", fig_rows}});
+  }
+}
+}
+
+}  // namespace clearshape::study::detail
