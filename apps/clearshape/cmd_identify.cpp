@@ -45,6 +45,8 @@ struct IdentifyState {
   bool crossval = false;
   bool json = false;
   std::string simulated_csv;
+  double from_s = 0.0;      ///< window start, s from the record's first sample
+  double to_s = 0.0;        ///< window end, s (0 = the end of the record)
   bool derivative = false;  ///< differentiate the output (backward difference)
   std::string butterworth;  ///< low-pass the output: 4th-order Butterworth, "30rad/s" or "5Hz"
   mutable std::string output_name;  ///< the output column's name, set by load (guard rails)
@@ -115,6 +117,22 @@ Columns choose_columns(const io::Table& t, const std::string& input, const std::
   return c;
 }
 
+// --from-s/--to-s: keep [from, to) of the record (after the derivative and the filter, so the
+// filter has settled on the part before the window).
+void cut_window(ident::Experiment& e, const IdentifyState& st, const std::string& path) {
+  if (st.from_s == 0.0 && st.to_s == 0.0) return;
+  const std::size_t n = e.output.size();
+  const auto from = static_cast<std::size_t>(std::llround(std::max(0.0, st.from_s) / e.sample_time_s));
+  const std::size_t end = st.to_s > 0.0 ? static_cast<std::size_t>(std::llround(st.to_s / e.sample_time_s)) : n;
+  if (!(from < end && end <= n)) {
+    throw InvalidArgument(fmt::format("identify: window --from-s {} --to-s {} is outside {} ({} s long)", st.from_s, st.to_s, path,
+                                      e.sample_time_s * static_cast<double>(n)));
+  }
+  const auto a = static_cast<std::ptrdiff_t>(from), b = static_cast<std::ptrdiff_t>(end);
+  e.input = std::vector<double>(e.input.begin() + a, e.input.begin() + b);
+  e.output = std::vector<double>(e.output.begin() + a, e.output.begin() + b);
+}
+
 // "30rad/s" or "5Hz" → rad/s.
 double parse_cutoff_rad_s(const std::string& text) {
   std::size_t used = 0;
@@ -154,6 +172,7 @@ ident::Experiment load(const std::string& path, const IdentifyState& st) {
   if (!st.butterworth.empty()) {
     e.output = dsp::sosfilt(dsp::butter_lowpass_rad_s(4, parse_cutoff_rad_s(st.butterworth), 1.0 / e.sample_time_s), e.output);
   }
+  cut_window(e, st, path);
   return e;
 }
 
@@ -479,6 +498,8 @@ void setup(CLI::App& sub) {
   sub.add_flag("--crossval", st->crossval, "Thesis §4.2 cross-validation: identify on each run, simulate on every other");
   sub.add_option("--simulated", st->simulated_csv, "Write time_s, input, measured, simulated to this CSV (one --data)");
   sub.add_flag("--json", st->json, "Print the result as JSON (with \"trusted\" and \"warnings\"; docs/recordings.md)");
+  sub.add_option("--from-s", st->from_s, "Fit only from this time on, s from the record's start");
+  sub.add_option("--to-s", st->to_s, "Fit only up to this time, s (default: the end of the record)");
   sub.add_flag("--derivative", st->derivative, "Differentiate the output (backward difference): fit a speed to an angle record");
   sub.add_option("--butterworth", st->butterworth,
                  "Low-pass the output, 4th-order Butterworth at this cutoff (30rad/s = the thesis's §3.3 chain)");

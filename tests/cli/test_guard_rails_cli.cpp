@@ -106,3 +106,16 @@ TEST(GuardRailsCli, ModesWindowInSecondsAndAPoorFitFlagged) {
   fs::remove(clean);
   fs::remove(noisy);
 }
+
+TEST(GuardRailsCli, IdentifyWindowInSeconds) {
+  const std::string run = write_speed_run();
+  // The step starts at 0.2 s; the window from 0.1 s to 2.5 s keeps it and fits the model again.
+  const auto r = run_cli("identify --model P3UZ --data " + run +
+                         " --input-column command_v --output-column motor_speed_deg_s --from-s 0.1 --to-s 2.5 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("experiments")[0].at("samples"), 2400);
+  EXPECT_NEAR(j.at("parameters").at("Kp").at("value").get<double>(), 25.47, 0.05);
+  EXPECT_EQ(run_cli("identify --model P3UZ --data " + run + " --from-s 2 --to-s 1").exit_code, 2);
+  fs::remove(run);
+}
