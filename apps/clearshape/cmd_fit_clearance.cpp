@@ -15,6 +15,7 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/io/json.hpp"
@@ -45,11 +46,10 @@ struct FitClearanceOptions {
 lti::ProcessModel read_drive(const FitClearanceOptions& o) {
   lti::ProcessParameters p;
   if (!o.drive_json.empty()) {
-    std::ifstream in(o.drive_json);
-    if (!in) throw InputError(o.drive_json, 0, "", "cannot read the drive model");
+    const std::string text = io::read_text_file(o.drive_json);
     json doc;
     try {
-      doc = json::parse(in);
+      doc = json::parse(text);
     } catch (const json::parse_error& e) {
       throw InputError(o.drive_json, 0, "", fmt::format("not JSON: {}", e.what()));
     }

@@ -17,6 +17,7 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/metrics/mean_deviation.hpp"
@@ -290,7 +291,10 @@ void run(const State& st) {
   }
 
   if (!st.output.empty()) {
-    cs::io::write_csv(st.output, names, columns);
+    // CSV and sidecar appear together or not at all; `-o run.json` (the sidecar's own name) is
+    // refused by the batch instead of overwriting the CSV with the sidecar.
+    cs::io::AtomicBatch batch;
+    batch.add(st.output, cs::io::format_csv(names, columns));
     auto doc = cs::io::make_document();
     doc["command"] = "simulate";
     doc["csv"] = st.output;
@@ -320,7 +324,8 @@ void run(const State& st) {
       if (events.size() >= 1000) break;
     }
     doc["events_first_1000"] = events;
-    cs::io::write_json(sidecar_path(st.output), doc);
+    batch.add(sidecar_path(st.output), doc.dump(2) + "\n");
+    batch.commit();
     fmt::print(stderr, "clearshape simulate: wrote {} ({} rows) and {}\n", st.output, n,
                sidecar_path(st.output).string());
   }

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/rig/truth.hpp"
@@ -37,11 +38,8 @@ struct StudyCliOptions {
 };
 
 std::string file_hash(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
   std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a 64
-  for (const unsigned char c : ss.str()) {
+  for (const unsigned char c : io::read_text_file(path)) {
     h ^= c;
     h *= 0x100000001b3ULL;
   }

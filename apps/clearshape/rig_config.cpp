@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/lti/process_model.hpp"
@@ -255,7 +256,7 @@ RigConfig load_rig_config(const std::filesystem::path& path) {
   const std::string file = path.string();
   toml::table root;
   try {
-    root = toml::parse_file(file);
+    root = toml::parse(io::read_text_file(path), file);
   } catch (const toml::parse_error& e) {
     throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "",
                      std::string(e.description()));

@@ -83,6 +83,7 @@ const std::vector<double>& Table::column(std::string_view name) const {
 }
 
 Table parse_table(std::string_view text, const std::string& source) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte-order mark
   Table table;
   table.source = source;
   std::size_t line_no = 0;
@@ -133,11 +134,7 @@ Table parse_table(std::string_view text, const std::string& source) {
 }
 
 Table read_table(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, "", "cannot open file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_table(ss.str(), path.string());
+  return parse_table(read_text_file(path), path.string());
 }
 
 double uniform_sample_time(const Table& table, std::string_view time_column, double tolerance) {

@@ -98,7 +98,9 @@ RunRecord simulate_run(const RigTruth& truth, CommandMode mode, const UniformSer
   run.rigid = truth.clearance_rad == 0.0;
   UniformSeries drive_command;
   if (mode == CommandMode::position) {
-    const signal::PositionPathResult path = signal::apply_position_path(request, truth.pulse_train);
+    // The drive starts at rest at 0 (its state below is zero), so the pulse train starts from 0
+    // too: a command already away from 0 at t = 0 is reached through pulses at the capped rate.
+    const signal::PositionPathResult path = signal::apply_position_path(request, truth.pulse_train, 0.0);
     drive_command = path.commanded_rad;
     for (double& v : drive_command.values) v = drive_units(mode, v);
     run.limited_commands = path.saturated_updates;

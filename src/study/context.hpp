@@ -56,6 +56,9 @@ struct Context {
   json sections = json::object();  ///< per-stage detail (identification, link_mode, …)
   std::vector<StageTiming> timing;
   json skipped = json::array();  ///< stages skipped for want of runs (results.json "skipped_stages")
+  /// Files this study wrote under <out>/data/ (names), for the outputs manifest.
+  mutable std::mutex written_mutex;
+  mutable std::vector<std::string> data_written;
 
   void log(const std::string& line);
   double elapsed_s() const;

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/signal/parameters.hpp"
 #include "toml_reader.hpp"
@@ -445,11 +446,7 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
 }
 
 Protocol load_protocol(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, "", "cannot read the protocol file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_protocol(ss.str(), path);
+  return parse_protocol(io::read_text_file(path), path);
 }
 
 Protocol quick_variant(const Protocol& protocol) {

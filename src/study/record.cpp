@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
@@ -159,8 +160,7 @@ std::optional<Record> read_record(const std::filesystem::path& runs_dir, const R
   std::error_code ec;
   if (!std::filesystem::exists(sidecar, ec) || !std::filesystem::exists(csv, ec)) return std::nullopt;
   try {
-    std::ifstream in(sidecar);
-    const json doc = json::parse(in);
+    const json doc = json::parse(io::read_text_file(sidecar));
     if (doc.value("protocol_hash", std::string()) != protocol_hash) return std::nullopt;
     if (doc.value("id", std::string()) != request.id) return std::nullopt;
     const io::Table t = io::read_table(csv);

@@ -1,5 +1,6 @@
 // A study on recorded runs: the manifest, the conversion of a recording to a run's records and
 // the recordings-backed run source (study/recordings.hpp, docs/recordings.md).
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/study/recordings.hpp"
 
 #include <cmath>
@@ -105,14 +106,12 @@ RecordingsManifest load_recordings_manifest(const std::filesystem::path& dir, co
   m.dir = dir;
   m.path = dir / "manifest.toml";
   const std::string file = m.path.string();
-  std::ifstream in(m.path, std::ios::binary);
-  if (!in) {
+  std::error_code exists_ec;
+  if (!std::filesystem::is_regular_file(m.path, exists_ec)) {
     throw InputError(file, 0, "", "cannot read the recordings manifest; write one with "
                                   "`clearshape study PROTOCOL --print-manifest > DIR/manifest.toml`");
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
+  const std::string text = io::read_text_file(m.path);
   m.hash = fnv_hex(text);
   toml::table root;
   try {

@@ -15,6 +15,7 @@
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "context.hpp"
+#include "output_folder.hpp"
 
 namespace clearshape::study {
 
@@ -248,6 +249,8 @@ bool skip_for_missing_runs(Context& c, const std::vector<StagePlan>& plan, const
 void write_data_csv(const Context& c, const std::string& name, const std::vector<std::string>& columns,
                     const std::vector<const std::vector<double>*>& data) {
   io::write_csv(c.data_dir / name, columns, data);
+  const std::lock_guard<std::mutex> lock(c.written_mutex);
+  c.data_written.push_back(name);
 }
 
 }  // namespace detail
@@ -257,11 +260,7 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
     throw InvalidArgument("StudyOptions.rig.make is empty; give a rig factory or a run source");
   }
   detail::Context c(protocol, options);
-  if (options.fresh) {
-    std::error_code ec;
-    std::filesystem::remove_all(c.runs_dir, ec);
-    std::filesystem::remove_all(c.data_dir, ec);
-  }
+  detail::prepare_output_folder(c.out, options.fresh, [&c](const std::string& line) { c.log(line); });
   std::filesystem::create_directories(c.data_dir);
   c.log(fmt::format("study '{}' ({} mode{}), protocol hash {}, rig {}, {} parallel run(s), out {}",
                     protocol.name, rig::to_string(protocol.mode), protocol.quick ? ", quick" : "",
@@ -336,6 +335,7 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
   timing["total_s"] = total;
   timing["parallel_runs"] = c.threads;
   io::write_json(c.out / "timing.json", timing);
+  detail::write_outputs_manifest(c.out, c.data_written);
   c.log(fmt::format("done in {:.1f} s: {}, {}, {}", c.elapsed_s(), (c.out / "results.json").string(),
                     (c.out / "tables.md").string(), (c.out / "figures.json").string()));
   return result;

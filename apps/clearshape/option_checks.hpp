@@ -1,0 +1,16 @@
+#pragma once
+// One option-validation layer for every subcommand, applied by main() after the subcommands
+// have declared their options (so a new cmd_*.cpp gets it without doing anything):
+//   - a floating-point option rejects NaN and ±inf ("--spread-weight: nan is not a finite number");
+//   - an unsigned option rejects a negative value instead of letting it wrap
+//     ("--noise-seed: -1 is negative; allowed: 0 … 18446744073709551615").
+// CLI11 runs these checks while parsing, before any subcommand callback, and its message names
+// the option as the user typed it. Range checks specific to an option stay with the option.
+#include <CLI/CLI.hpp>
+
+namespace clearshape::cli {
+
+/// Adds the checks to every option of `app` and, recursively, of its subcommands.
+void add_common_option_checks(CLI::App& app);
+
+}  // namespace clearshape::cli
