@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages clearshape needs to build, test, benchmark and report.
 # Idempotent: does nothing when every package is already installed.
-# Usage: scripts/install-deps.sh
+# Usage: scripts/install-deps.sh           what make run / make test need
+#        scripts/install-deps.sh --fuzz    what make fuzz needs (clang, its sanitizer runtimes)
 # Chromium (headless) is always installed: the report test opens report.html in it.
 set -euo pipefail
 
@@ -12,7 +13,12 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-scipy python3-matplotlib
   chromium fonts-dejavu-core
+  gcc-avr avr-libc simavr libsimavr-dev libserialport-dev
 )
+
+if [[ "${1:-}" == "--fuzz" ]]; then
+  packages=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
