@@ -8,6 +8,7 @@ find_package(SUNDIALS REQUIRED)
 find_package(Ceres REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(tomlplusplus REQUIRED IMPORTED_TARGET tomlplusplus)
+pkg_check_modules(libserialport REQUIRED IMPORTED_TARGET libserialport)  # rig::SerialRig
 find_package(Threads REQUIRED)
 if(CLEARSHAPE_BUILD_TESTS OR CLEARSHAPE_BUILD_EXAMPLES)
   find_package(GTest REQUIRED)

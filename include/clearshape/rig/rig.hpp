@@ -38,6 +38,14 @@ struct CycleCounters {
   Status last_write = Status::ok;
 };
 
+/// Counters of the link between the host and a rig's device (zero for a rig without one).
+struct LinkCounters {
+  std::uint64_t samples = 0;           ///< samples received
+  std::uint64_t samples_lost = 0;      ///< samples missing (gaps in the device's tick)
+  std::uint64_t frames_corrupted = 0;  ///< frames rejected (bad length or checksum)
+  std::uint64_t samples_late = 0;      ///< samples that arrived later than deadline + tolerance
+};
+
 class Rig {
  public:
   virtual ~Rig() = default;
@@ -65,6 +73,8 @@ class Rig {
   /// The mode the rig was configured for (write() rejects the other one).
   virtual CommandMode mode() const noexcept = 0;
   virtual std::string_view name() const noexcept = 0;
+  /// The link's counters since activation (real-time safe).
+  virtual LinkCounters link_counters() const noexcept { return {}; }
 
  protected:
   Rig() = default;

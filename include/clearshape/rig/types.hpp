@@ -39,6 +39,9 @@ enum class MeasurementFlag : std::uint32_t {
   command_limited = 1u << 1,    ///< the last command was clipped (D/A range, pulse-rate cap)
   overrun = 1u << 2,            ///< the sample came later than its wall-clock deadline
   command_rejected = 1u << 3,   ///< the last write was rejected (wrong mode or not finite)
+  watchdog = 1u << 4,           ///< the board's command watchdog holds the command safe
+  sensor_error = 1u << 5,       ///< a sensor read failed; the sensor value repeats the last one
+  samples_lost = 1u << 6,       ///< samples before this one were lost (sequence has a gap)
 };
 constexpr std::uint32_t bit(MeasurementFlag flag) noexcept {
   return static_cast<std::uint32_t>(flag);

@@ -1,0 +1,327 @@
+// SerialRig's configuration side: options, the handshake and the lifecycle (configuration time:
+// may allocate, block and throw). The real-time side is serial_rig_loop.cpp.
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "serial_rig_impl.hpp"
+
+namespace clearshape::rig {
+namespace {
+
+bool whole_in(double v, double lo, double hi) { return std::isfinite(v) && v == std::floor(v) && v >= lo && v <= hi; }
+
+const char* message_name(std::uint8_t type) {
+  switch (type) {
+    case CS_MSG_HELLO: return "HELLO";
+    case CS_MSG_CONFIGURE: return "CONFIGURE";
+    case CS_MSG_START: return "START";
+    case CS_MSG_STOP: return "STOP";
+    case CS_MSG_COMMAND: return "COMMAND";
+    case CS_MSG_SERVO: return "SERVO";
+    case CS_MSG_SELFTEST: return "SELFTEST";
+    case CS_MSG_GET_STATS: return "GET_STATS";
+    case CS_MSG_HELLO_ACK: return "HELLO_ACK";
+    case CS_MSG_ACK: return "ACK";
+    case CS_MSG_SAMPLE: return "SAMPLE";
+    case CS_MSG_SELFTEST_RESULT: return "SELFTEST_RESULT";
+    case CS_MSG_STATS: return "STATS";
+    default: return "unknown message";
+  }
+}
+
+const char* result_name(std::uint8_t result) {
+  switch (result) {
+    case CS_OK: return "ok";
+    case CS_ERR_LENGTH: return "wrong payload length";
+    case CS_ERR_VALUE: return "a field out of range";
+    case CS_ERR_STATE: return "not allowed in the board's state";
+    case CS_ERR_UNKNOWN: return "unknown message type";
+    case CS_ERR_DEVICE: return "a device on the TWI bus did not answer";
+    default: return "unknown result";
+  }
+}
+
+// CONFIGURE's field at a byte offset (an ACK's detail for CS_ERR_VALUE).
+const char* configure_field(unsigned offset) {
+  switch (offset) {
+    case 0: return "mode";
+    case 1: return "gyro_fs_sel";
+    case 2: return "gyro_dlpf_cfg";
+    case 3: return "reserved";
+    case 4: return "sample_rate_hz";
+    case 6: return "update_rate_hz";
+    case 8: return "max_pulse_rate_hz";
+    case 12: return "watchdog_ms";
+    case 14: return "dac_safe_code";
+    default: return "unknown field";
+  }
+}
+
+}  // namespace
+
+std::string BoardInfo::firmware_version() const {
+  return fmt::format("{}.{}.{}", firmware_major, firmware_minor, firmware_patch);
+}
+
+void SerialRigOptions::validate() const {
+  if (port.empty()) throw InvalidArgument("port is empty; allowed: a serial device path, e.g. /dev/ttyACM0");
+  if (baud < 9600 || baud > 2'000'000) throw_invalid("baud", baud, "9600 … 2000000");
+  if (!whole_in(sample_rate_hz, 100, 2000)) throw_invalid("sample_rate_hz", sample_rate_hz, "whole Hz in 100 … 2000");
+  if (!whole_in(update_rate_hz, 1, sample_rate_hz)) {
+    throw_invalid("update_rate_hz", update_rate_hz, fmt::format("whole Hz in 1 … sample_rate_hz ({:g})", sample_rate_hz));
+  }
+  if (max_pulse_rate_hz < 1 || max_pulse_rate_hz > CS_MAX_PULSE_RATE_HZ) {
+    throw_invalid("max_pulse_rate_hz", max_pulse_rate_hz, fmt::format("1 … {}", CS_MAX_PULSE_RATE_HZ));
+  }
+  if (gyro_fs_sel < 0 || gyro_fs_sel > 3) throw_invalid("gyro_fs_sel", gyro_fs_sel, "0 … 3 (3 = ±2000 °/s)");
+  if (gyro_dlpf_cfg < 0 || gyro_dlpf_cfg > 6) throw_invalid("gyro_dlpf_cfg", gyro_dlpf_cfg, "0 … 6");
+  if (watchdog_ms != 0 && (watchdog_ms < 5 || watchdog_ms > 60000)) {
+    throw_invalid("watchdog_ms", watchdog_ms, "0 (off) or 5 … 60000");
+  }
+  require_in_half_open("handshake_timeout_s", -handshake_timeout_s, -60.0, 0.0);
+  require_in_half_open("read_timeout_s", -read_timeout_s, -60.0, 0.0);
+  require_in_closed("late_tolerance_s", late_tolerance_s, 0.0, 10.0);
+  if (counts_per_rev < 1) throw_invalid("counts_per_rev", counts_per_rev, ">= 1");
+  if (pulses_per_rev < 1) throw_invalid("pulses_per_rev", pulses_per_rev, ">= 1");
+  require_positive("gyro_sensitivity_lsb_per_dps", gyro_sensitivity_lsb_per_dps);
+  if (dac.bits != 12) throw_invalid("dac.bits", dac.bits, "12 (the board's MCP4725)");
+  if (!(dac.min_v < dac.max_v) || !std::isfinite(dac.min_v) || !std::isfinite(dac.max_v)) {
+    throw InvalidArgument(fmt::format("dac range [{}, {}] V is empty; allowed: min_v < max_v", dac.min_v, dac.max_v));
+  }
+  if (ring_capacity < 16 || ring_capacity > (1u << 20)) throw_invalid("ring_capacity", static_cast<double>(ring_capacity), "16 … 1048576");
+}
+
+namespace {
+
+// Blocking helpers for the handshake (configuration time).
+struct Session {
+  const SerialRigOptions& o;
+  SerialRig::Impl& m;
+  std::uint64_t bytes_seen = 0;
+
+  void send(std::uint8_t type, const std::uint8_t* payload, std::uint8_t length) {
+    std::uint8_t frame[CS_WIRE_MAX_FRAME];
+    const std::size_t size = cs_frame_encode(frame, type, m.tx_seq++, payload, length);
+    std::size_t done = 0;
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.handshake_timeout_s);
+    while (done < size) {
+      const long n = m.port.write_some(frame + done, size - done);
+      if (n < 0) throw RuntimeError(fmt::format("serial port {}: writing {} failed; is the board still connected?", o.port, message_name(type)));
+      done += static_cast<std::size_t>(n);
+      if (done < size) {
+        if (std::chrono::steady_clock::now() > give_up) {
+          throw RuntimeError(fmt::format("serial port {}: the port did not take {} within {} s", o.port, message_name(type), o.handshake_timeout_s));
+        }
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+    }
+  }
+
+  // The next frame of `type` (others are skipped), or nothing within timeout_s.
+  std::optional<cs_frame> await(std::uint8_t type, double timeout_s) {
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    cs_frame frame{};
+    for (;;) {
+      while (m.pending_rx_begin < m.pending_rx_end) {
+        if (cs_decoder_push(&m.decoder, m.pending_rx[m.pending_rx_begin++], &frame) == 1 && frame.type == type) {
+          return frame;
+        }
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(give_up - std::chrono::steady_clock::now()).count();
+      if (left <= 0) return std::nullopt;
+      const long n = m.port.read_some(m.pending_rx, sizeof m.pending_rx, static_cast<int>(std::min<long long>(left, 50)));
+      if (n < 0) throw RuntimeError(fmt::format("serial port {}: reading failed; is the board still connected?", o.port));
+      bytes_seen += static_cast<std::uint64_t>(n);
+      m.pending_rx_begin = 0;
+      m.pending_rx_end = static_cast<std::size_t>(n);
+    }
+  }
+
+  // Sends `type` and waits for its ACK; a refusal throws naming the reason.
+  void request(std::uint8_t type, const std::uint8_t* payload, std::uint8_t length) {
+    send(type, payload, length);
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.handshake_timeout_s);
+    for (;;) {
+      const double left = std::chrono::duration<double>(give_up - std::chrono::steady_clock::now()).count();
+      const auto ack = left > 0 ? await(CS_MSG_ACK, left) : std::nullopt;
+      if (!ack) {
+        throw RuntimeError(fmt::format("serial port {}: no ACK to {} within {} s; the board stopped answering "
+                                       "(reset it and check the cable)", o.port, message_name(type), o.handshake_timeout_s));
+      }
+      if (ack->length != CS_ACK_BYTES || ack->payload[0] != type) continue;  // an ACK of something else
+      const std::uint8_t result = ack->payload[1];
+      if (result == CS_OK) return;
+      const unsigned detail = cs_get_u16(ack->payload + 2);
+      std::string what = result_name(result);
+      if (type == CS_MSG_CONFIGURE && result == CS_ERR_VALUE) what += fmt::format(" ({})", configure_field(detail));
+      if (result == CS_ERR_DEVICE) what += fmt::format(" (address 0x{:02x})", detail);
+      throw RuntimeError(fmt::format("serial port {}: the board refused {}: {}", o.port, message_name(type), what));
+    }
+  }
+};
+
+}  // namespace
+
+SerialRig::SerialRig(const SerialRigOptions& options) : options_(options) {}
+
+SerialRig::~SerialRig() {
+  if (state() == LifecycleState::active || state() == LifecycleState::error) on_deactivate();
+  if (impl_) impl_->port.close();
+}
+
+std::string_view SerialRig::backend() const noexcept { return impl_ ? impl_->port.backend() : ""; }
+
+void SerialRig::on_configure() {
+  options_.validate();
+  auto m = std::make_unique<Impl>(options_);
+  m->port.open(options_.port, options_.baud);
+  m->port.flush_input();
+  cs_decoder_reset(&m->decoder);
+  Session s{options_, *m};
+
+  // HELLO, repeated: an Arduino resets when its port opens and spends a second in its boot loader.
+  std::uint8_t hello[CS_HELLO_BYTES];
+  cs_put_u16(hello, CS_WIRE_VERSION);
+  std::optional<cs_frame> ack;
+  int hellos = 0;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.handshake_timeout_s);
+  while (!ack && std::chrono::steady_clock::now() < give_up) {
+    s.send(CS_MSG_HELLO, hello, CS_HELLO_BYTES);
+    ++hellos;
+    const double left = std::chrono::duration<double>(give_up - std::chrono::steady_clock::now()).count();
+    ack = s.await(CS_MSG_HELLO_ACK, std::min(0.25, std::max(left, 0.0)));
+  }
+  if (!ack) {
+    throw RuntimeError(fmt::format(
+        "serial port {}: no HELLO_ACK within {} s ({} HELLO sent; {} bytes and {} corrupted frames received); "
+        "expected the clearshape firmware (wire protocol v{}) at {} baud: flash firmware/ (docs/hardware.md), "
+        "check the baud rate and that no other program holds the port",
+        options_.port, options_.handshake_timeout_s, hellos, s.bytes_seen, m->decoder.corrupted, CS_WIRE_VERSION,
+        options_.baud));
+  }
+  if (ack->length != CS_HELLO_ACK_BYTES) {
+    throw RuntimeError(fmt::format("serial port {}: HELLO_ACK has {} bytes, expected {}; flash the firmware of this "
+                                   "release (firmware/, docs/hardware.md)", options_.port, ack->length, CS_HELLO_ACK_BYTES));
+  }
+  BoardInfo b;
+  b.wire_version = cs_get_u16(ack->payload + 0);
+  b.firmware_major = ack->payload[2];
+  b.firmware_minor = ack->payload[3];
+  b.firmware_patch = cs_get_u16(ack->payload + 4);
+  b.encoder_lines_hint = cs_get_u16(ack->payload + 6);
+  b.capabilities = cs_get_u32(ack->payload + 8);
+  b.cpu_hz = cs_get_u32(ack->payload + 12);
+  if (b.wire_version != CS_WIRE_VERSION) {
+    throw RuntimeError(fmt::format("serial port {}: the board speaks wire protocol v{} (firmware {}), this host expects "
+                                   "v{}; flash firmware/ of this release onto the board (docs/hardware.md)",
+                                   options_.port, b.wire_version, b.firmware_version(), CS_WIRE_VERSION));
+  }
+  const bool position = options_.mode == CommandMode::position;
+  const std::uint32_t needed = CS_CAP_ENCODER_QUADRATURE | CS_CAP_GYRO_ITG3205 |
+                               (position ? CS_CAP_PULSE_AB : CS_CAP_DAC_MCP4725);
+  if ((b.capabilities & needed) != needed) {
+    throw RuntimeError(fmt::format("serial port {}: the board (firmware {}) lacks capabilities 0x{:02x} that {} mode "
+                                   "needs (it has 0x{:02x}); flash firmware/ with them enabled (docs/hardware.md)",
+                                   options_.port, b.firmware_version(), needed & ~b.capabilities,
+                                   to_string(options_.mode), b.capabilities));
+  }
+
+  std::uint8_t config[CS_CONFIGURE_BYTES] = {};
+  config[0] = position ? CS_MODE_POSITION : CS_MODE_SPEED;
+  config[1] = static_cast<std::uint8_t>(options_.gyro_fs_sel);
+  config[2] = static_cast<std::uint8_t>(options_.gyro_dlpf_cfg);
+  cs_put_u16(config + 4, static_cast<std::uint16_t>(options_.sample_rate_hz));
+  cs_put_u16(config + 6, static_cast<std::uint16_t>(options_.update_rate_hz));
+  cs_put_u32(config + 8, options_.max_pulse_rate_hz);
+  cs_put_u16(config + 12, static_cast<std::uint16_t>(options_.watchdog_ms));
+  cs_put_u16(config + 14, static_cast<std::uint16_t>(m->dac.code(0.0)));
+  s.request(CS_MSG_CONFIGURE, config, CS_CONFIGURE_BYTES);
+
+  if (options_.selftest) {
+    s.send(CS_MSG_SELFTEST, nullptr, 0);
+    const auto result = s.await(CS_MSG_SELFTEST_RESULT, options_.handshake_timeout_s);
+    if (!result || result->length != CS_SELFTEST_RESULT_BYTES) {
+      throw RuntimeError(fmt::format("serial port {}: no SELFTEST_RESULT within {} s", options_.port,
+                                     options_.handshake_timeout_s));
+    }
+    BoardInfo::SelfTest t;
+    t.gyro_who_am_i = result->payload[0];
+    t.gyro_ok = result->payload[1] != 0;
+    t.dac_ok = result->payload[2] != 0;
+    t.gyro_raw_at_rest = cs_get_i16(result->payload + 4);
+    b.selftest = t;
+  }
+  board_ = b;
+  impl_ = std::move(m);
+}
+
+BoardStats SerialRig::board_stats() {
+  if (state() != LifecycleState::inactive || !impl_) {
+    throw RuntimeError(fmt::format("serial port {}: board statistics are read while the rig is configured and "
+                                   "not running", options_.port));
+  }
+  Session s{options_, *impl_};
+  s.send(CS_MSG_GET_STATS, nullptr, 0);
+  const auto f = s.await(CS_MSG_STATS, options_.handshake_timeout_s);
+  if (!f || f->length != CS_STATS_BYTES) {
+    throw RuntimeError(fmt::format("serial port {}: no STATS within {} s", options_.port, options_.handshake_timeout_s));
+  }
+  return {cs_get_u32(f->payload + 0), cs_get_u32(f->payload + 4), cs_get_u32(f->payload + 8),
+          cs_get_u32(f->payload + 12), cs_get_u32(f->payload + 16)};
+}
+
+void SerialRig::on_activate() {
+  Impl& m = *impl_;
+  Session s{options_, m};
+  m.ring.clear();
+  m.samples = m.late = m.ring_overflows = m.board_tx_overflows = m.lost = m.commands_sent = m.commands_dropped = 0;
+  m.corrupted = 0;
+  m.max_lateness_ns = 0;
+  m.anchored = false;
+  m.have_tick = false;
+  m.next_tick = 0;
+  m.last_tick = 0;
+  m.pending_flags = 0;
+  m.tx_pending_size = 0;
+  m.port_failed = false;
+  m.stop_receiver = false;
+  m.corrupted_at_start = m.decoder.corrupted;
+  const std::uint8_t on = 1;
+  s.request(CS_MSG_SERVO, &on, CS_SERVO_BYTES);
+  try {
+    s.request(CS_MSG_START, nullptr, 0);
+  } catch (...) {
+    s.send(CS_MSG_STOP, nullptr, 0);  // servo off again
+    throw;
+  }
+  const auto period_ns = static_cast<std::int64_t>(std::llround(1e9 / options_.sample_rate_hz));
+  const auto tolerance_ns = static_cast<std::int64_t>(std::llround(options_.late_tolerance_s * 1e9));
+  m.receiver = std::thread([&m, period_ns, tolerance_ns] { m.receive_loop(period_ns, tolerance_ns); });
+}
+
+void SerialRig::on_deactivate() noexcept {
+  Impl& m = *impl_;
+  m.stop_receiver.store(true, std::memory_order_release);
+  if (m.receiver.joinable()) m.receiver.join();
+  try {
+    stop_problem_.clear();
+    Session s{options_, m};
+    s.request(CS_MSG_STOP, nullptr, 0);
+  } catch (const std::exception& e) {
+    try {
+      stop_problem_ = e.what();
+    } catch (...) {
+    }
+  }
+}
+
+void SerialRig::on_cleanup() noexcept {
+  if (impl_) impl_->port.close();
+  impl_.reset();
+}
+
+}  // namespace clearshape::rig
