@@ -1,0 +1,278 @@
+// rig::RealtimeRunner on rig::SimRig (wall-clock pacing, short runs) and on SerialRig with the
+// board double: the loop feeds the rig exactly as a plain read/write loop does, online shaping
+// equals shape_offline, the statistics count what happened, the real-time set-up falls back with
+// a warning when it is not permitted, and the cycle allocates nothing.
+#include <gtest/gtest.h>
+
+#include <linux/capability.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "board_double.hpp"
+#include "clearshape/core/error.hpp"
+#include "clearshape/rig/realtime.hpp"
+#include "clearshape/rig/serial_rig.hpp"
+#include "clearshape/rig/sim_rig.hpp"
+#include "clearshape/shaping/apply.hpp"
+#include "clearshape/shaping/design.hpp"
+#include "support/alloc_counter.hpp"
+
+namespace cs = clearshape;
+namespace rig = clearshape::rig;
+using cs::Status;
+
+namespace {
+
+std::vector<double> step_deg(std::size_t n, std::size_t at, double amplitude) {
+  std::vector<double> v(n, 0.0);
+  for (std::size_t k = at; k < n; ++k) v[k] = amplitude;
+  return v;
+}
+
+rig::SimRigOptions wall_clock(rig::CommandMode mode = rig::CommandMode::position) {
+  rig::SimRigOptions o;
+  o.mode = mode;
+  o.pacing = rig::Pacing::wall_clock;
+  o.seed = 7;
+  return o;
+}
+
+// A rig that reads slowly on some cycles (overruns) and fails on one (the loop stops).
+class SlowRig final : public rig::Rig {
+ public:
+  int slow_cycle = -1;
+  int fail_cycle = -1;
+  double sample_time_s() const noexcept override { return 1e-3; }
+  rig::CommandMode mode() const noexcept override { return rig::CommandMode::position; }
+  std::string_view name() const noexcept override { return "slow"; }
+
+ protected:
+  void on_configure() override {}
+  void on_activate() override { k_ = 0; }
+  void on_deactivate() noexcept override {}
+  void on_cleanup() noexcept override {}
+  Status on_read(rig::Measurement& m) noexcept override {
+    if (k_ == fail_cycle) return Status::device_error;
+    if (k_ == slow_cycle) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    m.sequence = static_cast<std::uint64_t>(k_++);
+    return Status::ok;
+  }
+  Status on_write(const rig::Command&) noexcept override { return Status::ok; }
+
+ private:
+  int k_ = 0;
+};
+
+TEST(RealtimeRunner, FeedsTheRigLikeAPlainLoopAndPacesOnTheWallClock) {
+  const std::size_t n = 300;
+  const auto command = step_deg(n, 20, 5.0);
+  // Reference: the same rig and seed in a plain read → write loop, as fast as possible.
+  rig::SimRigOptions fast = wall_clock();
+  fast.pacing = rig::Pacing::as_fast_as_possible;
+  rig::SimRig reference(fast);
+  reference.configure();
+  reference.activate();
+  std::vector<std::int64_t> counts;
+  std::vector<std::int16_t> gyro;
+  rig::Measurement m;
+  for (std::size_t k = 0; k < n; ++k) {
+    ASSERT_EQ(reference.read(m), Status::ok);
+    counts.push_back(m.encoder_counts);
+    gyro.push_back(m.gyro_raw);
+    reference.write(rig::Command::position_deg(command[k]));
+  }
+
+  rig::SimRig sim(wall_clock());
+  rig::CommandSource source(command, rig::CommandMode::position);
+  rig::RealtimeOptions options;
+  std::vector<std::string> warnings;
+  options.warn = [&](const std::string& w) { warnings.push_back(w); };
+  rig::RealtimeRunner runner(sim, source, options);
+  std::vector<rig::LogRecord> log;
+  log.reserve(n);
+  int status_calls = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  const rig::RunStatistics s = runner.run(
+      n, [&](const rig::LogRecord& r) { log.push_back(r); }, [&](const rig::RunStatistics&) { ++status_calls; });
+  const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  EXPECT_GE(elapsed_s, 0.299);  // 300 periods of 1 ms on absolute deadlines
+  EXPECT_TRUE(s.complete()) << s.stopped_by;
+  EXPECT_EQ(s.cycles, n);
+  EXPECT_EQ(s.samples, n);
+  EXPECT_EQ(s.samples_lost, 0u);
+  EXPECT_EQ(s.log_dropped, 0u);
+  EXPECT_DOUBLE_EQ(s.period_s, 1e-3);
+  EXPECT_LE(s.latency_p50_s, s.latency_p99_s);
+  EXPECT_LE(s.latency_p99_s, s.latency_max_s + 1e-6);
+  EXPECT_GT(s.latency_max_s, 0.0);
+  EXPECT_GE(status_calls, 2);  // ~5 Hz during 0.3 s, plus the final one
+  ASSERT_EQ(log.size(), n);
+  for (std::size_t k = 0; k < n; ++k) {
+    ASSERT_EQ(log[k].cycle, k);
+    EXPECT_EQ(log[k].measurement.encoder_counts, counts[k]) << k;
+    EXPECT_EQ(log[k].measurement.gyro_raw, gyro[k]) << k;
+    EXPECT_EQ(log[k].command, command[k]);
+    EXPECT_EQ(log[k].command_shaped, command[k]);
+  }
+  if (geteuid() == 0) {  // root may lock memory and use SCHED_FIFO
+    EXPECT_TRUE(s.sched_fifo);
+    EXPECT_TRUE(s.memory_locked);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+  }
+  EXPECT_EQ(sim.state(), rig::LifecycleState::inactive);
+}
+
+TEST(RealtimeRunner, OptionSkipsRealtimeSetUpWithoutWarnings) {
+  rig::SimRig sim(wall_clock(rig::CommandMode::speed));
+  rig::CommandSource source(std::vector<double>(50, 1.0), rig::CommandMode::speed);
+  rig::RealtimeOptions options;
+  options.realtime_scheduling = false;
+  std::vector<std::string> warnings;
+  options.warn = [&](const std::string& w) { warnings.push_back(w); };
+  rig::RealtimeRunner runner(sim, source, options);
+  const auto s = runner.run(50, [](const rig::LogRecord&) {});
+  EXPECT_FALSE(s.sched_fifo);
+  EXPECT_FALSE(s.memory_locked);
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_TRUE(s.complete());
+}
+
+// Drops this thread's effective capabilities (threads made from it inherit the set): SCHED_FIFO
+// then needs RLIMIT_RTPRIO, which is 0 by default, so it is refused as for an ordinary user.
+bool drop_thread_capabilities() {
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct data[2]{};
+  if (syscall(SYS_capget, &header, data) != 0) return false;
+  data[0].effective = 0;
+  data[1].effective = 0;
+  return syscall(SYS_capset, &header, data) == 0;
+}
+
+TEST(RealtimeRunner, FallsBackWithOneWarningWhenSchedFifoIsRefused) {
+  rig::RunStatistics s;
+  std::vector<std::string> warnings;
+  bool dropped = false;
+  std::thread unprivileged([&] {
+    dropped = drop_thread_capabilities();
+    rig::SimRig sim(wall_clock());
+    rig::CommandSource source(step_deg(100, 10, 2.0), rig::CommandMode::position);
+    rig::RealtimeOptions options;
+    options.warn = [&](const std::string& w) { warnings.push_back(w); };
+    rig::RealtimeRunner runner(sim, source, options);
+    s = runner.run(100, [](const rig::LogRecord&) {});
+  });
+  unprivileged.join();
+  if (!dropped) GTEST_SKIP() << "cannot drop capabilities here";
+  if (s.sched_fifo) GTEST_SKIP() << "SCHED_FIFO allowed without capabilities (RLIMIT_RTPRIO > 0)";
+  EXPECT_TRUE(s.complete());
+  int sched_warnings = 0;
+  for (const auto& w : warnings) sched_warnings += w.find("real-time scheduling not permitted") != std::string::npos;
+  EXPECT_EQ(sched_warnings, 1);
+  // A memory warning exactly when memory could not be locked.
+  EXPECT_EQ(warnings.size(), s.memory_locked ? 1u : 2u);
+}
+
+TEST(RealtimeRunner, OnlineShapingEqualsOfflineShaping) {
+  const std::size_t n = 400;
+  const auto command = step_deg(n, 50, 10.0);
+  const cs::shaping::Shaper zvd = cs::shaping::design_zvd(cs::shaping::Mode::from_hz(12.0, 0.05));
+  cs::UniformSeries series{0.0, 1e-3, command};
+  const cs::UniformSeries offline = cs::shaping::shape_offline(zvd, series, false);
+
+  rig::SimRigOptions fast;
+  fast.seed = 3;
+  rig::SimRig sim(fast);
+  rig::CommandSource source(command, rig::CommandMode::position);
+  source.set_shaper(zvd, 1e-3);
+  rig::RealtimeOptions options;
+  options.realtime_scheduling = false;
+  rig::RealtimeRunner runner(sim, source, options);
+  std::vector<double> shaped;
+  runner.run(n, [&](const rig::LogRecord& r) { shaped.push_back(r.command_shaped); });
+  ASSERT_EQ(shaped.size(), n);
+  for (std::size_t k = 0; k < n; ++k) EXPECT_NEAR(shaped[k], offline.values[k], 1e-12) << k;
+  EXPECT_LT(shaped[60], 10.0);  // the shaper delays and splits the step
+  EXPECT_NEAR(shaped.back(), 10.0, 1e-12);
+}
+
+TEST(RealtimeRunner, CountsOverrunsAndStopsWhenTheRigFails) {
+  SlowRig slow;
+  slow.slow_cycle = 10;
+  slow.fail_cycle = 40;
+  rig::CommandSource source(std::vector<double>(100, 0.0), rig::CommandMode::position);
+  rig::RealtimeOptions options;
+  options.realtime_scheduling = false;
+  rig::RealtimeRunner runner(slow, source, options);
+  const auto s = runner.run(100, [](const rig::LogRecord&) {});
+  EXPECT_EQ(s.cycles, 41u);
+  EXPECT_EQ(s.samples, 40u);
+  EXPECT_EQ(s.read_failures, 1u);
+  EXPECT_GE(s.overruns, 3u);  // 5 ms at a 1 ms period: the next cycles find their deadlines passed
+  EXPECT_GE(s.latency_max_s, 0.005);
+  EXPECT_FALSE(s.complete());
+  EXPECT_NE(s.stopped_by.find("cycle 40"), std::string::npos) << s.stopped_by;
+}
+
+TEST(RealtimeRunner, ReportsTheSerialLinksLostSamples) {
+  cs::testing::BoardDouble board;
+  board.on_sample = [](cs::testing::BoardDouble::Sample& smp) { return smp.tick != 30; };
+  board.start();
+  rig::SerialRigOptions o;
+  o.port = board.path();
+  rig::SerialRig serial(o);
+  rig::CommandSource source(step_deg(100, 10, 1.0), rig::CommandMode::position);
+  rig::RealtimeOptions options;
+  options.realtime_scheduling = false;
+  rig::RealtimeRunner runner(serial, source, options);
+  std::vector<std::uint64_t> sequence;
+  const auto s = runner.run(100, [&](const rig::LogRecord& r) { sequence.push_back(r.measurement.sequence); });
+  EXPECT_EQ(s.samples, 100u);
+  EXPECT_EQ(s.samples_lost, 1u);
+  EXPECT_FALSE(s.complete());  // a record with a hole says so
+  ASSERT_EQ(sequence.size(), 100u);
+  EXPECT_EQ(sequence[30], 31u);
+}
+
+TEST(RealtimeRunner, CycleIsNoexceptAndAllocationFree) {
+  rig::SimRig sim(wall_clock());
+  rig::CommandSource source(step_deg(200, 20, 15.0), rig::CommandMode::position);
+  source.set_shaper(cs::shaping::design_zv(cs::shaping::Mode::from_hz(10.0, 0.1)), 1e-3);
+  rig::RealtimeOptions options;
+  rig::RealtimeRunner runner(sim, source, options);
+  static_assert(noexcept(runner.cycle()));
+  runner.begin();
+  rig::LogRecord r;
+  std::size_t popped = 0;
+  std::size_t allocations = 0;
+  {
+    cs::testing::AllocationCounter counter;
+    for (int k = 0; k < 200; ++k) {
+      ASSERT_TRUE(runner.cycle());
+      while (runner.pop(r)) ++popped;
+    }
+    allocations = counter.allocations();
+  }
+  const auto s = runner.end();
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(popped, 200u);
+  EXPECT_EQ(s.samples, 200u);
+}
+
+TEST(RealtimeRunner, RejectsBadOptionsAndAModeMismatch) {
+  rig::SimRig sim(wall_clock());
+  rig::CommandSource speed(std::vector<double>(3, 0.0), rig::CommandMode::speed);
+  EXPECT_THROW(rig::RealtimeRunner(sim, speed, {}), cs::InvalidArgument);
+  rig::CommandSource position(std::vector<double>(3, 0.0), rig::CommandMode::position);
+  rig::RealtimeOptions bad;
+  bad.priority = 0;
+  EXPECT_THROW(rig::RealtimeRunner(sim, position, bad), cs::InvalidArgument);
+  EXPECT_THROW(rig::CommandSource({}, rig::CommandMode::position), cs::InvalidArgument);
+}
+
+}  // namespace
