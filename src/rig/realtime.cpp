@@ -138,7 +138,7 @@ bool RealtimeRunner::cycle() noexcept {
   source_.next(r.command, r.command_shaped);
   if (r.read_status == Status::ok) {
     s.samples.fetch_add(1, std::memory_order_relaxed);
-    r.write_status = rig_.write(source_.command(r.command_shaped));
+    r.write_status = options_.write_commands ? rig_.write(source_.command(r.command_shaped)) : Status::ok;
     if (r.write_status != Status::ok) s.write_failures.fetch_add(1, std::memory_order_relaxed);
   } else {
     s.read_failures.fetch_add(1, std::memory_order_relaxed);

@@ -88,9 +88,9 @@ void SerialRigOptions::validate() const {
   if (counts_per_rev < 1) throw_invalid("counts_per_rev", counts_per_rev, ">= 1");
   if (pulses_per_rev < 1) throw_invalid("pulses_per_rev", pulses_per_rev, ">= 1");
   require_positive("gyro_sensitivity_lsb_per_dps", gyro_sensitivity_lsb_per_dps);
-  if (dac.bits != 12) throw_invalid("dac.bits", dac.bits, "12 (the board's MCP4725)");
-  if (!(dac.min_v < dac.max_v) || !std::isfinite(dac.min_v) || !std::isfinite(dac.max_v)) {
-    throw InvalidArgument(fmt::format("dac range [{}, {}] V is empty; allowed: min_v < max_v", dac.min_v, dac.max_v));
+  if (!(dac_min_v < dac_max_v) || !std::isfinite(dac_min_v) || !std::isfinite(dac_max_v)) {
+    throw InvalidArgument(fmt::format("dac_min_v = {}, dac_max_v = {}: allowed: finite, dac_min_v < dac_max_v",
+                                      dac_min_v, dac_max_v));
   }
   if (ring_capacity < 16 || ring_capacity > (1u << 20)) throw_invalid("ring_capacity", static_cast<double>(ring_capacity), "16 … 1048576");
 }
@@ -238,7 +238,8 @@ void SerialRig::on_configure() {
   cs_put_u16(config + 6, static_cast<std::uint16_t>(options_.update_rate_hz));
   cs_put_u32(config + 8, options_.max_pulse_rate_hz);
   cs_put_u16(config + 12, static_cast<std::uint16_t>(options_.watchdog_ms));
-  cs_put_u16(config + 14, static_cast<std::uint16_t>(m->dac.code(0.0)));
+  bool clipped = false;
+  cs_put_u16(config + 14, volts_to_dac_code(0.0, options_.dac_min_v, options_.dac_max_v, clipped));
   s.request(CS_MSG_CONFIGURE, config, CS_CONFIGURE_BYTES);
 
   if (options_.selftest) {
@@ -290,7 +291,7 @@ void SerialRig::on_activate() {
   m.port_failed = false;
   m.stop_receiver = false;
   m.corrupted_at_start = m.decoder.corrupted;
-  const std::uint8_t on = 1;
+  const std::uint8_t on = options_.servo_on ? 1 : 0;
   s.request(CS_MSG_SERVO, &on, CS_SERVO_BYTES);
   try {
     s.request(CS_MSG_START, nullptr, 0);

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <thread>
 
-#include "clearshape/plant/daq.hpp"
 #include "clearshape/rig/serial_rig.hpp"
 #include "clearshape/rig/spsc_ring.hpp"
 #include "clearshape/rig/wire_protocol.h"
@@ -32,7 +31,7 @@ ReceivedSample decode_sample(const std::uint8_t* payload) noexcept;
 struct SerialRig::Impl {
   using Clock = std::chrono::steady_clock;
 
-  explicit Impl(const SerialRigOptions& o) : ring(o.ring_capacity), dac(o.dac) {}
+  explicit Impl(const SerialRigOptions& o) : ring(o.ring_capacity) {}
 
   detail::SerialPort port;
   cs_decoder decoder{};
@@ -61,7 +60,6 @@ struct SerialRig::Impl {
   std::uint32_t pending_flags = 0; // MeasurementFlag bits for the next sample (rejected writes)
   std::uint8_t tx_pending[2 * CS_WIRE_MAX_FRAME]{};
   std::size_t tx_pending_size = 0;
-  plant::Converter dac;
 
   static std::int64_t now_ns() noexcept {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();

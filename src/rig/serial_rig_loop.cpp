@@ -30,6 +30,17 @@ double gyro_raw_to_rad_s(std::int16_t raw, double sensitivity_lsb_per_dps) noexc
   return deg_to_rad(raw / sensitivity_lsb_per_dps);  // ITG-3205 datasheet: 14.375 LSB/(°/s)
 }
 
+std::uint16_t volts_to_dac_code(double volts, double min_v, double max_v, bool& clipped) noexcept {
+  // 12-bit MCP4725 behind a level shift: code 0 ↔ min_v, code 4095 ↔ max_v (docs/realtime.md).
+  clipped = !(volts >= min_v && volts <= max_v);
+  const double code = std::round((volts - min_v) / (max_v - min_v) * 4095.0);
+  return static_cast<std::uint16_t>(std::fmin(std::fmax(std::isnan(code) ? 0.0 : code, 0.0), 4095.0));
+}
+
+double dac_code_to_volts(std::uint16_t code, double min_v, double max_v) noexcept {
+  return min_v + static_cast<double>(code) / 4095.0 * (max_v - min_v);
+}
+
 std::uint32_t measurement_flags_of_sample(std::uint8_t f) noexcept {
   std::uint32_t out = 0;
   if (f & CS_SAMPLE_GYRO_SATURATED) out |= bit(MeasurementFlag::gyro_saturated);
@@ -158,7 +169,7 @@ Status SerialRig::on_read(Measurement& out) noexcept {
   out.gyro_rate_rad_s = gyro_raw_to_rad_s(s.gyro_raw, options_.gyro_sensitivity_lsb_per_dps);
   out.command_applied = options_.mode == CommandMode::position
                             ? pulses_to_motor_rad(s.pulses_emitted, options_.pulses_per_rev)
-                            : m.dac.volts(s.dac_code);
+                            : dac_code_to_volts(s.dac_code, options_.dac_min_v, options_.dac_max_v);
   out.flags = flags;
   return Status::ok;
 }
@@ -178,8 +189,9 @@ Status SerialRig::on_write(const Command& command) noexcept {
   if (options_.mode == CommandMode::position) {
     value = motor_rad_to_pulses(command.value, options_.pulses_per_rev);
   } else {
-    value = m.dac.code(command.value);
-    if (m.dac.saturates(command.value)) {
+    bool clipped = false;
+    value = volts_to_dac_code(command.value, options_.dac_min_v, options_.dac_max_v, clipped);
+    if (clipped) {
       m.pending_flags |= bit(MeasurementFlag::command_limited);
       status = Status::out_of_range;
     }

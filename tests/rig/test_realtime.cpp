@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "board_double.hpp"
+#include "support/board_double.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/rig/realtime.hpp"
 #include "clearshape/rig/serial_rig.hpp"

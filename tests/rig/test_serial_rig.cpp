@@ -7,7 +7,7 @@
 #include <numbers>
 #include <string>
 
-#include "board_double.hpp"
+#include "support/board_double.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/rig/serial_rig.hpp"
@@ -85,6 +85,19 @@ TEST(SerialRigConversions, MatchTheirDefinitions) {
             rig::bit(rig::MeasurementFlag::watchdog) | rig::bit(rig::MeasurementFlag::gyro_saturated) |
                 rig::bit(rig::MeasurementFlag::overrun));
   EXPECT_EQ(rig::measurement_flags_of_sample(CS_SAMPLE_SERVO_ON), 0u);
+  bool clipped = true;
+  EXPECT_EQ(rig::volts_to_dac_code(-10.0, -10.0, 10.0, clipped), 0);
+  EXPECT_FALSE(clipped);
+  EXPECT_EQ(rig::volts_to_dac_code(10.0, -10.0, 10.0, clipped), 4095);
+  EXPECT_EQ(rig::volts_to_dac_code(10.5, -10.0, 10.0, clipped), 4095);
+  EXPECT_TRUE(clipped);
+  EXPECT_EQ(rig::volts_to_dac_code(std::nan(""), -10.0, 10.0, clipped), 0);
+  EXPECT_TRUE(clipped);
+  for (int code : {0, 1, 2047, 2048, 4094, 4095}) {  // code → volts → code is the identity
+    const double v = rig::dac_code_to_volts(static_cast<std::uint16_t>(code), -10.0, 10.0);
+    EXPECT_EQ(rig::volts_to_dac_code(v, -10.0, 10.0, clipped), code);
+  }
+  EXPECT_DOUBLE_EQ(rig::dac_code_to_volts(4095, -10.0, 10.0), 10.0);
 }
 
 TEST(SerialRig, NoSuchPortListsThePortsItSees) {
@@ -177,7 +190,7 @@ TEST(SerialRig, HandshakeSendsTheConfigurationAndReadsTheBoard) {
   EXPECT_EQ(cs_get_u16(c.data() + 6), 25);
   EXPECT_EQ(cs_get_u32(c.data() + 8), 100000u);
   EXPECT_EQ(cs_get_u16(c.data() + 12), 250);
-  EXPECT_EQ(cs_get_u16(c.data() + 14), 2048);  // 0 V: (0 − (−10)) / (20/4096)
+  EXPECT_EQ(cs_get_u16(c.data() + 14), 2048);  // 0 V: round(10/20 · 4095) = round(2047.5)
 }
 
 TEST(SerialRig, PositionRunConvertsSamplesAndCommands) {
@@ -242,11 +255,11 @@ TEST(SerialRig, SpeedRunMapsVoltsToDacCodes) {
   ASSERT_EQ(r.read(m), Status::ok);
   EXPECT_EQ(r.write(rig::Command::speed_v(12.0)), Status::out_of_range);  // clipped to 4095, flagged
   for (int k = 0; k < 30; ++k) ASSERT_EQ(r.read(m), Status::ok);
-  EXPECT_DOUBLE_EQ(m.command_applied, -10.0 + 4095 * 20.0 / 4096);
+  EXPECT_DOUBLE_EQ(m.command_applied, 10.0);  // code 4095 is +10 V
   r.deactivate();
   board.stop();
   ASSERT_EQ(board.commands.size(), 2u);
-  EXPECT_EQ(board.commands[0], 3072);  // (5 + 10) / (20 / 4096)
+  EXPECT_EQ(board.commands[0], 3071);  // round(15/20 · 4095) = round(3071.25)
   EXPECT_EQ(board.commands[1], 4095);
 }
 

@@ -59,6 +59,7 @@ struct RealtimeOptions {
   std::size_t log_capacity = 1u << 15;  ///< records between the loop and the logger, [16, 2^24]
   double latency_range_s = 0.02;    ///< histogram range (1 µs bins; beyond it counts as overflow), (0, 1]
   double status_interval_s = 0.2;   ///< status callback period (~5 Hz), (0, 60]
+  bool write_commands = true;       ///< false: read only (sensor logging; the rig holds its safe command)
   /// Where warnings go (default: one line on stderr, "clearshape: warning: …").
   std::function<void(const std::string&)> warn;
   void validate() const;            ///< throws InvalidArgument naming the field

@@ -5,7 +5,7 @@
 //
 //   configure():  open the port, HELLO → HELLO_ACK (wire version checked), CONFIGURE → ACK,
 //                 optionally SELFTEST → SELFTEST_RESULT
-//   activate():   SERVO on → ACK, START → ACK; a receive thread decodes the board's SAMPLE
+//   activate():   SERVO on (unless servo_on = false) → ACK, START → ACK; a receive thread decodes the board's SAMPLE
 //                 frames into a preallocated lock-free ring
 //   read():       the next sample from the ring (waits up to read_timeout_s; a timeout or a
 //                 dead port → Status::device_error), converted to SI
@@ -22,7 +22,6 @@
 #include <optional>
 #include <string>
 
-#include "clearshape/plant/daq.hpp"
 #include "clearshape/rig/rig.hpp"
 
 namespace clearshape::rig {
@@ -49,8 +48,10 @@ struct SerialRigOptions {
   int counts_per_rev = 12'000;              ///< motor encoder counts per revolution (3000 lines × 4)
   int pulses_per_rev = 12'000;              ///< command pulses per motor revolution (electronic gear)
   double gyro_sensitivity_lsb_per_dps = 14.375;  ///< ITG-3205 at FS_SEL = 3
-  plant::ConverterConfig dac{12, -10.0, 10.0};   ///< speed command D/A: code 0…4095 ↔ −10…+10 V
+  double dac_min_v = -10.0;                 ///< speed command: DAC code 0 ↔ dac_min_v
+  double dac_max_v = 10.0;                  ///< … and code 4095 ↔ dac_max_v (MCP4725 + level shift)
   bool selftest = false;                    ///< run the board's self-test in configure()
+  bool servo_on = true;                     ///< activate() switches the servo on (off: sensors only)
   LostSamples lost_samples = LostSamples::flag;
   std::size_t ring_capacity = 8192;         ///< samples buffered between the threads, [16, 2^20]
   /// Throws InvalidArgument naming the field and its allowed range.
@@ -144,6 +145,11 @@ std::int32_t motor_rad_to_pulses(double angle_rad, int pulses_per_rev) noexcept;
 double pulses_to_motor_rad(std::int32_t pulses, int pulses_per_rev) noexcept;
 /// Gyro rate of a raw word: raw / sensitivity (°/s) in rad/s.
 double gyro_raw_to_rad_s(std::int16_t raw, double sensitivity_lsb_per_dps) noexcept;
+/// DAC code of a speed command: round((v − min)/(max − min) · 4095), clamped to 0…4095.
+/// `clipped` tells whether v lay outside [min, max].
+std::uint16_t volts_to_dac_code(double volts, double min_v, double max_v, bool& clipped) noexcept;
+/// Volts of a DAC code: min + code/4095 · (max − min).
+double dac_code_to_volts(std::uint16_t code, double min_v, double max_v) noexcept;
 /// MeasurementFlag bits of the board's CS_SAMPLE_* flags.
 std::uint32_t measurement_flags_of_sample(std::uint8_t sample_flags) noexcept;
 
