@@ -1,0 +1,124 @@
+#include "clearshape/export/rrf.hpp"
+
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/version.hpp"
+#include "clearshape/export/firmware_shapers.hpp"
+#include "clearshape/export/numbers.hpp"
+
+namespace clearshape::exports {
+
+namespace sh = clearshape::shaping;
+
+namespace {
+
+constexpr int kDigits = 6;            // significant digits of F, S, H and T (RRF keeps binary32)
+constexpr double kRrfVtol = 0.05;     // the curve fits behind ei2/ei3 are for Vtol = 5 %
+
+std::string join(const std::vector<std::string>& parts) {
+  std::string out;
+  for (const std::string& p : parts) out += (out.empty() ? "" : ":") + p;
+  return out;
+}
+
+}  // namespace
+
+std::optional<std::string_view> rrf_type_for(sh::Method method) {
+  switch (method) {
+    case sh::Method::zvd: return "zvd";
+    case sh::Method::zvdd: return "zvdd";
+    case sh::Method::zvddd: return "zvddd";
+    case sh::Method::mzv: return "mzv";
+    case sh::Method::ei2: return "ei2";
+    case sh::Method::ei3: return "ei3";
+    default: return std::nullopt;
+  }
+}
+
+ExportText to_rrf(const ShaperDesign& design, const ExportOptions& /*options*/) {
+  const sh::Shaper& shaper = design.shaper;
+  if (!shaper.is_positive()) {
+    throw InvalidArgument(fmt::format("--export rrf: the {} shaper has negative impulses; RRF shapes accelerations with "
+                                      "positive fractions only. Use a positive shaper (zvd, zvdd, ei2)", shaper.method()));
+  }
+  ExportText out;
+  std::string header = fmt::format("; Input shaper exported by clearshape {} for RepRapFirmware 3.5/3.6 (M593).\n", kVersion);
+  if (!design.command.empty()) header += fmt::format(";   {}\n", design.command);
+
+  // A named type when RRF's own design from the printed F and S matches ours.
+  const std::optional<std::string_view> type = rrf_type_for(design.method);
+  std::string why_custom;
+  if (!type) {
+    why_custom = fmt::format("RRF has no {} type", sh::to_string(design.method));
+  } else if (design.second_mode) {
+    why_custom = "RRF's named types shape one mode";
+  } else if (!design.mode) {
+    why_custom = "no design mode";
+  } else if (design.vtol && std::abs(*design.vtol - kRrfVtol) > 1e-12) {
+    why_custom = fmt::format("RRF's {} is the Vtol = 5 % design, this one has Vtol = {}", *type, *design.vtol);
+  } else {
+    const double f_hz = design.mode->natural_frequency_hz();
+    const std::string freq = fixed_significant(f_hz, kDigits);
+    const std::string zeta = fixed_significant(design.mode->damping_ratio, kDigits);
+    if (std::stod(freq) < kRrfMinFrequencyHz || std::stod(freq) > kRrfMaxFrequencyHz) {
+      why_custom = fmt::format("F = {} Hz is outside RRF's range for named types, [{:.4g}, {:g}] Hz", freq,
+                               kRrfMinFrequencyHz, kRrfMaxFrequencyHz);
+    } else if (std::stod(zeta) > 0.99) {
+      why_custom = fmt::format("S = {} is above RRF's limit 0.99", zeta);
+    } else {
+      const sh::Shaper theirs = *rrf_shaper(*type, std::stod(freq), std::stod(zeta));
+      const ResidualDifference diff = residual_difference(shaper, theirs, *design.mode);
+      if (diff.max_abs <= kFirmwareResidualTolerance) {
+        out.text = header + fmt::format("; RRF builds {} itself from F (the undamped natural frequency, Hz) and S (damping "
+                                        "ratio);\n; its shaper and the design differ in residual vibration by at most "
+                                        "{:.2g} over 0.5 .. 1.5 x F (tolerance {}).\n",
+                                        *type, diff.max_abs, kFirmwareResidualTolerance);
+        out.text += fmt::format("M593 P\"{}\" F{} S{}\n", *type, freq, zeta);
+        return out;
+      }
+      why_custom = fmt::format("the {} RRF builds from F{} S{} differs from the design by {:.3g} in residual vibration "
+                               "(at r = {:.3g}; tolerance {})",
+                               *type, freq, zeta, diff.max_abs, diff.at_ratio, kFirmwareResidualTolerance);
+    }
+  }
+
+  // RRF's custom form: H = cumulative amplitudes of all impulses but the last, T = durations.
+  if (shaper.size() < 2) {
+    throw InvalidArgument("--export rrf: a one-impulse shaper does not shape; RRF's equivalent is M593 P\"none\"");
+  }
+  if (shaper.size() > kRrfMaxImpulses) {
+    throw InvalidArgument(fmt::format("--export rrf: {} ({}), and the {} shaper has {} impulses; RRF's custom form "
+                                      "takes at most {}. Use a shorter shaper or --export c-header / json",
+                                      why_custom, "no named type fits", shaper.method(), shaper.size(), kRrfMaxImpulses));
+  }
+  std::vector<std::string> h;
+  std::vector<std::string> t;
+  std::vector<double> h_value;
+  std::vector<double> t_value;
+  double cumulative = 0.0;
+  const auto impulses = shaper.impulses();
+  for (std::size_t i = 0; i + 1 < impulses.size(); ++i) {
+    cumulative += impulses[i].amplitude;
+    h.push_back(fixed_significant(cumulative, kDigits));
+    t.push_back(fixed_significant(impulses[i + 1].time_s - impulses[i].time_s, kDigits));
+    h_value.push_back(std::stod(h.back()));
+    t_value.push_back(std::stod(t.back()));
+  }
+  out.notes.push_back(fmt::format("rrf: custom form: {}", why_custom));
+  out.text = header + fmt::format("; Custom form (H: cumulative amplitudes of every impulse but the last; T: durations "
+                                  "between impulses, s):\n; {}.\n", why_custom);
+  if (design.mode) {
+    const sh::Shaper theirs = rrf_custom_shaper(h_value, t_value);
+    const ResidualDifference diff = residual_difference(shaper, theirs, *design.mode);
+    out.text += fmt::format("; As printed, it differs from the design in residual vibration by at most {:.2g} over "
+                            "0.5 .. 1.5 x the mode.\n", diff.max_abs);
+  }
+  out.text += fmt::format("M593 P\"custom\" H{} T{}\n", join(h), join(t));
+  return out;
+}
+
+}  // namespace clearshape::exports
