@@ -2,13 +2,16 @@
 // (cc -std=c99 -Wall -Wextra -Werror -pedantic) and with avr-gcc for an ATmega2560, and its
 // streaming shapers run on the committed command signals (tests/golden/apply_input.csv: step,
 // ramp, PRBS, sine). Double: bit for bit the C++ StreamingShaper. Float, Q15, Q31: within the
-// bounds the header states (c_header.hpp; derived in docs/export.md) — and not trivially.
+// bounds the header states (c_header.hpp; derived in docs/export.md) — and not trivially. The
+// ZVD header also runs on an ATmega2560 in simavr: Q15/Q31 equal to the host, binary32 in bound.
 #include <unistd.h>
 
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -21,6 +24,7 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/export/c_header.hpp"
+#include "clearshape/export/numbers.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/shaping/streaming.hpp"
@@ -183,7 +187,79 @@ struct Case {
   std::string name;
   ex::ShaperDesign design;
   ex::ExportOptions options;
+  bool avr = false;  ///< also run the header on an ATmega2560 in simavr
 };
+
+// An ATmega2560 program (simavr's console on GPIOR0) that runs the four shapers on inputs held
+// in flash and prints each output's 32 bits in hex, one line per sample.
+std::string avr_program(const std::vector<double>& u, const std::vector<double>& x15, const std::vector<double>& x31) {
+  std::string c = "#include <avr/interrupt.h>\n#include <avr/io.h>\n#include <avr/pgmspace.h>\n#include <avr/sleep.h>\n"
+                  "#include <math.h>\n#include \"avr/avr_mcu_section.h\"\n#include \"shaper.h\"\n"
+                  "AVR_MCU(16000000, \"atmega2560\");\nAVR_MCU_SIMAVR_CONSOLE(&GPIOR0);\n";
+  auto list = [&c](const char* decl, const std::vector<double>& v, auto format) {
+    c += decl;
+    for (std::size_t i = 0; i < v.size(); ++i) c += (i ? "," : "") + format(v[i]);
+    c += "};\n";
+  };
+  char buf[64];
+  list("static const float in_f[] PROGMEM = {", u, [](double x) {
+    return std::isfinite(x) ? ex::shortest(static_cast<float>(x)) + "f" : std::string("NAN");
+  });
+  list("static const int16_t in_15[] PROGMEM = {", x15, [&buf](double x) {
+    std::snprintf(buf, sizeof buf, "%.0f", x);
+    return std::string(buf);
+  });
+  list("static const int32_t in_31[] PROGMEM = {", x31, [&buf](double x) {
+    std::snprintf(buf, sizeof buf, "INT32_C(%.0f)", x);
+    return std::string(buf);
+  });
+  c += R"(static void put(char c) { GPIOR0 = (uint8_t)c; }
+static void hex32(uint32_t v)
+{
+  int i;
+  for (i = 7; i >= 0; --i) {
+    uint8_t d = (uint8_t)((v >> (4 * i)) & 0xFu);
+    put((char)(d < 10 ? '0' + d : 'a' + d - 10));
+  }
+}
+int main(void)
+{
+  static cs_shaper_state_double sd;
+  static cs_shaper_state_float sf;
+  static cs_shaper_state_q15 s15;
+  static cs_shaper_state_q31 s31;
+  unsigned i;
+  cs_shaper_reset_double(&sd, pgm_read_float(&in_f[0]));
+  cs_shaper_reset_float(&sf, pgm_read_float(&in_f[0]));
+  cs_shaper_reset_q15(&s15, (int16_t)pgm_read_word(&in_15[0]));
+  cs_shaper_reset_q31(&s31, (int32_t)pgm_read_dword(&in_31[0]));
+  for (i = 0; i < sizeof in_f / sizeof in_f[0]; ++i) {
+    union { float f; uint32_t u; } a, b;
+    float x = pgm_read_float(&in_f[i]);
+    a.f = (float)cs_shaper_step_double(&sd, x);
+    b.f = cs_shaper_step_float(&sf, x);
+    hex32(a.u);
+    put(' ');
+    hex32(b.u);
+    put(' ');
+    hex32((uint32_t)(int32_t)cs_shaper_step_q15(&s15, (int16_t)pgm_read_word(&in_15[i])));
+    put(' ');
+    hex32((uint32_t)cs_shaper_step_q31(&s31, (int32_t)pgm_read_dword(&in_31[i])));
+    put('\r'); /* simavr prints the console line on a carriage return */
+  }
+  cli();
+  sleep_cpu(); /* simavr ends the run: sleeping with interrupts off */
+  return 0;
+}
+)";
+  return c;
+}
+
+float float_from_bits(std::uint32_t bits) {
+  float f = 0.0f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
 
 ex::ShaperDesign designed(sh::Method m, double f_hz, double zeta) {
   sh::DesignRequest r;
@@ -245,6 +321,9 @@ void run_case(const Case& c) {
   std::istringstream out(read_file(dir / "out.txt"));
   std::size_t k = 0;
   std::size_t bit_equal = 0;
+  std::vector<double> host_f;
+  std::vector<long> host_15;
+  std::vector<long> host_31;
   double worst_f = 0.0;
   double worst_15 = 0.0;
   double worst_31 = 0.0;
@@ -252,6 +331,9 @@ void run_case(const Case& c) {
     ASSERT_LT(k, u.size());
     const double yd = std::strtod(a.c_str(), nullptr);
     const double yf = std::strtod(b.c_str(), nullptr);
+    host_f.push_back(yf);
+    host_15.push_back(std::stol(q15));
+    host_31.push_back(std::stol(q31));
     if (yd == ref_d[k] && std::signbit(yd) == std::signbit(ref_d[k])) ++bit_equal;
     worst_f = std::max(worst_f, std::abs(yf - ref_f[k]));
     if (bounds.q15.representable) {
@@ -272,14 +354,57 @@ void run_case(const Case& c) {
     std::printf("; Q15 %.3g LSB (bound %.3g); Q31 %.3g LSB (bound %.3g)", worst_15, bound_15, worst_31, bound_31);
   }
   std::printf("\n");
+
+  if (c.avr) {
+    // The same header on an ATmega2560 (avr-gcc: double is binary32) in simavr: integer outputs
+    // equal the host's exactly, binary32 outputs stay within the float bound.
+    const char* mcu_section = "/usr/include/simavr/avr/avr_mcu_section.h";
+    ASSERT_TRUE(fs::exists(mcu_section) && have("avr-gcc") && have("simavr"))
+        << "avr-gcc, avr-libc, simavr and libsimavr-dev are needed (scripts/install-deps.sh)";
+    write_file(dir / "avr.c", avr_program(u, x15, x31));
+    ASSERT_EQ(run("avr-gcc -mmcu=atmega2560 -std=c99 -Os -Wall -Wextra -Werror -pedantic -idirafter /usr/include/simavr "
+                  "-Wl,--undefined=_mmcu,--section-start=.mmcu=0x910000 -o " + (dir / "avr.elf").string() + " " +
+                      (dir / "avr.c").string(),
+                  log),
+              0)
+        << log.substr(0, 2000);
+    ASSERT_EQ(run("timeout 60 simavr " + (dir / "avr.elf").string(), log), 0) << log;
+    std::istringstream lines(log);
+    std::size_t n = 0;
+    std::size_t float_equal_host = 0;
+    double worst_avr = 0.0;
+    for (std::string line; std::getline(lines, line);) {
+      const std::size_t at = line.find("O:");
+      if (at == std::string::npos) continue;
+      std::istringstream fields(line.substr(at + 2));
+      std::string hd, hf, h15, h31;
+      fields >> hd >> hf >> h15 >> h31;
+      ASSERT_LT(n, u.size());
+      const float yd = float_from_bits(static_cast<std::uint32_t>(std::stoul(hd, nullptr, 16)));
+      const float yf = float_from_bits(static_cast<std::uint32_t>(std::stoul(hf, nullptr, 16)));
+      EXPECT_EQ(std::memcmp(&yd, &yf, sizeof yd), 0) << "sample " << n << ": the AVR's double is its float";
+      worst_avr = std::max(worst_avr, std::abs(static_cast<double>(yf) - ref_f[n]));
+      if (static_cast<double>(yf) == host_f[n]) ++float_equal_host;
+      if (bounds.q15.representable) {
+        EXPECT_EQ(static_cast<std::int16_t>(std::stoul(h15, nullptr, 16)), host_15[n]) << "Q15 sample " << n;
+        EXPECT_EQ(static_cast<std::int32_t>(std::stoul(h31, nullptr, 16)), host_31[n]) << "Q31 sample " << n;
+      }
+      ++n;
+    }
+    ASSERT_EQ(n, u.size()) << log.substr(0, 500);
+    EXPECT_LE(worst_avr, bound_f);
+    std::printf("[%s] ATmega2560 (simavr): float max err %.3g (bound %.3g), %zu/%zu float outputs equal the host's; "
+                "Q15/Q31 equal the host's\n", c.name.c_str(), worst_avr, bound_f, float_equal_host, n);
+  }
   fs::remove_all(dir);
 }
 
 }  // namespace
 
-TEST(CHeader, ZvdLinearRunsBitForBitInDouble) {
+TEST(CHeader, ZvdOnTheHostBitForBitAndOnAnAtmega2560) {
   Case c{"zvd", designed(sh::Method::zvd, 13.7, 0.07), {}};
   c.options.sample_time_s = 1e-3;
+  c.avr = true;
   run_case(c);
 }
 
