@@ -205,6 +205,9 @@ class Context:
         rig = self.study.get("rig", "")
         self.rig_text = json.dumps(rig) if isinstance(rig, (dict, list)) else str(rig)
         self.simulated_rig = (not self.rig_text) or bool(re.search(r"\bsim|synthetic|fixture", self.rig_text, re.I))
+        rig_kind = results.get("rig", {}).get("kind") if isinstance(results.get("rig"), dict) else None
+        if isinstance(rig_kind, str):  # results.json "rig": {kind, description} decides when present
+            self.simulated_rig = rig_kind.startswith("simulated")
         self.synthetic = bool(results.get("synthetic")) or "fixture" in self.rig_text.lower()
         self.sections = results.get("sections", {}) if isinstance(results.get("sections"), dict) else {}
 

@@ -96,7 +96,9 @@ void write_data_csv(const Context& c, const std::string& name, const std::vector
                     const std::vector<const std::vector<double>*>& data);
 
 /// Every ambiguity the study settles (results.json "ambiguities", tables.md).
-json ambiguities(const Protocol& p);
+/// `rig_kind` (RunSource::kind) decides what the rig-truth entry says: a simulated rig's truth,
+/// or measurements on a physical or recorded rig.
+json ambiguities(const Protocol& p, std::string_view rig_kind);
 
 /// tables.md from results.json.
 std::string render_tables_markdown(const json& results);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
@@ -155,7 +156,31 @@ RecordingsManifest load_recordings_manifest(const std::filesystem::path& dir, co
   return m;
 }
 
+namespace {
+
+// A record of `clearshape rig run|stream` says in its sidecar (same name, .json) whether it is
+// complete; one with lost samples is refused by name, never used with its holes.
+void refuse_incomplete_record(const std::filesystem::path& csv) {
+  std::filesystem::path sidecar = csv;
+  sidecar.replace_extension(".json");
+  std::error_code ec;
+  if (sidecar == csv || !std::filesystem::is_regular_file(sidecar, ec)) return;
+  const auto doc = nlohmann::json::parse(io::read_text_file(sidecar), nullptr, false);
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("complete") || !doc["complete"].is_boolean()) return;
+  if (doc["complete"].get<bool>()) return;
+  const auto& stats = doc.contains("statistics") ? doc["statistics"] : nlohmann::json::object();
+  throw InputError(sidecar.string(), 0, "complete",
+                   fmt::format("the record {} is incomplete ({} sample(s) lost, stopped by: {}); record the run again",
+                               csv.filename().string(), stats.value("samples_lost", 0),
+                               stats.contains("stopped_by") && stats["stopped_by"].is_string()
+                                   ? stats["stopped_by"].get<std::string>()
+                                   : std::string("—")));
+}
+
+}  // namespace
+
 Record read_recording(const RecordingEntry& e, const Protocol& p, double record_s) {
+  refuse_incomplete_record(e.file);
   const io::Table t = io::read_table(e.file);
   const RecordingColumns& c = e.columns;
   const std::string time = io::require_time_column(t, c.time);

@@ -10,7 +10,7 @@
 
 namespace clearshape::study::detail {
 
-json ambiguities(const Protocol& p) {
+json ambiguities(const Protocol& p, std::string_view rig_kind) {
   const bool position = p.mode == rig::CommandMode::position;
   json a = json::array();
   auto add = [&a](const char* id, const char* question, std::string settled, const char* why) {
@@ -73,12 +73,23 @@ json ambiguities(const Protocol& p) {
                : "The speed-mode inputs' amplitudes (in V) and timing are in the protocol and are ours.",
       "The thesis gives the experimental amplitudes (Appendix B) but not the timing, the rise of the "
       "low-jerk step or the spacing and size of the double step.");
-  add("rig-truth", "What is the simulated rig?",
-      "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
-      "unshaped responses reproduce the thesis's 'without is' means, the spread of its trials and "
-      "the repeatability of Tables 4.1–4.2 (seeded run-to-run variation, rig/variation.hpp); "
-      "the study never reads that truth, and the shaped results are predictions.",
-      "DESIGN.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
+  if (rig_kind.rfind("simulated", 0) == 0) {
+    add("rig-truth", "What is the simulated rig?",
+        "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
+        "unshaped responses reproduce the thesis's 'without is' means, the spread of its trials and "
+        "the repeatability of Tables 4.1–4.2 (seeded run-to-run variation, rig/variation.hpp); "
+        "the study never reads that truth, and the shaped results are predictions.",
+        "DESIGN.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
+  } else {
+    add("rig-truth", "What rig gave the runs?",
+        rig_kind == "physical"
+            ? "A physical rig over its serial link (rig::SerialRig; results.json rig.description): every run, "
+              "shaped or not, is a measurement of that rig, not a calibrated prediction; a run that lost a "
+              "sample was refused. Only the simulated tests (stage 5) are predictions of the identified model."
+            : "Runs recorded elsewhere (the recordings manifest): every run is a measurement of the rig that "
+              "recorded it, not a calibrated prediction. Only the simulated tests (stage 5) are predictions.",
+        "The rig is not the thesis's: its numbers are compared with the thesis's, not fitted to them.");
+  }
   return a;
 }
 

@@ -58,6 +58,14 @@ class RigRunSource final : public RunSource {
                     {"writes", cnt.writes},
                     {"failed_reads", cnt.failed_reads},
                     {"failed_writes", cnt.failed_writes}};
+    // A rig with a link (the serial rig) also records what the link saw.
+    const rig::LinkCounters link = rig->link_counters();
+    if (link.samples > 0) {
+      out.counters["samples_received"] = link.samples;
+      out.counters["samples_lost"] = link.samples_lost;
+      out.counters["frames_corrupted"] = link.frames_corrupted;
+      out.counters["samples_late"] = link.samples_late;
+    }
     return out;
   }
 

@@ -307,7 +307,7 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
                   {"natural_frequency", "rad/s"},
                   {"contact_stiffness", "N·m/rad^n"},
                   {"contact_damping", "N·m·s/rad"}};
-  doc["ambiguities"] = detail::ambiguities(protocol);
+  doc["ambiguities"] = detail::ambiguities(protocol, c.source->kind());
   doc["skipped_stages"] = c.skipped;
   doc["sections"] = c.sections;
   doc["tables"] = c.tables;
