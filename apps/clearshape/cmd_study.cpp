@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -14,6 +15,7 @@
 
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/core/error.hpp"
+#include "clearshape/rig/serial_rig.hpp"
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/rig/truth.hpp"
 #include "clearshape/study/protocol.hpp"
@@ -21,6 +23,7 @@
 #include "clearshape/study/runner.hpp"
 #include "command.hpp"
 #include "rig_config.hpp"
+#include "rig_serial_options.hpp"
 
 namespace clearshape::cli {
 namespace {
@@ -34,6 +37,7 @@ struct StudyCliOptions {
   int threads = 0;
   std::string rig_config;
   std::string recordings;
+  std::string rig;
   bool print_manifest = false;
 };
 
@@ -72,15 +76,37 @@ study::RigFactory configured_sim_rig(const std::filesystem::path& path) {
   return f;
 }
 
+// The physical rig over a serial port (`--rig serial:PORT[?baud=N]`), one run at a time. A run
+// that loses a sample fails (LostSamples::fail) instead of entering the study with a hole.
+study::RigFactory serial_rig_factory(const std::string& spec) {
+  rig::SerialRigOptions base;
+  parse_serial_rig_spec(spec, base.port, base.baud);
+  base.lost_samples = rig::LostSamples::fail;
+  study::RigFactory f;
+  f.description = fmt::format("serial:{} at {} baud (rig::SerialRig, the board's firmware)", base.port, base.baud);
+  f.kind = "physical";
+  f.parallel_runs = 1;
+  f.make = [base](rig::CommandMode mode, double rate_hz, std::uint64_t) -> std::unique_ptr<rig::Rig> {
+    rig::SerialRigOptions o = base;
+    o.mode = mode;
+    o.sample_rate_hz = rate_hz;
+    o.validate();
+    return std::make_unique<rig::SerialRig>(o);
+  };
+  return f;
+}
+
 void run(const StudyCliOptions& o) {
+  std::optional<study::RigFactory> serial;
+  if (!o.rig.empty()) serial = serial_rig_factory(o.rig);  // a bad spec is an error before anything else
   study::Protocol protocol = study::load_protocol(o.protocol);
   if (o.quick) protocol = study::quick_variant(protocol);
   if (o.print_manifest) {
     std::cout << study::recordings_manifest_template(protocol);
     return;
   }
-  if (!o.recordings.empty() && !o.rig_config.empty()) {
-    throw InvalidArgument("study: give either --recordings or --rig-config, not both");
+  if (static_cast<int>(!o.recordings.empty()) + static_cast<int>(!o.rig_config.empty()) + static_cast<int>(!o.rig.empty()) > 1) {
+    throw InvalidArgument("study: give one of --recordings, --rig-config and --rig, not several");
   }
   study::StudyOptions options;
   options.out_dir = o.out_dir.empty() ? std::filesystem::path("out") / (protocol.name + (o.quick ? "-quick" : ""))
@@ -89,6 +115,10 @@ void run(const StudyCliOptions& o) {
   options.threads = o.threads;
   options.progress = &std::cerr;
   if (!o.rig_config.empty()) options.rig = configured_sim_rig(o.rig_config);
+  if (serial) {
+    options.rig = *serial;
+    options.threads = 1;
+  }
   if (!o.recordings.empty()) {
     options.source = study::recordings_run_source(study::load_recordings_manifest(o.recordings, protocol), protocol);
   }
@@ -119,6 +149,9 @@ const bool registered = register_command(
        sub.add_option("--rig-config", o->rig_config,
                       "Run against a simulated rig with this truth (a `clearshape simulate --config` file) "
                       "instead of the built-in thesis rig");
+       sub.add_option("--rig", o->rig,
+                      "Run against the physical rig: serial:PORT or serial:PORT?baud=N (docs/hardware.md); "
+                      "one run at a time, a run that loses a sample fails");
        sub.add_option("--recordings", o->recordings,
                       "Run the study on recorded runs: a folder of CSVs with a manifest.toml (docs/recordings.md)");
        sub.add_flag("--print-manifest", o->print_manifest,

@@ -1,0 +1,423 @@
+// `clearshape rig probe|stream|run`: the physical rig (the thesis's Arduino Mega board, or the
+// emulator running its firmware) over a serial port — rig::SerialRig driven by the real-time
+// runner (rig/realtime.hpp). docs/hardware.md ("Host side") describes the set-up.
+//   probe   handshake, firmware version, capabilities, self-test, the board's counters
+//   stream  log the sensors for --duration s (no commands; servo off unless --servo-on)
+//   run     one run of a command signal, optionally shaped online, logged to a CSV + sidecar
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/io/atomic_file.hpp"
+#include "clearshape/io/json.hpp"
+#include "clearshape/io/table.hpp"
+#include "clearshape/rig/realtime.hpp"
+#include "clearshape/rig/serial_rig.hpp"
+#include "clearshape/rig/wire_protocol.h"
+#include "clearshape/shaping/design.hpp"
+#include "clearshape/signal/parameters.hpp"
+#include "clearshape/signal/signal.hpp"
+#include "command.hpp"
+#include "rig_serial_options.hpp"
+#include "signal_options.hpp"
+
+namespace cs = clearshape;
+namespace rig = clearshape::rig;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+std::string capability_names(std::uint32_t caps) {
+  const std::pair<std::uint32_t, const char*> names[] = {
+      {CS_CAP_ENCODER_QUADRATURE, "encoder-quadrature"}, {CS_CAP_PULSE_AB, "pulse-ab"},
+      {CS_CAP_DAC_MCP4725, "dac-mcp4725"},               {CS_CAP_GYRO_ITG3205, "gyro-itg3205"},
+      {CS_CAP_SERVO_ON, "servo-on"},                     {CS_CAP_WATCHDOG, "watchdog"}};
+  std::string out;
+  for (const auto& [bit, name] : names) {
+    if (caps & bit) out += (out.empty() ? "" : ", ") + std::string(name);
+  }
+  return out.empty() ? "none" : out;
+}
+
+json board_json(const rig::SerialRig& r) {
+  const rig::BoardInfo& b = r.board();
+  json j = {{"firmware_version", b.firmware_version()},
+            {"wire_version", b.wire_version},
+            {"capabilities", b.capabilities},
+            {"capability_names", capability_names(b.capabilities)},
+            {"cpu_hz", b.cpu_hz},
+            {"encoder_lines_hint", b.encoder_lines_hint},
+            {"port", r.options().port},
+            {"backend", std::string(r.backend())}};
+  if (b.selftest) {
+    j["selftest"] = {{"gyro_who_am_i", b.selftest->gyro_who_am_i},
+                     {"gyro_ok", b.selftest->gyro_ok},
+                     {"dac_ok", b.selftest->dac_ok},
+                     {"gyro_raw_at_rest", b.selftest->gyro_raw_at_rest},
+                     {"gyro_at_rest_deg_s", b.selftest->gyro_raw_at_rest / r.options().gyro_sensitivity_lsb_per_dps}};
+  }
+  return j;
+}
+
+// --- probe -----------------------------------------------------------------------------------
+
+struct ProbeState {
+  cs::cli::SerialCliOptions serial;
+  bool json = false;
+};
+
+void probe(const ProbeState& st) {
+  rig::SerialRigOptions o = st.serial.build();
+  o.selftest = true;
+  rig::SerialRig r(o);
+  r.configure();
+  const rig::BoardStats stats = r.board_stats();
+  const auto& t = *r.board().selftest;
+  const bool ok = t.gyro_ok && t.dac_ok;
+  if (st.json) {
+    auto doc = cs::io::make_document();
+    doc["command"] = "rig probe";
+    doc["board"] = board_json(r);
+    doc["board_stats"] = {{"samples_sent", stats.samples_sent},   {"samples_dropped", stats.samples_dropped},
+                          {"rx_corrupted", stats.rx_corrupted},   {"watchdog_trips", stats.watchdog_trips},
+                          {"late_ticks", stats.late_ticks}};
+    doc["selftest_passed"] = ok;
+    cs::cli::print_json(doc);
+  } else {
+    const rig::BoardInfo& b = r.board();
+    fmt::print("{:<16}{} ({})\n", "port", o.port, r.backend());
+    fmt::print("{:<16}{}\n", "firmware", b.firmware_version());
+    fmt::print("{:<16}v{}\n", "wire protocol", b.wire_version);
+    fmt::print("{:<16}{} (0x{:02x})\n", "capabilities", capability_names(b.capabilities), b.capabilities);
+    fmt::print("{:<16}{:g} MHz\n", "cpu", b.cpu_hz / 1e6);
+    fmt::print("{:<16}{}\n", "encoder lines", b.encoder_lines_hint == 0 ? std::string("unknown") : std::to_string(b.encoder_lines_hint));
+    fmt::print("{:<16}gyro WHO_AM_I 0x{:02x} {}, DAC {}, gyro at rest {} LSB ({:.3g} deg/s)\n", "self-test",
+               t.gyro_who_am_i, t.gyro_ok ? "ok" : "FAILED", t.dac_ok ? "ok" : "FAILED", t.gyro_raw_at_rest,
+               t.gyro_raw_at_rest / o.gyro_sensitivity_lsb_per_dps);
+    fmt::print("{:<16}samples sent {}, dropped {}, rx corrupted {}, watchdog trips {}, late ticks {}\n",
+               "board counters", stats.samples_sent, stats.samples_dropped, stats.rx_corrupted, stats.watchdog_trips,
+               stats.late_ticks);
+  }
+  r.cleanup();
+  if (!ok) {
+    throw cs::RuntimeError(fmt::format("rig probe: the board's self-test failed on {} ({}); check the TWI wiring "
+                                       "(docs/hardware.md)", o.port,
+                                       !t.gyro_ok ? "gyroscope" : "DAC"));
+  }
+}
+
+// --- stream and run --------------------------------------------------------------------------
+
+struct RunState {
+  cs::cli::SerialCliOptions serial;
+  double duration_s = 5.0;
+  std::string output;
+  bool json = false;
+  bool no_realtime = false;
+  bool servo_on = false;  // stream only
+  // run only
+  std::string type;
+  cs::cli::SignalOptions signal_options;
+  // The shaper flags of `clearshape simulate` (--frequency-hz belongs to the sine signal).
+  std::string shaper;
+  double shaper_frequency_hz = 0.0;
+  double shaper_zeta = 0.0;
+  CLI::Option* shaper_frequency_option = nullptr;
+  CLI::Option* shaper_zeta_option = nullptr;
+};
+
+std::optional<cs::shaping::Shaper> shaper_of(const RunState& st) {
+  const bool mode_given = st.shaper_frequency_option->count() > 0 || st.shaper_zeta_option->count() > 0;
+  if (st.shaper.empty()) {
+    if (mode_given) throw cs::InvalidArgument("rig run: --shaper-frequency-hz and --shaper-zeta need --shaper METHOD");
+    return std::nullopt;
+  }
+  if (st.shaper_frequency_option->count() == 0 || st.shaper_zeta_option->count() == 0) {
+    throw cs::InvalidArgument("rig run: --shaper needs --shaper-frequency-hz and --shaper-zeta (the mode to cancel)");
+  }
+  cs::require_positive("--shaper-frequency-hz", st.shaper_frequency_hz);
+  cs::require_in_half_open("--shaper-zeta", st.shaper_zeta, 0.0, 1.0);
+  cs::shaping::DesignRequest request;
+  request.method = cs::shaping::method_from_string(st.shaper);
+  request.mode = cs::shaping::Mode::from_hz(st.shaper_frequency_hz, st.shaper_zeta);
+  return cs::shaping::design(request);
+}
+
+std::filesystem::path sidecar_path(const std::string& output) {
+  std::filesystem::path p(output);
+  p.replace_extension(".json");
+  return p;
+}
+
+// Collected by the logging thread (it may allocate; the loop never waits for it).
+struct Columns {
+  std::vector<double> time_s, command, shaped, applied, counts, motor_deg, gyro_raw, gyro_deg_s, flags, latency_s;
+};
+
+void execute(const RunState& st, const std::string& name, bool is_run) {
+  if (st.output.empty()) throw cs::InvalidArgument(fmt::format("rig {}: --output FILE.csv is required", name));
+  if (std::filesystem::path(st.output).extension() == ".json") {
+    throw cs::InvalidArgument(fmt::format("rig {}: --output must not end in .json (the sidecar takes that name)", name));
+  }
+  cs::require_in_closed("--duration", st.duration_s, 1e-3, 86400.0);
+  rig::SerialRigOptions o = st.serial.build();
+  const bool position = o.mode == rig::CommandMode::position;
+  const std::size_t n = static_cast<std::size_t>(std::llround(st.duration_s * o.sample_rate_hz)) + 1;
+
+  std::vector<double> values(n, 0.0);
+  json signal_json = nullptr, shaper_json = nullptr;
+  std::optional<cs::shaping::Shaper> designed;
+  if (is_run) {
+    const cs::signal::Signal signal = st.signal_options.build(st.type);
+    values = cs::signal::sample(signal, o.sample_rate_hz, st.duration_s).values;
+    values.resize(n, values.empty() ? 0.0 : values.back());
+    json params = json::object();
+    for (const auto& [key, value] : cs::signal::parameters_of(signal)) {
+      params[key] = std::visit([](const auto& x) { return json(x); }, value);
+    }
+    signal_json = {{"type", st.type}, {"parameters", params}};
+    designed = shaper_of(st);
+    if (designed) {
+      json impulses = json::array();
+      for (const auto& i : designed->impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
+      shaper_json = {{"method", designed->method()},
+                     {"frequency_hz", st.shaper_frequency_hz},
+                     {"damping_ratio", st.shaper_zeta},
+                     {"duration_s", designed->duration_s()},
+                     {"impulses", impulses},
+                     {"applied", "online (shaping::StreamingShaper, one sample per cycle)"}};
+    }
+  } else {
+    o.servo_on = st.servo_on;
+    if (st.serial.watchdog_ms == 100) o.watchdog_ms = 0;  // nothing is commanded: no watchdog by default
+  }
+  rig::SerialRig r(o);
+  rig::CommandSource source(values, o.mode);
+  if (designed) source.set_shaper(*designed, r.sample_time_s());
+
+  rig::RealtimeOptions ro;
+  ro.realtime_scheduling = !st.no_realtime;
+  ro.write_commands = is_run;
+  std::vector<std::string> warnings;
+  ro.warn = [&warnings](const std::string& w) {
+    warnings.push_back(w);
+    fmt::print(stderr, "clearshape: warning: {}\n", w);
+  };
+  r.configure();
+  fmt::print(stderr, "clearshape rig {}: {} firmware {} ({}), {} mode at {:g} Hz, {:g} s\n", name, o.port,
+             r.board().firmware_version(), r.backend(), rig::to_string(o.mode), o.sample_rate_hz, st.duration_s);
+  rig::RealtimeRunner runner(r, source, ro);
+
+  Columns c;
+  for (auto* v : {&c.time_s, &c.command, &c.shaped, &c.applied, &c.counts, &c.motor_deg, &c.gyro_raw, &c.gyro_deg_s,
+                  &c.flags, &c.latency_s}) {
+    v->reserve(n);
+  }
+  rig::Measurement last{};
+  const auto sink = [&](const rig::LogRecord& rec) {
+    if (rec.read_status != cs::Status::ok) return;
+    const rig::Measurement& m = rec.measurement;
+    c.time_s.push_back(m.time_s);
+    c.command.push_back(rec.command);
+    c.shaped.push_back(rec.command_shaped);
+    c.applied.push_back(position ? cs::rad_to_deg(m.command_applied) : m.command_applied);
+    c.counts.push_back(static_cast<double>(m.encoder_counts));
+    c.motor_deg.push_back(m.motor_angle_deg());
+    c.gyro_raw.push_back(m.gyro_raw);
+    c.gyro_deg_s.push_back(m.gyro_rate_deg_s());
+    c.flags.push_back(m.flags);
+    c.latency_s.push_back(rec.latency_s);
+    last = m;
+  };
+  const bool tty = isatty(fileno(stderr)) != 0;
+  int status_calls = 0;
+  const auto status = [&](const rig::RunStatistics& s) {
+    // ~5 Hz on a terminal (one line, rewritten); once a second otherwise.
+    if (!tty && (status_calls++ % 5) != 0) return;
+    const rig::SerialRigStats link = r.stats();
+    fmt::print(stderr, "{}t {:7.2f}/{:g} s  samples {}  lost {}  corrupted {}  late {}  overruns {}  motor {:9.3f} deg  "
+                       "gyro {:8.2f} deg/s{}",
+               tty ? "\r" : "", last.time_s, st.duration_s, s.samples, link.samples_lost, link.frames_corrupted,
+               link.samples_late, s.overruns, last.motor_angle_deg(), last.gyro_rate_deg_s(), tty ? "" : "\n");
+  };
+  const rig::RunStatistics s = runner.run(n, sink, status);
+  if (tty) fmt::print(stderr, "\n");
+  const rig::SerialRigStats link = r.stats();
+  const std::string stop_problem = r.last_stop_problem();
+  r.cleanup();
+
+  const std::string u = position ? "deg" : "v";
+  std::vector<std::string> names = {"time_s"};
+  std::vector<const std::vector<double>*> columns = {&c.time_s};
+  if (is_run) {
+    names.push_back("command_" + u);
+    columns.push_back(&c.command);
+    if (designed) {
+      names.push_back("command_shaped_" + u);
+      columns.push_back(&c.shaped);
+    }
+  }
+  for (const auto& [col, v] : std::initializer_list<std::pair<std::string, const std::vector<double>*>>{
+           {"command_applied_" + u, &c.applied}, {"encoder_counts", &c.counts},  {"motor_deg", &c.motor_deg},
+           {"gyro_raw", &c.gyro_raw},            {"gyro_deg_s", &c.gyro_deg_s}, {"flags", &c.flags},
+           {"latency_s", &c.latency_s}}) {
+    names.push_back(col);
+    columns.push_back(v);
+  }
+  const bool complete = s.complete();
+  json statistics = {{"cycles", s.cycles},
+                     {"samples", s.samples},
+                     {"samples_lost", s.samples_lost},
+                     {"frames_corrupted", s.frames_corrupted},
+                     {"samples_late", s.samples_late},
+                     {"late_tolerance_s", o.late_tolerance_s},
+                     {"max_lateness_s", link.max_lateness_s},
+                     {"overruns", s.overruns},
+                     {"read_failures", s.read_failures},
+                     {"write_failures", s.write_failures},
+                     {"log_dropped", s.log_dropped},
+                     {"ring_overflows", link.ring_overflows},
+                     {"commands_sent", link.commands_sent},
+                     {"commands_dropped", link.commands_dropped},
+                     {"board_tx_overflows", link.board_tx_overflows},
+                     {"latency_p50_s", s.latency_p50_s},
+                     {"latency_p99_s", s.latency_p99_s},
+                     {"latency_max_s", s.latency_max_s},
+                     {"latency_overflows", s.latency_overflows},
+                     {"sched_fifo", s.sched_fifo},
+                     {"memory_locked", s.memory_locked},
+                     {"stopped_by", s.stopped_by.empty() ? json(nullptr) : json(s.stopped_by)},
+                     {"stop_confirmed", stop_problem.empty()}};
+  auto doc = cs::io::make_document();
+  doc["command"] = "rig " + name;
+  doc["csv"] = st.output;
+  doc["complete"] = complete;
+  doc["columns"] = names;
+  doc["units"] = {{"time_s", "s (board tick × sample time)"},
+                  {"command", position ? "deg (motor-angle target)" : "V (driver speed input)"},
+                  {"command_applied", position ? "deg (pulses emitted × 360 / pulses_per_rev)" : "V (DAC code)"},
+                  {"encoder_counts", fmt::format("counts ({} per revolution)", o.counts_per_rev)},
+                  {"motor_deg", "deg"},
+                  {"gyro_raw", fmt::format("LSB ({} LSB per deg/s)", o.gyro_sensitivity_lsb_per_dps)},
+                  {"gyro_deg_s", "deg/s"},
+                  {"flags", "rig::MeasurementFlag bits (rig/types.hpp)"},
+                  {"latency_s", "s (cycle deadline → command written)"}};
+  doc["rig"] = {{"kind", "physical"}, {"board", board_json(r)}};
+  doc["configuration"] = {{"mode", std::string(rig::to_string(o.mode))},
+                          {"sample_rate_hz", o.sample_rate_hz},
+                          {"update_rate_hz", o.update_rate_hz},
+                          {"max_pulse_rate_hz", o.max_pulse_rate_hz},
+                          {"baud", o.baud},
+                          {"gyro_fs_sel", o.gyro_fs_sel},
+                          {"gyro_dlpf_cfg", o.gyro_dlpf_cfg},
+                          {"watchdog_ms", o.watchdog_ms},
+                          {"counts_per_rev", o.counts_per_rev},
+                          {"pulses_per_rev", o.pulses_per_rev},
+                          {"servo_on", o.servo_on},
+                          {"duration_s", st.duration_s},
+                          {"realtime_scheduling", !st.no_realtime}};
+  doc["signal"] = signal_json;
+  doc["shaper"] = shaper_json;
+  doc["statistics"] = statistics;
+  doc["warnings"] = warnings;
+  cs::io::AtomicBatch batch;
+  batch.add(st.output, cs::io::format_csv(names, columns));
+  batch.add(sidecar_path(st.output), doc.dump(2) + "\n");
+  batch.commit();
+  fmt::print(stderr, "clearshape rig {}: wrote {} ({} rows) and {}\n", name, st.output, c.time_s.size(),
+             sidecar_path(st.output).string());
+
+  if (st.json) {
+    auto out = cs::io::make_document();
+    out["command"] = "rig " + name;
+    out["output"] = st.output;
+    out["complete"] = complete;
+    out["statistics"] = statistics;
+    cs::cli::print_json(out);
+  } else {
+    fmt::print("{:<14}{} of {} ({} lost, {} corrupted frames, {} late beyond {:g} ms)\n", "samples", s.samples, s.cycles,
+               s.samples_lost, s.frames_corrupted, s.samples_late, o.late_tolerance_s * 1e3);
+    fmt::print("{:<14}p50 {:.1f} us, p99 {:.1f} us, max {:.1f} us; {} overruns{}\n", "loop latency",
+               s.latency_p50_s * 1e6, s.latency_p99_s * 1e6, s.latency_max_s * 1e6, s.overruns,
+               s.sched_fifo ? " (SCHED_FIFO)" : " (normal priority)");
+    fmt::print("{:<14}{}\n", "record", complete ? "complete" : "INCOMPLETE");
+    fmt::print("{:<14}{}\n", "output", st.output);
+  }
+  if (!stop_problem.empty()) {
+    fmt::print(stderr, "clearshape: warning: STOP was not confirmed: {}\n", stop_problem);
+  }
+  if (!s.stopped_by.empty()) {
+    throw cs::RuntimeError(fmt::format("rig {}: {} on {}; the record written is incomplete", name, s.stopped_by, o.port));
+  }
+  if (s.samples_lost > 0) {
+    const std::string what = fmt::format("rig {}: {} sample(s) lost on {}; the record has holes (flags bit 64, sidecar "
+                                         "\"complete\": false)", name, s.samples_lost, o.port);
+    if (is_run) throw cs::RuntimeError(what + " and must not be used as a complete run");
+    fmt::print(stderr, "clearshape: warning: {}\n", what);
+  }
+}
+
+void add_run_options(CLI::App& sub, RunState& st) {
+  sub.add_option("--duration", st.duration_s, "Duration (s); samples at 0 … duration")->capture_default_str();
+  sub.add_option("--output,-o", st.output, "CSV of the run; a JSON sidecar (same name, .json) holds the statistics")
+      ->required();
+  sub.add_flag("--no-realtime", st.no_realtime, "Skip SCHED_FIFO and mlockall (run at normal priority)");
+  sub.add_flag("--json", st.json, "Print a JSON summary on stdout");
+}
+
+void setup(CLI::App& sub) {
+  sub.require_subcommand(1);
+  {
+    auto st = std::make_shared<ProbeState>();
+    CLI::App* p = sub.add_subcommand("probe", "Handshake with the rig board: firmware, capabilities, self-test");
+    st->serial.add_to(*p, true);
+    p->add_flag("--json", st->json, "Print JSON on stdout");
+    p->callback([st] { probe(*st); });
+  }
+  {
+    auto st = std::make_shared<RunState>();
+    CLI::App* p = sub.add_subcommand("stream", "Log the rig's sensors (no commands) to a CSV");
+    st->serial.add_to(*p, true);
+    add_run_options(*p, *st);
+    p->add_flag("--servo-on", st->servo_on, "Switch the servo on while streaming (default off)");
+    p->callback([st] { execute(*st, "stream", false); });
+  }
+  {
+    auto st = std::make_shared<RunState>();
+    CLI::App* p = sub.add_subcommand("run", "One run of a command signal (optionally shaped online) on the rig");
+    st->serial.add_to(*p, true);
+    add_run_options(*p, *st);
+    p->add_option("--signal", st->type, "Command signal: " + cs::cli::SignalOptions::type_list())
+        ->check(cs::cli::SignalOptions::type_check())
+        ->required();
+    st->signal_options.add_to(*p, "--signal");
+    p->add_option("--shaper", st->shaper,
+                  "Shape the command online with this shaper (zv, zvd, zvdd, zvddd, mzv, ei, ei2, ei3, um-zv); "
+                  "default: unshaped");
+    st->shaper_frequency_option = p->add_option("--shaper-frequency-hz", st->shaper_frequency_hz,
+                                                "Natural frequency of the mode to cancel (Hz)");
+    st->shaper_zeta_option = p->add_option("--shaper-zeta", st->shaper_zeta, "Damping ratio of that mode, [0, 1)");
+    p->footer(
+        "Examples:\n"
+        "  clearshape rig run --port /dev/ttyACM0 --signal step --amplitude 20 --start-s 0.5 --duration 3 -o step.csv\n"
+        "  clearshape rig run --port /dev/ttyACM0 --mode speed --signal step --amplitude 1 --shaper zvdd \\\n"
+        "      --shaper-frequency-hz 3.32 --shaper-zeta 0.288 --duration 3 -o zvdd.csv");
+    p->callback([st] { execute(*st, "run", true); });
+  }
+}
+
+const bool registered = cs::cli::register_command(
+    {"rig", "The physical rig over a serial port: probe, stream the sensors, run a command", 45, setup});
+
+}  // namespace

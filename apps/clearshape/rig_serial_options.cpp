@@ -1,0 +1,91 @@
+#include "rig_serial_options.hpp"
+
+#include <charconv>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+
+namespace clearshape::cli {
+
+void SerialCliOptions::add_to(CLI::App& sub, bool with_mode) {
+  sub.add_option("--port", port, "Serial port of the rig board, e.g. /dev/ttyACM0 (or the emulator's /dev/pts/N)")
+      ->required();
+  sub.add_option("--baud", baud, "Baud rate, 9600 … 2000000")->capture_default_str();
+  if (with_mode) {
+    sub.add_option("--mode", mode, "Drive mode: position (pulse train, deg) or speed (analog, V)")
+        ->check(CLI::IsMember({"position", "speed"}))
+        ->capture_default_str();
+  }
+  sub.add_option("--rate", rate_hz, "Sample rate of the board (whole Hz, 100 … 2000)")->capture_default_str();
+  sub.add_option("--update-hz", update_hz, "Position mode: pulse-train updates per second (whole Hz)")
+      ->capture_default_str();
+  sub.add_option("--max-pulse-hz", max_pulse_hz, "Position mode: pulse-rate cap (Hz)")->capture_default_str();
+  sub.add_option("--gyro-dlpf", gyro_dlpf, "ITG-3205 DLPF_CFG, 0 … 6 (0 = 256 Hz)")->capture_default_str();
+  sub.add_option("--watchdog-ms", watchdog_ms, "Command watchdog (ms; 0 = off, else 5 … 60000)")->capture_default_str();
+  sub.add_option("--handshake-timeout-s", handshake_timeout_s, "Wait for each handshake answer (s)")
+      ->capture_default_str();
+  sub.add_option("--counts-per-rev", counts_per_rev, "Motor encoder counts per revolution (3000 lines x4)")
+      ->capture_default_str();
+  sub.add_option("--pulses-per-rev", pulses_per_rev, "Command pulses per motor revolution (the drive's electronic gear)")
+      ->capture_default_str();
+}
+
+rig::SerialRigOptions SerialCliOptions::build() const {
+  rig::SerialRigOptions o;
+  o.port = port;
+  o.baud = baud;
+  o.mode = rig::command_mode_from_string(mode);
+  o.sample_rate_hz = rate_hz;
+  o.update_rate_hz = update_hz;
+  o.max_pulse_rate_hz = max_pulse_hz;
+  o.gyro_dlpf_cfg = gyro_dlpf;
+  o.watchdog_ms = watchdog_ms;
+  o.handshake_timeout_s = handshake_timeout_s;
+  o.counts_per_rev = counts_per_rev;
+  o.pulses_per_rev = pulses_per_rev;
+  try {
+    o.validate();
+  } catch (const InvalidArgument& e) {
+    // The field names map to the options: sample_rate_hz → --rate, the rest by their own names.
+    const std::string text = e.what();
+    const std::string_view fields[][2] = {{"sample_rate_hz", "--rate"},           {"update_rate_hz", "--update-hz"},
+                                          {"max_pulse_rate_hz", "--max-pulse-hz"}, {"gyro_dlpf_cfg", "--gyro-dlpf"},
+                                          {"watchdog_ms", "--watchdog-ms"},       {"handshake_timeout_s", "--handshake-timeout-s"},
+                                          {"counts_per_rev", "--counts-per-rev"}, {"pulses_per_rev", "--pulses-per-rev"},
+                                          {"baud", "--baud"},                     {"port", "--port"}};
+    for (const auto& f : fields) {
+      if (text.rfind(f[0], 0) == 0) throw InvalidArgument(std::string(f[1]) + text.substr(f[0].size()));
+    }
+    throw;
+  }
+  return o;
+}
+
+void parse_serial_rig_spec(const std::string& spec, std::string& port, int& baud) {
+  constexpr std::string_view prefix = "serial:";
+  const auto fail = [&spec]() {
+    throw InvalidArgument(fmt::format("--rig {}: allowed: serial:PORT or serial:PORT?baud=N (N in 9600 … 2000000), "
+                                      "e.g. serial:/dev/ttyACM0", spec));
+  };
+  if (spec.rfind(prefix, 0) != 0) fail();
+  std::string rest = spec.substr(prefix.size());
+  const auto q = rest.find('?');
+  if (q != std::string::npos) {
+    const std::string query = rest.substr(q + 1);
+    rest = rest.substr(0, q);
+    constexpr std::string_view key = "baud=";
+    if (query.rfind(key, 0) != 0) fail();
+    const char* first = query.data() + key.size();
+    const char* last = query.data() + query.size();
+    int value = 0;
+    const auto [end, ec] = std::from_chars(first, last, value);
+    if (ec != std::errc() || end != last || value < 9600 || value > 2'000'000) fail();
+    baud = value;
+  }
+  if (rest.empty()) fail();
+  port = rest;
+}
+
+}  // namespace clearshape::cli

@@ -1,0 +1,37 @@
+#pragma once
+// The serial-rig options shared by `clearshape rig probe|stream|run` and `study --rig serial:PORT`:
+// one flag per field of rig::SerialRigOptions that a user chooses.
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "clearshape/rig/serial_rig.hpp"
+
+namespace clearshape::cli {
+
+struct SerialCliOptions {
+  std::string port;
+  int baud = 1'000'000;
+  std::string mode = "position";
+  double rate_hz = 1000.0;
+  double update_hz = 30.0;
+  unsigned max_pulse_hz = 100'000;
+  int gyro_dlpf = 0;
+  int watchdog_ms = 100;
+  double handshake_timeout_s = 3.0;
+  int counts_per_rev = 12'000;
+  int pulses_per_rev = 12'000;
+
+  /// Adds --port (required), --baud, --rate, --update-hz, --max-pulse-hz, --gyro-dlpf,
+  /// --watchdog-ms, --handshake-timeout-s, --counts-per-rev, --pulses-per-rev and, with
+  /// `with_mode`, --mode.
+  void add_to(CLI::App& sub, bool with_mode);
+  /// The rig options (validated: InvalidArgument names the command-line option).
+  rig::SerialRigOptions build() const;
+};
+
+/// "serial:/dev/ttyACM0" or "serial:/dev/ttyACM0?baud=115200" → port and baud. Throws
+/// InvalidArgument naming --rig and the accepted forms.
+void parse_serial_rig_spec(const std::string& spec, std::string& port, int& baud);
+
+}  // namespace clearshape::cli
