@@ -1,0 +1,78 @@
+#pragma once
+// Recommending an input shaper from a measured spectrum (docs/recommend.md), after Klipper's
+// calibrate_shaper and beyond it: every candidate (ZV … EI3, SI over the mode's uncertainty
+// band, two-mode convolutions) has its design frequency fitted to the spectrum by a scan that
+// minimises the worst-case remaining vibration (remaining.hpp); the recommendation is the
+// shortest candidate whose worst-case remaining vibration is within a tolerance of the least,
+// inside an optional delay budget.
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "clearshape/advise/mode_estimate.hpp"
+#include "clearshape/advise/remaining.hpp"
+#include "clearshape/shaping/shaper.hpp"
+
+namespace clearshape::advise {
+
+/// Candidate names: zv mzv zvd zvdd zvddd ei ei2 ei3 si (one mode) and zv*zv mzv*mzv zvd*zvd
+/// ei*ei (two modes).
+std::vector<std::string> default_candidates(std::size_t modes);
+
+struct RecommendOptions {
+  std::vector<std::string> candidates;        ///< empty: default_candidates(modes)
+  std::optional<double> design_damping;       ///< default: the first mode's ζ
+  /// Test damping ratios; empty: damping_points ratios evenly over [damping_low, damping_high],
+  /// and without those the mode's ζ ± max(2σ, ζ/4) (clipped to [0.001, 0.9]).
+  std::vector<double> test_damping_ratios;
+  std::optional<double> damping_low, damping_high;
+  std::size_t damping_points = 3;
+  /// Frequency uncertainty: scales 1 − k·σ_f/f, 1, 1 + k·σ_f/f with k = frequency_sigmas (0: none).
+  double frequency_sigmas = 2.0;
+  double si_min_half_band = 0.02;             ///< SI band half-width ≥ this fraction of f
+  /// Scan grid: explicit frequencies, or ratio_low·f … ratio_high·f in steps of step_hz.
+  std::vector<double> scan_frequencies_hz;
+  double scan_ratio_low = 0.6, scan_ratio_high = 1.6, scan_step_hz = 0.1;
+  /// Klipper's frequency choice: among scan points with remaining < factor·least + offset, the
+  /// shortest shaper (highest design frequency) is fitted.
+  double near_best_factor = 1.1, near_best_offset = 0.0005;
+  double threshold_fraction = 0.05;           ///< PSD threshold (Klipper: 1/20 of the max)
+  std::optional<double> min_frequency_hz;     ///< bins below are ignored; default 2 × resolution
+  double vtol = 0.05;                         ///< EI/SI tolerance
+  double max_delay_s = std::numeric_limits<double>::infinity();  ///< delay budget
+  double vibration_tolerance = 0.01;          ///< "within 1 percentage point of the least"
+};
+
+struct CandidateResult {
+  std::string name;
+  bool available = true;
+  std::string note;                            ///< why not available, or a remark
+  std::vector<double> design_frequency_hz;     ///< fitted (one per mode of the candidate)
+  double design_damping = 0.0;
+  double remaining_worst = 0.0;                ///< at the fitted frequency: worst over ζ and scales
+  double remaining_nominal = 0.0;              ///< … worst over ζ, scale 1 only
+  double least_remaining = 0.0;                ///< the scan's least worst-case remaining …
+  double least_remaining_frequency_hz = 0.0;   ///< … and where (first mode's frequency)
+  double duration_s = 0.0;                     ///< the delay it adds
+  bool within_budget = true;
+  std::optional<shaping::Shaper> shaper;
+};
+
+struct Recommendation {
+  std::vector<ModeEstimate> modes;
+  std::vector<double> test_damping_ratios;
+  std::vector<double> frequency_scales;
+  double design_damping = 0.0;
+  std::vector<CandidateResult> candidates;
+  std::optional<std::size_t> chosen;          ///< index into candidates
+  std::string reason;
+};
+
+/// Throws InvalidArgument for no spectra, no modes, an unknown candidate, a two-mode candidate
+/// with one mode, or an option out of range.
+Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std::vector<ModeEstimate>& modes,
+                         const RecommendOptions& options = {});
+
+}  // namespace clearshape::advise

@@ -1,0 +1,44 @@
+#pragma once
+// The vibration a shaper leaves in a measured spectrum, measured as Klipper's calibrate_shaper
+// measures it (docs/recommend.md): the shaper's residual vibration V(f, ζ) (Eq. 2.19) weighs
+// the PSD bin by bin; only the part of the PSD above a threshold (5 % of its maximum — a shaper
+// cannot do better than that) counts:
+//   remaining = Σ max(V(f)·P(f) − P_thr, 0) / Σ max(P(f) − P_thr, 0).
+// The worst case is taken over test damping ratios and over frequency scales s (the mode may
+// really sit at s·f: V is evaluated at s·f).
+#include <cstddef>
+#include <vector>
+
+#include "clearshape/advise/spectrum_input.hpp"
+#include "clearshape/shaping/shaper.hpp"
+
+namespace clearshape::advise {
+
+/// The bins of a spectrum that count (power above the threshold), prepared once per spectrum.
+struct WeightedBins {
+  std::vector<double> frequency_hz;
+  std::vector<double> power;
+  double threshold = 0.0;     ///< P_thr
+  double total = 0.0;         ///< Σ max(P − P_thr, 0)
+};
+/// threshold_fraction in (0, 1): P_thr = fraction · max P over the bins at or above
+/// min_frequency_hz (lower bins are dropped). Throws InvalidArgument for a fraction out of
+/// range or no positive power.
+WeightedBins weighted_bins(const MeasuredSpectrum& spectrum, double threshold_fraction = 0.05,
+                           double min_frequency_hz = 0.0);
+
+/// remaining for one damping ratio and frequency scale.
+double remaining_vibration(const shaping::Shaper& shaper, const WeightedBins& bins, double damping_ratio,
+                           double frequency_scale = 1.0);
+
+/// The worst remaining over every spectrum, damping ratio and frequency scale.
+double worst_remaining_vibration(const shaping::Shaper& shaper, const std::vector<WeightedBins>& spectra,
+                                 const std::vector<double>& damping_ratios,
+                                 const std::vector<double>& frequency_scales);
+
+/// max over damping ratios and scales of V(s·f, ζ) at each frequency (the curve Klipper draws).
+std::vector<double> worst_response(const shaping::Shaper& shaper, const std::vector<double>& frequency_hz,
+                                   const std::vector<double>& damping_ratios,
+                                   const std::vector<double>& frequency_scales);
+
+}  // namespace clearshape::advise

@@ -1,0 +1,276 @@
+#include "clearshape/advise/mode_estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/dsp/peaks.hpp"
+#include "clearshape/ident/modes.hpp"
+#include "peak_fit.hpp"
+
+namespace clearshape::advise {
+
+namespace {
+
+// Hann's (and Kaiser β = 6's) 3-dB main-lobe width, in bins of the segment (Harris 1978, Table 1).
+constexpr double kWindowHalfPowerBins = 1.44;
+
+// Where the power falls through `level` walking from `peak` in direction `step` (±1), linearly
+// interpolated between bins; the last bin when it never does.
+double crossing(const MeasuredSpectrum& s, std::size_t peak, int step, double level, std::size_t lowest) {
+  std::size_t k = peak;
+  while (true) {
+    const bool at_end = step < 0 ? k <= lowest : k + 1 >= s.power.size();
+    if (at_end) return s.frequency_hz[k];
+    const std::size_t next = step < 0 ? k - 1 : k + 1;
+    if (s.power[next] < level) {
+      const double t = (s.power[k] - level) / (s.power[k] - s.power[next]);
+      return s.frequency_hz[k] + t * (s.frequency_hz[next] - s.frequency_hz[k]);
+    }
+    k = next;
+  }
+}
+
+// The Lorentzian width inside a measured half-power width, the window's width taken as Gaussian:
+// the inverse of Olivero & Longbothum's (1977) Voigt width fV ≈ 0.5346 fL + √(0.2166 fL² + fG²).
+double lorentzian_width(double measured, double window) {
+  if (measured <= window) return 0.0;
+  const double a = 0.2858 - 0.2166, b = -1.0692 * measured, c = measured * measured - window * window;
+  return (-b - std::sqrt(b * b - 4.0 * a * c)) / (2.0 * a);
+}
+
+// Bounds of the bins that belong to a peak: down to 10 % of its power, within [f/2, 2f] and
+// the given limits (the valley towards another mode).
+std::pair<std::size_t, std::size_t> line_region(const MeasuredSpectrum& s, std::size_t bin, std::size_t lo, std::size_t hi) {
+  const double level = 0.1 * s.power[bin], f = s.frequency_hz[bin];
+  std::size_t a = bin, b = bin;
+  while (a > lo && s.power[a - 1] >= level && s.frequency_hz[a - 1] >= 0.5 * f) --a;
+  while (b < hi && s.power[b + 1] >= level && s.frequency_hz[b + 1] <= 2.0 * f) ++b;
+  return {a, b};
+}
+
+struct PeakStart {
+  std::size_t bin = 0;
+  double frequency_hz = 0.0;
+  double damping_ratio = 0.0;
+};
+
+double grid_of(const MeasuredSpectrum& s) {
+  return s.frequency_hz.size() > 1 ? s.frequency_hz[1] - s.frequency_hz[0] : s.resolution_hz;
+}
+
+// Start values at a peak bin: the parabola's vertex and the half-power crossings (noisy: Welch's
+// scatter ripples the line, the fit does better).
+PeakStart start_at(const MeasuredSpectrum& s, std::size_t bin, std::size_t lo) {
+  const double grid = grid_of(s);
+  PeakStart p{bin, s.frequency_hz[bin], 0.0};
+  if (bin > 0 && bin + 1 < s.power.size()) {
+    // Vertex of the parabola through the peak bin and its neighbours (sub-bin frequency).
+    const double ym = s.power[bin - 1], y0 = s.power[bin], yp = s.power[bin + 1];
+    const double curvature = ym - 2.0 * y0 + yp;
+    if (curvature < 0.0) p.frequency_hz += grid * (ym - yp) / (2.0 * curvature);
+  }
+  const double width = crossing(s, bin, +1, 0.5 * s.power[bin], lo) - crossing(s, bin, -1, 0.5 * s.power[bin], lo);
+  p.damping_ratio = std::clamp(width / (2.0 * p.frequency_hz), grid / p.frequency_hz, 0.5);
+  return p;
+}
+
+// Neighbouring bins are correlated (zero padding, the window, overlapping segments): the fit's
+// covariance is inflated by 3 × the zero-padding factor, calibrated by a Monte Carlo of seeded
+// records (tests/advise/test_mode_coverage.cpp) to unit spread of the standardised errors.
+double bin_correlation(const MeasuredSpectrum& s) {
+  const double resolution = s.resolution_hz > 0.0 ? s.resolution_hz : grid_of(s);
+  return 3.0 * resolution / grid_of(s);
+}
+
+ModeEstimate from_fit(const MeasuredSpectrum& s, const PeakStart& start, const detail::LineFit& fit) {
+  ModeEstimate m;
+  m.source = "spectrum";
+  m.peak_power = s.power[start.bin];
+  const double resolution = s.resolution_hz > 0.0 ? s.resolution_hz : grid_of(s);
+  const double window = kWindowHalfPowerBins * resolution;
+  const double f0 = fit.converged ? fit.frequency_hz : start.frequency_hz;
+  const double measured = 2.0 * (fit.converged ? fit.damping_ratio : start.damping_ratio) * f0;
+  const double width = lorentzian_width(measured, window);
+  // Half-power bandwidth of a mode: Δf = 2ζ fn (exact for a rate sensor's |jωH|², e.g. a gyro).
+  m.frequency_hz = f0;
+  m.damping_ratio = width / (2.0 * f0);
+  m.half_power_low_hz = f0 * (std::sqrt(1.0 + m.damping_ratio * m.damping_ratio) - m.damping_ratio);
+  m.half_power_high_hz = f0 * (std::sqrt(1.0 + m.damping_ratio * m.damping_ratio) + m.damping_ratio);
+  // 1σ: the fit's covariance (without a fit: the grid and Welch's scatter); half the offset
+  // between a rate sensor's peak (the model's) and a displacement or acceleration sensor's
+  // (~ζ² f); a quarter of the window correction.
+  const double bias = 0.5 * f0 * m.damping_ratio * m.damping_ratio;
+  const double correction_sd = 0.25 * (measured - width) / (2.0 * f0);
+  if (fit.converged) {
+    m.frequency_std_hz = std::sqrt(fit.frequency_var + bias * bias);
+    m.damping_ratio_std = std::sqrt(m.damping_ratio * m.damping_ratio * fit.log_damping_var + correction_sd * correction_sd);
+  } else {
+    const double k = static_cast<double>(std::max<std::size_t>(1, s.segments));
+    const double grid_sd = grid_of(s) / std::sqrt(12.0);
+    m.frequency_std_hz = std::sqrt(grid_sd * grid_sd + 0.25 * width * width / k + bias * bias);
+    m.damping_ratio_std = std::sqrt(m.damping_ratio * m.damping_ratio / k + std::pow(grid_sd / f0, 2) + correction_sd * correction_sd);
+  }
+  return m;
+}
+
+detail::LineFit fit_one(const MeasuredSpectrum& s, const PeakStart& p, std::pair<std::size_t, std::size_t> region) {
+  return detail::fit_lines(s.frequency_hz, s.power, region.first, region.second, {{p.frequency_hz, p.damping_ratio}}, false, {},
+                           bin_correlation(s))
+      .lines.front();
+}
+
+// The first spectrum with the others interpolated onto its grid and added.
+MeasuredSpectrum combined(const std::vector<MeasuredSpectrum>& spectra) {
+  MeasuredSpectrum sum = spectra.front();
+  sum.series.reset();
+  for (std::size_t i = 1; i < spectra.size(); ++i) {
+    const auto& o = spectra[i];
+    for (std::size_t k = 0; k < sum.frequency_hz.size(); ++k) {
+      const double f = sum.frequency_hz[k];
+      const auto it = std::lower_bound(o.frequency_hz.begin(), o.frequency_hz.end(), f);
+      if (it == o.frequency_hz.end() || (it == o.frequency_hz.begin() && *it > f)) continue;
+      const std::size_t j = static_cast<std::size_t>(it - o.frequency_hz.begin());
+      double p = o.power[j];
+      if (*it > f) {
+        const double t = (f - o.frequency_hz[j - 1]) / (o.frequency_hz[j] - o.frequency_hz[j - 1]);
+        p = o.power[j - 1] + t * (o.power[j] - o.power[j - 1]);
+      }
+      sum.power[k] += p;
+    }
+    sum.segments = std::min(sum.segments, o.segments);
+  }
+  return sum;
+}
+
+}  // namespace
+
+std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEstimateOptions& options) {
+  if (options.max_modes < 1 || options.max_modes > 2) throw_invalid("max_modes", static_cast<double>(options.max_modes), "1 or 2");
+  if (s.power.size() < 3 || s.power.size() != s.frequency_hz.size()) {
+    throw InvalidArgument(fmt::format("{}: a spectrum needs at least three bins", s.source));
+  }
+  // Below two resolution bins the window's main lobe from DC (and drift) hides any mode.
+  const double min_f = options.min_frequency_hz ? *options.min_frequency_hz : 2.0 * s.resolution_hz;
+  std::size_t lowest = 0;
+  while (lowest < s.frequency_hz.size() && s.frequency_hz[lowest] < min_f) ++lowest;
+  if (lowest + 3 > s.power.size()) throw RuntimeError(fmt::format("{}: no bins above {} Hz", s.source, min_f));
+  std::vector<double> p(s.power.begin() + static_cast<std::ptrdiff_t>(lowest), s.power.end());
+  std::vector<dsp::Peak> peaks = dsp::find_peaks(p);
+  if (peaks.empty()) throw RuntimeError(fmt::format("{}: the spectrum has no peak above {} Hz", s.source, min_f));
+  std::stable_sort(peaks.begin(), peaks.end(), [](const dsp::Peak& a, const dsp::Peak& b) { return a.height > b.height; });
+  const std::size_t top = peaks.front().index + lowest, end = s.power.size() - 1;
+  const PeakStart p1 = start_at(s, top, lowest);
+  const detail::LineFit fit1 = fit_one(s, p1, line_region(s, top, lowest, end));
+  const ModeEstimate single = from_fit(s, p1, fit1);
+  std::optional<std::size_t> second;
+  if (options.max_modes > 1) {
+    for (std::size_t i = 1; i < peaks.size(); ++i) {
+      const auto& pk = peaks[i];
+      const std::size_t bin = pk.index + lowest;
+      const double f = s.frequency_hz[bin];
+      if (pk.height < options.second_peak_min_ratio * s.power[top]) break;  // sorted: no later one qualifies
+      // Ripples of Welch's scatter on a line have little prominence; a mode stands out ...
+      if (pk.prominence < options.second_peak_min_prominence * pk.height) continue;
+      if (f >= single.half_power_low_hz - 2.0 * s.resolution_hz && f <= single.half_power_high_hz + 2.0 * s.resolution_hz) continue;
+      // ... and at least doubles the power the first mode's line puts there.
+      if (fit1.converged && pk.height < 2.0 * detail::line_power(fit1, f)) continue;
+      second = bin;
+      break;
+    }
+  }
+  if (!second) return {single};
+  // Each line's own band ends at the valley between the two; both are then fitted together.
+  const std::size_t a = std::min(top, *second), b = std::max(top, *second);
+  std::size_t valley = a;
+  for (std::size_t k = a; k <= b; ++k) {
+    if (s.power[k] < s.power[valley]) valley = k;
+  }
+  const auto r1 = top < *second ? line_region(s, top, lowest, valley) : line_region(s, top, valley, end);
+  const auto r2 = *second < top ? line_region(s, *second, lowest, valley) : line_region(s, *second, valley, end);
+  const PeakStart p2 = start_at(s, *second, lowest);
+  const detail::LineFit one = fit_one(s, p1, r1), two = fit_one(s, p2, r2);
+  // Both lines together: their powers adding (independent excitation) or their responses adding
+  // with residues of either relative sign (one input drives both); the best fit wins.
+  const std::vector<detail::LineStart> starts{
+      {one.converged ? one.frequency_hz : p1.frequency_hz, one.converged ? one.damping_ratio : p1.damping_ratio},
+      {two.converged ? two.frequency_hz : p2.frequency_hz, two.converged ? two.damping_ratio : p2.damping_ratio}};
+  const std::size_t from = std::min(r1.first, r2.first), to = std::max(r1.second, r2.second);
+  detail::LinesFit best;
+  for (const auto& [coherent, sign] : {std::pair{false, 1.0}, std::pair{true, 1.0}, std::pair{true, -1.0}}) {
+    detail::LinesFit fit = detail::fit_lines(s.frequency_hz, s.power, from, to, starts, coherent, {1.0, sign}, bin_correlation(s));
+    if (fit.converged && (!best.converged || fit.cost < best.cost)) best = std::move(fit);
+  }
+  const bool joint = best.converged;
+  const auto& both = best.lines;
+  std::vector<ModeEstimate> out{from_fit(s, p1, joint ? both[0] : one), from_fit(s, p2, joint ? both[1] : two)};
+  return out;
+}
+
+ModeEstimation estimate_modes(const std::vector<MeasuredSpectrum>& spectra, const ModeEstimateOptions& options) {
+  if (spectra.empty()) throw InvalidArgument("estimate_modes: no spectra");
+  ModeEstimation r;
+  r.spectral_modes = spectral_modes(spectra.size() == 1 ? spectra.front() : combined(spectra), options);
+  r.modes = r.spectral_modes;
+  if (!options.free_decay_fit) {
+    r.note = "free-decay fit not requested";
+    return r;
+  }
+  const auto with_series = std::find_if(spectra.begin(), spectra.end(), [](const auto& s) { return s.series.has_value(); });
+  if (with_series == spectra.end()) {
+    r.note = "no single time record (a PSD file or Klipper's xyz sum): spectral estimates only";
+    return r;
+  }
+  const UniformSeries& y = *with_series->series;
+  if (y.size() > options.free_decay_max_samples) {
+    r.note = fmt::format("record of {} samples is longer than {}: free-decay fit skipped (give --from-s/--to-s around the decay)",
+                         y.size(), options.free_decay_max_samples);
+    return r;
+  }
+  ident::ModeOptions mo;
+  mo.modes = r.spectral_modes.size();
+  ident::ModeIdentification fit;
+  try {
+    fit = ident::identify_free_response_modes(y, mo);
+  } catch (const std::exception& e) {
+    r.note = fmt::format("free-decay fit failed ({}): spectral estimates only", e.what());
+    return r;
+  }
+  r.free_decay_fit_percent = fit.fit_percent;
+  if (!(fit.fit_percent >= 80.0) || fit.modes.size() < r.spectral_modes.size()) {
+    r.note = fmt::format("the record is not a free decay (damped-sinusoid fit {:.1f} % < 80 %, {} modes): spectral estimates only",
+                         fit.fit_percent, fit.modes.size());
+    return r;
+  }
+  std::vector<ModeEstimate> fitted;
+  for (const ModeEstimate& sm : r.spectral_modes) {
+    // The fitted mode nearest the spectral one must lie within the spectral peak's half-power band.
+    const ident::ModeEstimate* best = nullptr;
+    for (const auto& fm : fit.modes) {
+      if (!best || std::abs(fm.natural_frequency_hz() - sm.frequency_hz) < std::abs(best->natural_frequency_hz() - sm.frequency_hz)) best = &fm;
+    }
+    const double tol = std::max(0.5 * (sm.half_power_high_hz - sm.half_power_low_hz), 3.0 * sm.frequency_std_hz);
+    if (!best || std::abs(best->natural_frequency_hz() - sm.frequency_hz) > tol || !std::isfinite(best->natural_frequency_std_rad_s) ||
+        !std::isfinite(best->damping_ratio_std)) {
+      r.note = fmt::format("the free-decay fit ({:.1f} %) does not confirm the spectral peak at {:.4g} Hz: spectral estimates only",
+                           fit.fit_percent, sm.frequency_hz);
+      return r;
+    }
+    ModeEstimate m = sm;
+    m.frequency_hz = best->natural_frequency_hz();
+    m.frequency_std_hz = best->natural_frequency_std_hz();
+    m.damping_ratio = best->damping_ratio;
+    m.damping_ratio_std = best->damping_ratio_std;
+    m.source = "free-decay fit";
+    fitted.push_back(m);
+  }
+  r.modes = std::move(fitted);
+  r.free_decay_used = true;
+  r.note = fmt::format("free decay: damped-sinusoid fit {:.1f} % (ident::modes) gives the modes and their 1σ", fit.fit_percent);
+  return r;
+}
+
+}  // namespace clearshape::advise

@@ -1,0 +1,286 @@
+#include "clearshape/advise/recommend.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/shaping/design.hpp"
+
+namespace clearshape::advise {
+
+namespace {
+
+const std::vector<std::string> kSingle{"zv", "mzv", "zvd", "zvdd", "zvddd", "ei", "ei2", "ei3", "si"};
+
+bool is_single(const std::string& name) { return std::find(kSingle.begin(), kSingle.end(), name) != kSingle.end(); }
+
+// The shaper designed for 1 Hz, scaled to f Hz: at a fixed ζ every design's impulse times scale
+// with 1/ωn and its amplitudes stay (Eq. 2.19 depends on ω·t only).
+shaping::Shaper scaled(const shaping::Shaper& prototype, double frequency_hz) {
+  std::vector<shaping::Impulse> out(prototype.impulses().begin(), prototype.impulses().end());
+  for (auto& i : out) i.time_s /= frequency_hz;
+  return shaping::Shaper(prototype.method(), std::move(out), shaping::Shaper::Normalize::no);
+}
+
+shaping::Shaper prototype(const std::string& name, double zeta, const RecommendOptions& o, double si_half_band) {
+  shaping::DesignRequest r;
+  r.method = shaping::method_from_string(name);
+  r.mode = shaping::Mode::from_hz(1.0, zeta);
+  r.vtol = o.vtol;
+  if (r.method == shaping::Method::si) {
+    shaping::SiOptions si;
+    si.frequency_low_rad_s = kTwoPi * (1.0 - si_half_band);
+    si.frequency_high_rad_s = kTwoPi * (1.0 + si_half_band);
+    si.vtol = o.vtol;
+    r.si = si;
+  }
+  return shaping::design(r);
+}
+
+struct Evaluator {
+  const std::vector<WeightedBins>& bins;
+  const std::vector<double>& dampings;
+  const std::vector<double>& scales;
+  double worst(const shaping::Shaper& s) const { return worst_remaining_vibration(s, bins, dampings, scales); }
+  double nominal(const shaping::Shaper& s) const { return worst_remaining_vibration(s, bins, dampings, {1.0}); }
+};
+
+std::vector<double> scan_grid(const RecommendOptions& o, double mode_hz) {
+  if (!o.scan_frequencies_hz.empty()) return o.scan_frequencies_hz;
+  const double lo = o.scan_ratio_low * mode_hz, hi = o.scan_ratio_high * mode_hz;
+  const double step = std::max(o.scan_step_hz, (hi - lo) / 200.0);
+  std::vector<double> g;
+  for (std::size_t i = 0; lo + step * static_cast<double>(i) < hi; ++i) g.push_back(lo + step * static_cast<double>(i));
+  return g;
+}
+
+struct ScanResult {
+  double selected_hz = 0.0, selected_v = 0.0, least_hz = 0.0, least_v = 0.0;
+};
+
+// Klipper's frequency fit: scan from the highest frequency down, keep the least remaining
+// vibration (ties: the higher frequency), then take the highest frequency (shortest shaper)
+// whose remaining vibration is below factor·least + offset.
+template <typename Make>
+ScanResult scan(const std::vector<double>& grid, Make&& make, const Evaluator& ev, const RecommendOptions& o) {
+  std::vector<std::pair<double, double>> results;  // (f, v), descending f
+  ScanResult r;
+  bool first = true;
+  for (auto it = grid.rbegin(); it != grid.rend(); ++it) {
+    const double v = ev.worst(make(*it));
+    results.emplace_back(*it, v);
+    if (first || v < r.least_v) {
+      r.least_v = v;
+      r.least_hz = *it;
+      first = false;
+    }
+  }
+  r.selected_hz = r.least_hz;
+  r.selected_v = r.least_v;
+  for (const auto& [f, v] : results) {
+    if (v < r.least_v * o.near_best_factor + o.near_best_offset) {
+      r.selected_hz = f;
+      r.selected_v = v;
+      break;
+    }
+  }
+  return r;
+}
+
+std::vector<double> damping_set(const std::vector<ModeEstimate>& modes, const RecommendOptions& o, double design) {
+  if (!o.test_damping_ratios.empty()) return o.test_damping_ratios;
+  double lo = 1.0, hi = 0.0;
+  for (const auto& m : modes) {
+    const double half = std::max(2.0 * m.damping_ratio_std, 0.25 * m.damping_ratio);
+    lo = std::min(lo, m.damping_ratio - half);
+    hi = std::max(hi, m.damping_ratio + half);
+  }
+  lo = std::clamp(o.damping_low.value_or(lo), 0.001, 0.9);
+  hi = std::clamp(o.damping_high.value_or(hi), lo, 0.9);
+  if (o.damping_points <= 1) return {design};
+  std::vector<double> d;
+  for (std::size_t i = 0; i < o.damping_points; ++i) {
+    d.push_back(lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(o.damping_points - 1));
+  }
+  return d;
+}
+
+void validate(const std::vector<MeasuredSpectrum>& spectra, const std::vector<ModeEstimate>& modes, const RecommendOptions& o) {
+  if (spectra.empty()) throw InvalidArgument("recommend: no spectra");
+  if (modes.empty()) throw InvalidArgument("recommend: no modes");
+  for (const auto& m : modes) {
+    require_positive("mode frequency_hz", m.frequency_hz);
+    require_in_half_open("mode damping_ratio", m.damping_ratio, 0.0, 1.0);
+  }
+  for (const double z : o.test_damping_ratios) require_in_half_open("test damping ratio", z, 0.0, 1.0);
+  if (o.design_damping) require_in_half_open("design damping", *o.design_damping, 0.0, 1.0);
+  require_non_negative("frequency_sigmas", o.frequency_sigmas);
+  require_in_open("threshold_fraction", o.threshold_fraction, 0.0, 1.0);
+  require_in_open("vtol", o.vtol, 0.0, 1.0);
+  if (!(o.max_delay_s > 0.0)) throw_invalid("max_delay_s", o.max_delay_s, "> 0 s (infinity: no budget)");
+  require_non_negative("vibration_tolerance", o.vibration_tolerance);
+  require_positive("scan_step_hz", o.scan_step_hz);
+  if (!(o.scan_ratio_low > 0.0 && o.scan_ratio_high > o.scan_ratio_low)) {
+    throw InvalidArgument(fmt::format("scan ratios [{}, {}]: need 0 < low < high", o.scan_ratio_low, o.scan_ratio_high));
+  }
+  for (const double f : o.scan_frequencies_hz) require_positive("scan frequency", f);
+}
+
+std::string percent(double v) { return fmt::format("{:.1f} %", 100.0 * v); }
+std::string millis(double s) { return fmt::format("{:.1f} ms", 1000.0 * s); }
+
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+void choose(Recommendation& r, const RecommendOptions& o) {
+  const auto& c = r.candidates;
+  std::optional<std::size_t> least;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (c[i].available && c[i].within_budget && (!least || c[i].remaining_worst < c[*least].remaining_worst)) least = i;
+  }
+  const bool budget = std::isfinite(o.max_delay_s);
+  if (!least) {
+    std::optional<std::size_t> shortest;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (c[i].available && (!shortest || c[i].duration_s < c[*shortest].duration_s)) shortest = i;
+    }
+    r.reason = shortest ? fmt::format("no candidate fits the delay budget of {}; the shortest, {}, takes {}", millis(o.max_delay_s),
+                                      upper(c[*shortest].name), millis(c[*shortest].duration_s))
+                        : "no candidate could be designed";
+    return;
+  }
+  const double limit = c[*least].remaining_worst + o.vibration_tolerance;
+  std::size_t pick = *least;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!c[i].available || !c[i].within_budget || c[i].remaining_worst > limit) continue;
+    if (c[i].duration_s < c[pick].duration_s ||
+        (c[i].duration_s == c[pick].duration_s && c[i].remaining_worst < c[pick].remaining_worst)) {
+      pick = i;
+    }
+  }
+  r.chosen = pick;
+  const auto& p = c[pick];
+  const std::string within = budget ? fmt::format(" within the {} delay budget", millis(o.max_delay_s)) : "";
+  if (pick == *least) {
+    r.reason = fmt::format("{}: least worst-case remaining vibration ({}){}", upper(p.name), percent(p.remaining_worst), within);
+  } else {
+    r.reason = fmt::format("{}: the shortest candidate ({}) whose worst-case remaining vibration ({}) is within {:.1f} points of the "
+                           "least ({}: {} at {} more){}",
+                           upper(p.name), millis(p.duration_s), percent(p.remaining_worst), 100.0 * o.vibration_tolerance,
+                           upper(c[*least].name), percent(c[*least].remaining_worst),
+                           millis(c[*least].duration_s - p.duration_s), within);
+  }
+  // The next shorter candidate that was passed over, and why.
+  std::optional<std::size_t> shorter;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!c[i].available || !c[i].within_budget || c[i].duration_s >= p.duration_s) continue;
+    if (!shorter || c[i].duration_s > c[*shorter].duration_s) shorter = i;
+  }
+  if (shorter) {
+    r.reason += fmt::format("; {} leaves {} at {} less", upper(c[*shorter].name), percent(c[*shorter].remaining_worst),
+                            millis(p.duration_s - c[*shorter].duration_s));
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> default_candidates(std::size_t modes) {
+  std::vector<std::string> c = kSingle;
+  if (modes >= 2) {
+    for (const char* n : {"zv*zv", "mzv*mzv", "zvd*zvd", "ei*ei"}) c.emplace_back(n);
+  }
+  return c;
+}
+
+Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std::vector<ModeEstimate>& modes,
+                         const RecommendOptions& o) {
+  validate(spectra, modes, o);
+  Recommendation r;
+  r.modes = modes;
+  const ModeEstimate& m1 = modes.front();
+  r.design_damping = std::clamp(o.design_damping.value_or(m1.damping_ratio), 0.0, 0.9);
+  r.test_damping_ratios = damping_set(modes, o, r.design_damping);
+  double u = 0.0;
+  for (const auto& m : modes) u = std::max(u, o.frequency_sigmas * m.frequency_std_hz / m.frequency_hz);
+  u = std::min(u, 0.3);
+  r.frequency_scales = u > 0.0 ? std::vector<double>{1.0 - u, 1.0, 1.0 + u} : std::vector<double>{1.0};
+  const double si_half_band = std::clamp(u, o.si_min_half_band, 0.3);
+
+  std::vector<WeightedBins> bins;
+  for (const auto& s : spectra) {
+    const double min_f = o.min_frequency_hz ? *o.min_frequency_hz : 2.0 * s.resolution_hz;
+    bins.push_back(weighted_bins(s, o.threshold_fraction, min_f));
+  }
+  const Evaluator ev{bins, r.test_damping_ratios, r.frequency_scales};
+
+  const std::vector<std::string> names = o.candidates.empty() ? default_candidates(modes.size()) : o.candidates;
+  for (const std::string& name : names) {
+    CandidateResult c;
+    c.name = name;
+    c.design_damping = r.design_damping;
+    const auto star = name.find('*');
+    const std::string a = name.substr(0, star);
+    const std::string b = star == std::string::npos ? std::string() : name.substr(star + 1);
+    if (!is_single(a) || (star != std::string::npos && (!is_single(b) || a == "si" || b == "si"))) {
+      throw InvalidArgument(fmt::format("candidate '{}' is unknown; allowed: {} and two-mode a*b of those (not si)", name,
+                                        fmt::join(kSingle, ", ")));
+    }
+    if (star != std::string::npos && modes.size() < 2) {
+      throw InvalidArgument(fmt::format("candidate '{}' needs two modes; one was found", name));
+    }
+    try {
+      const shaping::Shaper p1 = prototype(a, r.design_damping, o, si_half_band);
+      if (star == std::string::npos) {
+        const auto make = [&](double f) { return scaled(p1, f); };
+        const ScanResult s = scan(scan_grid(o, m1.frequency_hz), make, ev, o);
+        c.design_frequency_hz = {s.selected_hz};
+        c.least_remaining = s.least_v;
+        c.least_remaining_frequency_hz = s.least_hz;
+        c.shaper = make(s.selected_hz);
+      } else {
+        const ModeEstimate& m2 = modes[1];
+        const double zeta2 = std::clamp(m2.damping_ratio, 0.0, 0.9);
+        const shaping::Shaper p2 = prototype(b, zeta2, o, si_half_band);
+        double f1 = m1.frequency_hz, f2 = m2.frequency_hz;
+        ScanResult s;
+        // Coordinate descent: the first factor's frequency, the second's, the first's again.
+        for (int pass = 0; pass < 3; ++pass) {
+          if (pass % 2 == 0) {
+            s = scan(scan_grid(o, m1.frequency_hz), [&](double f) { return shaping::convolve(scaled(p1, f), scaled(p2, f2)); }, ev, o);
+            f1 = s.selected_hz;
+            c.least_remaining = s.least_v;
+            c.least_remaining_frequency_hz = s.least_hz;
+          } else {
+            s = scan(scan_grid(o, m2.frequency_hz), [&](double f) { return shaping::convolve(scaled(p1, f1), scaled(p2, f)); }, ev, o);
+            f2 = s.selected_hz;
+          }
+        }
+        c.design_frequency_hz = {f1, f2};
+        c.shaper = shaping::convolve(scaled(p1, f1), scaled(p2, f2));
+        c.note = fmt::format("second factor designed at ζ = {:.4g}", zeta2);
+      }
+      c.remaining_worst = ev.worst(*c.shaper);
+      c.remaining_nominal = ev.nominal(*c.shaper);
+      c.duration_s = c.shaper->duration_s();
+      c.within_budget = c.duration_s <= o.max_delay_s * (1.0 + 1e-12);
+    } catch (const InvalidArgument& e) {
+      c.available = false;
+      c.note = e.what();
+    } catch (const RuntimeError& e) {
+      c.available = false;
+      c.note = e.what();
+    }
+    r.candidates.push_back(std::move(c));
+  }
+  choose(r, o);
+  return r;
+}
+
+}  // namespace clearshape::advise

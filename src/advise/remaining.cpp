@@ -1,0 +1,86 @@
+#include "clearshape/advise/remaining.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+
+namespace clearshape::advise {
+
+namespace {
+
+// V(ω, ζ) of Eq. 2.19 (Magee & Book 1992), each term decayed to the last impulse, over ΣA.
+double residual(std::span<const shaping::Impulse> impulses, double omega_rad_s, double zeta, double amplitude_sum) noexcept {
+  const double t_last = impulses.back().time_s;
+  const double sigma = zeta * omega_rad_s;
+  const double omega_d = omega_rad_s * std::sqrt(1.0 - zeta * zeta);
+  double re = 0.0, im = 0.0;
+  for (const auto& i : impulses) {
+    const double w = i.amplitude * std::exp(-sigma * (t_last - i.time_s));
+    re += w * std::cos(omega_d * i.time_s);
+    im += w * std::sin(omega_d * i.time_s);
+  }
+  return std::hypot(re, im) / amplitude_sum;
+}
+
+}  // namespace
+
+WeightedBins weighted_bins(const MeasuredSpectrum& spectrum, double threshold_fraction, double min_frequency_hz) {
+  require_in_open("threshold_fraction", threshold_fraction, 0.0, 1.0);
+  WeightedBins b;
+  double peak = 0.0;
+  for (std::size_t k = 0; k < spectrum.power.size(); ++k) {
+    if (spectrum.frequency_hz[k] >= min_frequency_hz) peak = std::max(peak, spectrum.power[k]);
+  }
+  if (!(peak > 0.0)) throw InvalidArgument(fmt::format("{}: the spectrum has no positive power above {} Hz", spectrum.source, min_frequency_hz));
+  b.threshold = threshold_fraction * peak;
+  for (std::size_t k = 0; k < spectrum.power.size(); ++k) {
+    if (spectrum.frequency_hz[k] < min_frequency_hz || spectrum.power[k] <= b.threshold) continue;
+    // Bins at or below the threshold never count: V ≤ 1 for a positive shaper (and the
+    // remaining part of a bin is max(V·P − P_thr, 0)). Negative shapers are not candidates.
+    b.frequency_hz.push_back(spectrum.frequency_hz[k]);
+    b.power.push_back(spectrum.power[k]);
+    b.total += spectrum.power[k] - b.threshold;
+  }
+  return b;
+}
+
+double remaining_vibration(const shaping::Shaper& shaper, const WeightedBins& bins, double damping_ratio, double frequency_scale) {
+  const double sum = shaper.amplitude_sum();
+  double remaining = 0.0;
+  for (std::size_t k = 0; k < bins.power.size(); ++k) {
+    const double v = residual(shaper.impulses(), kTwoPi * frequency_scale * bins.frequency_hz[k], damping_ratio, sum);
+    remaining += std::max(v * bins.power[k] - bins.threshold, 0.0);
+  }
+  return bins.total > 0.0 ? remaining / bins.total : 0.0;
+}
+
+double worst_remaining_vibration(const shaping::Shaper& shaper, const std::vector<WeightedBins>& spectra,
+                                 const std::vector<double>& damping_ratios, const std::vector<double>& frequency_scales) {
+  double worst = 0.0;
+  for (const auto& bins : spectra) {
+    for (const double zeta : damping_ratios) {
+      for (const double scale : frequency_scales) worst = std::max(worst, remaining_vibration(shaper, bins, zeta, scale));
+    }
+  }
+  return worst;
+}
+
+std::vector<double> worst_response(const shaping::Shaper& shaper, const std::vector<double>& frequency_hz,
+                                   const std::vector<double>& damping_ratios, const std::vector<double>& frequency_scales) {
+  std::vector<double> out(frequency_hz.size(), 0.0);
+  const double sum = shaper.amplitude_sum();
+  for (std::size_t k = 0; k < frequency_hz.size(); ++k) {
+    for (const double zeta : damping_ratios) {
+      for (const double scale : frequency_scales) {
+        out[k] = std::max(out[k], residual(shaper.impulses(), kTwoPi * scale * frequency_hz[k], zeta, sum));
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace clearshape::advise

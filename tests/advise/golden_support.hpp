@@ -1,0 +1,35 @@
+#pragma once
+// Shared by the advise tests: the golden files of tests/golden/gen_recommend.py.
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "clearshape/advise/spectrum_input.hpp"
+#include "support/paths.hpp"
+
+namespace advise_test {
+
+inline const nlohmann::json& klipper_reference() {
+  static const nlohmann::json doc = [] {
+    std::ifstream in(clearshape::testing::golden_path("recommend_klipper.json"));
+    return nlohmann::json::parse(in);
+  }();
+  return doc;
+}
+
+inline const nlohmann::json& klipper_case(const std::string& name) {
+  for (const auto& c : klipper_reference()["cases"]) {
+    if (c["case"] == name) return c;
+  }
+  throw std::runtime_error("no golden case " + name);
+}
+
+inline clearshape::advise::MeasuredSpectrum load(const std::string& file, const std::string& column) {
+  clearshape::advise::SpectrumRequest r;
+  r.path = clearshape::testing::golden_path(file);
+  r.column = column;
+  return clearshape::advise::load_spectrum(r);
+}
+
+}  // namespace advise_test
