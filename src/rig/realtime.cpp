@@ -120,7 +120,7 @@ void RealtimeRunner::begin() {
   s.stopped_by.clear();
   s.failed_read = Status::ok;
   s.period_ns = static_cast<std::int64_t>(std::llround(rig_.sample_time_s() * 1e9));
-  s.start_ns = monotonic_ns();
+  s.start_ns = monotonic_ns();  // t = 0 at activation: a self-pacing rig (the board) starts its clock there
 }
 
 bool RealtimeRunner::cycle() noexcept {
@@ -226,8 +226,11 @@ RunStatistics RealtimeRunner::run(std::uint64_t cycles, const Sink& sink, const 
       warn(fmt::format("memory not locked (mlockall: {}); page faults may delay the loop", std::strerror(errno)));
     }
   }
-  begin();
+  // The loop thread is made and set up (scheduling, its stack locked) before the rig is
+  // activated, so that its first cycle follows activation at once: a rig that paces itself (the
+  // board, a wall-clock SimRig) starts its clock at activation, and the schedule starts there too.
   std::atomic<bool> done{false};
+  std::atomic<int> phase{0};  // 0: wait, 1: run, 2: give up (activation failed)
   int sched_error = 0;
   std::thread loop([&] {
     if (options_.realtime_scheduling) {
@@ -236,11 +239,26 @@ RunStatistics RealtimeRunner::run(std::uint64_t cycles, const Sink& sink, const 
       sched_error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
       s.sched_fifo = sched_error == 0;
     }
-    for (std::uint64_t k = 0; k < cycles; ++k) {
-      if (!cycle()) break;
+    while (phase.load(std::memory_order_acquire) == 0) {
+      const timespec pause{0, 20'000};
+      nanosleep(&pause, nullptr);
+    }
+    if (phase.load(std::memory_order_acquire) == 1) {
+      for (std::uint64_t k = 0; k < cycles; ++k) {
+        if (!cycle()) break;
+      }
     }
     done.store(true, std::memory_order_release);
   });
+  try {
+    begin();
+  } catch (...) {
+    phase.store(2, std::memory_order_release);
+    loop.join();
+    if (s.memory_locked) munlockall();
+    throw;
+  }
+  phase.store(1, std::memory_order_release);
   // The logger: drain the ring into the sink; the status callback about every interval.
   const auto interval_ns = static_cast<std::int64_t>(options_.status_interval_s * 1e9);
   std::int64_t next_status = monotonic_ns() + interval_ns;

@@ -8,6 +8,7 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <thread>
@@ -125,7 +126,32 @@ TEST(RealtimeRunner, FeedsTheRigLikeAPlainLoopAndPacesOnTheWallClock) {
     EXPECT_TRUE(s.memory_locked);
     EXPECT_TRUE(warnings.empty()) << warnings.front();
   }
+
   EXPECT_EQ(sim.state(), rig::LifecycleState::inactive);
+}
+
+TEST(RealtimeRunner, PacesARigThatDoesNotPaceItself) {
+  // SimRig as fast as possible: the runner's deadlines alone pace the loop.
+  rig::SimRigOptions fast = wall_clock();
+  fast.pacing = rig::Pacing::as_fast_as_possible;
+  rig::SimRig sim(fast);
+  const std::size_t n = 400;
+  rig::CommandSource source(step_deg(n, 50, 10.0), rig::CommandMode::position);
+  rig::RealtimeRunner runner(sim, source, {});
+  std::vector<double> latency;
+  latency.reserve(n);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto s = runner.run(n, [&](const rig::LogRecord& r) { latency.push_back(r.latency_s); });
+  const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_GE(elapsed_s, 0.399);
+  EXPECT_TRUE(s.complete());
+  EXPECT_GE(s.latency_p50_s, *std::min_element(latency.begin(), latency.end()));
+  EXPECT_LE(s.latency_p50_s, *std::max_element(latency.begin(), latency.end()) + 1e-6);
+  if (s.sched_fifo) {
+    // Under SCHED_FIFO the typical cycle wakes and finishes well within its period.
+    EXPECT_LT(s.latency_p50_s, 0.5e-3);
+    EXPECT_LT(s.overruns, n / 10);
+  }
 }
 
 TEST(RealtimeRunner, OptionSkipsRealtimeSetUpWithoutWarnings) {
