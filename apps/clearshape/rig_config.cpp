@@ -253,10 +253,13 @@ void apply_table(const toml::table& table, const std::string& prefix, std::vecto
 }  // namespace
 
 RigConfig load_rig_config(const std::filesystem::path& path) {
-  const std::string file = path.string();
+  return parse_rig_config(io::read_text_file(path), path.string());
+}
+
+RigConfig parse_rig_config(std::string_view text, const std::string& file) {
   toml::table root;
   try {
-    root = toml::parse(io::read_text_file(path), file);
+    root = toml::parse(text, file);
   } catch (const toml::parse_error& e) {
     throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "",
                      std::string(e.description()));

@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "clearshape/rig/contact.hpp"
 #include "clearshape/rig/offline.hpp"
@@ -43,6 +44,8 @@ struct RigConfig {
 
 /// Reads `path` over the defaults. Throws InputError (file, line, key).
 RigConfig load_rig_config(const std::filesystem::path& path);
+/// The same from text (`file` names it in messages); what load_rig_config parses.
+RigConfig parse_rig_config(std::string_view text, const std::string& file);
 
 /// The contact spec for `mode`: the truth's own contact if it uses `model` (the built-in rig:
 /// the calibrated thesis law), else the model's defaults (ContactSpec::defaults); then the
