@@ -12,6 +12,8 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
+#include "clearshape/export/export.hpp"
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/shaping/apply.hpp"
@@ -158,7 +160,97 @@ struct ShapeState {
   bool no_extend = false;
   std::string discretization = "linear";
   CLI::Option* input_option = nullptr;
+  // --export FORMAT --sample-time S [--export-name NAME] [--export-axis x|y|xy] [-o FILE]
+  std::string export_format;
+  double sample_time_s = 0.0;
+  std::string export_name = "cs_shaper";
+  std::string export_axis = "xy";
+  CLI::Option* export_option = nullptr;
+  CLI::Option* sample_time_option = nullptr;
+  CLI::Option* export_name_option = nullptr;
+  CLI::Option* export_axis_option = nullptr;
+  CLI::Option* discretization_option = nullptr;
 };
+
+// The options that regenerate the design and its export (written into the exported file).
+std::string regenerate_command(const ShapeState& st) {
+  const ShaperOptions& o = st.shaper;
+  std::string c = "clearshape shape --method " + o.method;
+  if (given(o.frequency_option)) c += fmt::format(" --frequency-hz {}", o.frequency_hz);
+  if (given(o.wn_option)) c += fmt::format(" --wn {}", o.wn_rad_s);
+  if (given(o.zeta_option)) c += fmt::format(" --zeta {}", o.zeta);
+  const sh::Method m = sh::method_from_string(o.method);
+  if (m == sh::Method::ei || m == sh::Method::ei2 || m == sh::Method::ei3 || m == sh::Method::si) {
+    c += fmt::format(" --vtol {}", o.vtol);
+  }
+  if (given(o.band_low_option)) c += fmt::format(" --band-low-hz {} --band-high-hz {}", o.band_low_hz, o.band_high_hz);
+  if (given(o.impulses_option)) c += fmt::format(" --impulses \"{}\"", o.impulses);
+  if (given(o.second_frequency_option)) {
+    c += fmt::format(" --second-frequency-hz {} --second-zeta {}", o.second_frequency_hz, o.second_zeta);
+  }
+  c += " --export " + st.export_format;
+  if (given(st.sample_time_option)) c += fmt::format(" --sample-time {}", st.sample_time_s);
+  if (given(st.discretization_option)) c += " --discretization " + st.discretization;
+  if (given(st.export_name_option)) c += " --export-name " + st.export_name;
+  if (given(st.export_axis_option)) c += " --export-axis " + st.export_axis;
+  return c;
+}
+
+// `shape --export`: the design in a form a controller loads (docs/export.md). Validates the
+// export options before designing, writes -o atomically (or prints to stdout).
+void run_export(const ShapeState& st) {
+  const exports::Format format = exports::format_from_string(st.export_format);
+  if (given(st.input_option)) {
+    throw InvalidArgument("shape: --export writes the shaper for a controller; shape a CSV (--input) in a separate call");
+  }
+  if (st.json) throw InvalidArgument("shape: --json prints the design; with --export use --export json");
+  const bool sampled = format == exports::Format::json || format == exports::Format::c_header;
+  if (sampled) {
+    if (!given(st.sample_time_option)) {
+      throw InvalidArgument(fmt::format("shape: --export {} needs --sample-time S: the controller's sample period in "
+                                        "seconds, > 0 (e.g. 0.001 for 1 kHz)", st.export_format));
+    }
+    require_positive("--sample-time", st.sample_time_s, "The controller's sample period in seconds (e.g. 0.001 for 1 kHz).");
+  } else {
+    if (given(st.sample_time_option) || given(st.discretization_option)) {
+      throw InvalidArgument(fmt::format("shape: --sample-time and --discretization apply to --export json and c-header; "
+                                        "{} shapes on its own step timing", st.export_format));
+    }
+  }
+  if (given(st.export_name_option) && format != exports::Format::c_header) {
+    throw InvalidArgument("shape: --export-name applies to --export c-header");
+  }
+  if (given(st.export_axis_option) && format != exports::Format::klipper) {
+    throw InvalidArgument("shape: --export-axis applies to --export klipper");
+  }
+  exports::ExportOptions options;
+  options.sample_time_s = st.sample_time_s;
+  if (st.discretization == "linear") {
+    options.discretization = sh::Discretization::linear;
+  } else if (st.discretization == "exact") {
+    options.discretization = sh::Discretization::exact_at_mode;
+  } else {
+    throw InvalidArgument(fmt::format("shape: --discretization = '{}' is not valid; allowed: linear, exact", st.discretization));
+  }
+  options.c_name = st.export_name;
+  options.klipper_axes = st.export_axis;
+
+  const DesignedShaper d = design_from_options(st.shaper, "shape");
+  const sh::Method method = sh::method_from_string(st.shaper.method);
+  exports::ShaperDesign design{d.shaper, method, d.mode, d.second_mode, std::nullopt, std::nullopt, regenerate_command(st)};
+  if (method == sh::Method::ei || method == sh::Method::ei2 || method == sh::Method::ei3 || method == sh::Method::si) {
+    design.vtol = st.shaper.vtol;
+  }
+  if (method == sh::Method::si) design.band_hz = std::make_pair(st.shaper.band_low_hz, st.shaper.band_high_hz);
+  const exports::ExportText out = exports::export_shaper(design, format, options);
+  for (const std::string& note : out.notes) fmt::print(stderr, "clearshape shape: {}\n", note);
+  if (st.output.empty()) {
+    std::fwrite(out.text.data(), 1, out.text.size(), stdout);
+  } else {
+    io::write_text_atomic(st.output, out.text);
+    fmt::print(stderr, "clearshape shape: wrote {} ({})\n", st.output, st.export_format);
+  }
+}
 
 // Shapes a CSV column. Output columns: time_s, <column>, <column>_shaped (the suffix is
 // appended to the whole input name, unit suffix included: command_deg → command_deg_shaped).
@@ -197,6 +289,13 @@ nlohmann::ordered_json shape_csv(const ShapeState& st, const DesignedShaper& d) 
 }
 
 void run_shape(const ShapeState& st) {
+  if (given(st.export_option)) {
+    run_export(st);
+    return;
+  }
+  if (given(st.sample_time_option) || given(st.export_name_option) || given(st.export_axis_option)) {
+    throw InvalidArgument("shape: --sample-time, --export-name and --export-axis apply to --export FORMAT");
+  }
   const DesignedShaper d = design_from_options(st.shaper, "shape");
   const sh::Shaper& s = d.shaper;
   std::optional<sh::InsensitivityBand> band;
@@ -269,18 +368,30 @@ const bool registered = register_command(
        st->input_option = sub.add_option("--input,-i", st->input, "Shape a column of this CSV (uniform time column)");
        sub.add_option("--column", st->column, "Column of --input to shape");
        sub.add_option("--time-column", st->time_column, "Time column of --input (s)")->capture_default_str();
-       sub.add_option("--output,-o", st->output, "CSV to write: time_s, <column>, <column>_shaped");
+       sub.add_option("--output,-o", st->output,
+                      "CSV to write: time_s, <column>, <column>_shaped; with --export, the exported file (default stdout)");
        sub.add_flag("--no-extend", st->no_extend, "Keep the input length (default: extend by the shaper's duration)");
-       sub.add_option("--discretization", st->discretization,
-                      "Impulses between samples: linear (first-order hold) or exact (Murphy-Watanabe at the mode)")
-           ->capture_default_str();
+       st->discretization_option =
+           sub.add_option("--discretization", st->discretization,
+                          "Impulses between samples: linear (first-order hold) or exact (Murphy-Watanabe at the mode)")
+               ->capture_default_str();
+       st->export_option = sub.add_option("--export", st->export_format,
+                                          "Export the shaper for a controller: json, c-header, klipper, rrf (docs/export.md)");
+       st->sample_time_option = sub.add_option("--sample-time", st->sample_time_s,
+                                               "--export json/c-header: the controller's sample period (s), > 0");
+       st->export_name_option = sub.add_option("--export-name", st->export_name,
+                                               "--export c-header: prefix of the C identifiers")->capture_default_str();
+       st->export_axis_option = sub.add_option("--export-axis", st->export_axis,
+                                               "--export klipper: the axes to configure: x, y or xy")->capture_default_str();
        sub.footer(
            "Examples:\n"
            "  clearshape shape --method zvdd --frequency-hz 3.32 --zeta 0.288\n"
            "  clearshape shape --method ei --vtol 0.05 --frequency-hz 10 --zeta 0.1 --json\n"
            "  clearshape shape --method si --frequency-hz 10 --zeta 0.05 --band-low-hz 8 --band-high-hz 12\n"
            "  clearshape shape --method custom --impulses \"0:0.5,0.05:0.5\"\n"
-           "  clearshape shape --method zvd -f 3.3 -z 0.29 -i run.csv --column command_deg -o shaped.csv");
+           "  clearshape shape --method zvd -f 3.3 -z 0.29 -i run.csv --column command_deg -o shaped.csv\n"
+           "  clearshape shape --method zvd -f 10 -z 0.1 --export c-header --sample-time 0.001 -o zvd.h\n"
+           "  clearshape shape --method mzv -f 42.5 -z 0.1 --export klipper");
        sub.callback([st] { run_shape(*st); });
      }});
 
