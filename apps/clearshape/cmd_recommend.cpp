@@ -1,0 +1,310 @@
+// clearshape recommend: recorded vibration in, a recommended input shaper out — after Klipper's
+// calibrate_shaper (remaining vibration against 5 % of the PSD's maximum, worst over test damping
+// ratios, design frequency fitted by a scan) and beyond it: modes with their 1σ (spectrum, or the
+// free-decay fit), the frequency uncertainty in the worst case, ZVD…ZVDDD, EI2/EI3, SI and
+// two-mode convolutions, and a delay budget instead of printer smoothing (docs/recommend.md).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "clearshape/advise/mode_estimate.hpp"
+#include "clearshape/advise/recommend.hpp"
+#include "clearshape/advise/spectrum_input.hpp"
+#include "clearshape/core/error.hpp"
+#include "clearshape/io/json.hpp"
+#include "command.hpp"
+#include "recommend_plot.hpp"
+
+namespace clearshape::cli {
+
+namespace {
+
+struct RecommendState {
+  std::vector<std::string> data;
+  std::string column, time_column, plot;
+  CLI::Option* from_option = nullptr;
+  CLI::Option* to_option = nullptr;
+  CLI::Option* delay_option = nullptr;
+  CLI::Option* design_damping_option = nullptr;
+  CLI::Option* min_frequency_option = nullptr;
+  double from_s = 0.0, to_s = 0.0, segment_s = 0.0, max_delay_s = 0.0, design_damping = 0.0, min_frequency_hz = 0.0;
+  std::string damping_range, candidates;
+  std::size_t modes = 2;
+  double frequency_sigmas = 2.0, vibration_tolerance = 0.01, threshold = 0.05, scan_step_hz = 0.1;
+  bool no_fit = false, json = false;
+};
+
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t i = 0;
+  while (i <= text.size()) {
+    const std::size_t j = std::min(text.find(',', i), text.size());
+    std::string item = text.substr(i, j - i);
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    out.push_back(item);
+    i = j + 1;
+  }
+  return out;
+}
+
+std::pair<double, double> damping_range(const std::string& text) {
+  const auto parts = split(text);
+  double lo = 0.0, hi = 0.0;
+  try {
+    if (parts.size() != 2) throw std::invalid_argument("two values");
+    std::size_t used = 0;
+    lo = std::stod(parts[0], &used);
+    if (used != parts[0].size()) throw std::invalid_argument("lo");
+    hi = std::stod(parts[1], &used);
+    if (used != parts[1].size()) throw std::invalid_argument("hi");
+  } catch (const std::exception&) {
+    throw InvalidArgument(fmt::format("--damping-range {}: give two damping ratios 'low,high' with 0 < low ≤ high < 1, e.g. 0.05,0.15", text));
+  }
+  if (!(lo > 0.0 && lo <= hi && hi < 1.0)) {
+    throw InvalidArgument(fmt::format("--damping-range {}: allowed 0 < low ≤ high < 1", text));
+  }
+  return {lo, hi};
+}
+
+advise::RecommendOptions options(const RecommendState& st) {
+  advise::RecommendOptions o;
+  if (!st.candidates.empty()) o.candidates = split(st.candidates);
+  if (!st.damping_range.empty()) {
+    const auto [lo, hi] = damping_range(st.damping_range);
+    o.damping_low = lo;
+    o.damping_high = hi;
+  }
+  if (st.design_damping_option->count() > 0) {
+    if (!(st.design_damping >= 0.0 && st.design_damping < 1.0)) throw_invalid("--design-damping", st.design_damping, "[0, 1)");
+    o.design_damping = st.design_damping;
+  }
+  if (st.delay_option->count() > 0) {
+    if (!(st.max_delay_s > 0.0)) throw_invalid("--max-delay-s", st.max_delay_s, "> 0 s");
+    o.max_delay_s = st.max_delay_s;
+  }
+  if (!(st.frequency_sigmas >= 0.0 && st.frequency_sigmas <= 5.0)) throw_invalid("--frequency-sigmas", st.frequency_sigmas, "[0, 5]");
+  o.frequency_sigmas = st.frequency_sigmas;
+  if (!(st.vibration_tolerance >= 0.0 && st.vibration_tolerance < 1.0)) {
+    throw_invalid("--vibration-tolerance", st.vibration_tolerance, "[0, 1) (a fraction: 0.01 = 1 point)");
+  }
+  o.vibration_tolerance = st.vibration_tolerance;
+  if (!(st.threshold > 0.0 && st.threshold < 1.0)) throw_invalid("--threshold", st.threshold, "(0, 1) (Klipper: 0.05)");
+  o.threshold_fraction = st.threshold;
+  if (!(st.scan_step_hz > 0.0)) throw_invalid("--scan-step-hz", st.scan_step_hz, "> 0 Hz");
+  o.scan_step_hz = st.scan_step_hz;
+  if (st.min_frequency_option->count() > 0) {
+    if (!(st.min_frequency_hz >= 0.0)) throw_invalid("--min-frequency-hz", st.min_frequency_hz, ">= 0 Hz");
+    o.min_frequency_hz = st.min_frequency_hz;
+  }
+  return o;
+}
+
+nlohmann::ordered_json mode_json(const advise::ModeEstimate& m) {
+  return {{"frequency_hz", m.frequency_hz},           {"frequency_std_hz", m.frequency_std_hz},
+          {"damping_ratio", m.damping_ratio},         {"damping_ratio_std", m.damping_ratio_std},
+          {"source", m.source},                       {"peak_power", m.peak_power},
+          {"half_power_low_hz", m.half_power_low_hz}, {"half_power_high_hz", m.half_power_high_hz}};
+}
+
+// A ready `clearshape shape` line for the chosen candidate.
+std::string shape_command(const advise::CandidateResult& c, const advise::Recommendation& r) {
+  const auto star = c.name.find('*');
+  const std::string method = c.name.substr(0, star);
+  std::string s = fmt::format("clearshape shape --method {} --frequency-hz {:.6g} --zeta {:.6g}", method, c.design_frequency_hz[0],
+                              c.design_damping);
+  if (method == "si") {
+    const double u = (r.frequency_scales.size() > 1 ? r.frequency_scales.back() - 1.0 : 0.0);
+    const double half = std::max(u, 0.02);
+    s += fmt::format(" --band-low-hz {:.6g} --band-high-hz {:.6g}", c.design_frequency_hz[0] * (1.0 - half),
+                     c.design_frequency_hz[0] * (1.0 + half));
+  }
+  if (star != std::string::npos && c.design_frequency_hz.size() > 1) {
+    s += fmt::format(" --second-frequency-hz {:.6g} --second-zeta {:.6g}", c.design_frequency_hz[1],
+                     std::clamp(r.modes[1].damping_ratio, 0.0, 0.9));
+  }
+  return s;
+}
+
+nlohmann::ordered_json number_or_null(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); }
+
+void print_json_result(const RecommendState& st, const std::vector<advise::MeasuredSpectrum>& spectra,
+                       const advise::ModeEstimation& est, const advise::Recommendation& r, const advise::RecommendOptions& o) {
+  auto doc = io::make_document();
+  doc["command"] = "recommend";
+  nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
+  for (const auto& s : spectra) {
+    inputs.push_back({{"file", s.source},
+                      {"format", std::string(advise::to_string(s.format))},
+                      {"column", s.column},
+                      {"samples", s.series ? nlohmann::ordered_json(s.series->size()) : nlohmann::ordered_json(nullptr)},
+                      {"sample_rate_hz", s.series ? nlohmann::ordered_json(1.0 / s.series->sample_time_s) : nlohmann::ordered_json(nullptr)},
+                      {"window_s", s.series ? nlohmann::ordered_json({s.series->start_s, s.series->end_s()}) : nlohmann::ordered_json(nullptr)},
+                      {"segments", s.segments},
+                      {"resolution_hz", s.resolution_hz},
+                      {"bins", s.frequency_hz.size()}});
+  }
+  doc["inputs"] = inputs;
+  nlohmann::ordered_json modes = nlohmann::ordered_json::array(), spectral = nlohmann::ordered_json::array();
+  for (const auto& m : r.modes) modes.push_back(mode_json(m));
+  for (const auto& m : est.spectral_modes) spectral.push_back(mode_json(m));
+  doc["modes"] = modes;
+  doc["spectral_modes"] = spectral;
+  doc["free_decay"] = {{"used", est.free_decay_used}, {"fit_percent", est.free_decay_fit_percent}, {"note", est.note}};
+  doc["scoring"] = {{"measure", "remaining = sum(max(V*P - thr, 0)) / sum(max(P - thr, 0)), thr = threshold_fraction * max P"},
+                    {"threshold_fraction", o.threshold_fraction},
+                    {"design_damping", r.design_damping},
+                    {"test_damping_ratios", r.test_damping_ratios},
+                    {"frequency_scales", r.frequency_scales},
+                    {"max_delay_s", number_or_null(o.max_delay_s)},
+                    {"vibration_tolerance", o.vibration_tolerance}};
+  nlohmann::ordered_json cands = nlohmann::ordered_json::array();
+  for (const auto& c : r.candidates) {
+    nlohmann::ordered_json j{{"name", c.name}, {"available", c.available}, {"note", c.note}};
+    if (c.available) {
+      nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
+      for (const auto& i : c.shaper->impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
+      j["design_frequency_hz"] = c.design_frequency_hz;
+      j["design_damping"] = c.design_damping;
+      j["duration_s"] = c.duration_s;
+      j["remaining_worst"] = c.remaining_worst;
+      j["remaining_nominal"] = c.remaining_nominal;
+      j["least_remaining"] = c.least_remaining;
+      j["least_remaining_frequency_hz"] = c.least_remaining_frequency_hz;
+      j["within_budget"] = c.within_budget;
+      j["impulses"] = impulses;
+    }
+    cands.push_back(j);
+  }
+  doc["candidates"] = cands;
+  if (r.chosen) {
+    const auto& c = r.candidates[*r.chosen];
+    doc["recommendation"] = {{"name", c.name},
+                             {"design_frequency_hz", c.design_frequency_hz},
+                             {"design_damping", c.design_damping},
+                             {"duration_s", c.duration_s},
+                             {"remaining_worst", c.remaining_worst},
+                             {"shape_command", shape_command(c, r)}};
+  } else {
+    doc["recommendation"] = nullptr;
+  }
+  doc["reason"] = r.reason;
+  doc["plot"] = st.plot.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(st.plot);
+  print_json(doc);
+}
+
+void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const advise::ModeEstimation& est,
+                 const advise::Recommendation& r) {
+  for (const auto& s : spectra) {
+    fmt::print("input  {} ({}, {}): {} bins, resolution {:.3g} Hz{}\n", s.source, advise::to_string(s.format), s.column,
+               s.frequency_hz.size(), s.resolution_hz, s.segments > 0 ? fmt::format(", {} Welch segments", s.segments) : "");
+  }
+  std::size_t i = 0;
+  for (const auto& m : r.modes) {
+    fmt::print("mode {} {:.4f} Hz ± {:.3g} (1σ), ζ {:.4f} ± {:.3g} ({})\n", ++i, m.frequency_hz, m.frequency_std_hz, m.damping_ratio,
+               m.damping_ratio_std, m.source);
+  }
+  fmt::print("       {}\n", est.note);
+  fmt::print("worst case over ζ {:.4g} and frequency × {:.4g}\n\n", fmt::join(r.test_damping_ratios, ", "),
+             fmt::join(r.frequency_scales, ", "));
+  fmt::print("{:<10} {:>18} {:>10} {:>12} {:>12} {:>10}\n", "shaper", "design_hz", "delay_ms", "remaining_%", "nominal_%", "budget");
+  for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+    const auto& c = r.candidates[k];
+    const std::string mark = r.chosen && *r.chosen == k ? " <" : "";
+    if (!c.available) {
+      fmt::print("{:<10} unavailable: {}\n", c.name, c.note);
+      continue;
+    }
+    std::string f = fmt::format("{:.3f}", c.design_frequency_hz[0]);
+    if (c.design_frequency_hz.size() > 1) f += fmt::format("+{:.3f}", c.design_frequency_hz[1]);
+    fmt::print("{:<10} {:>18} {:>10.2f} {:>12.2f} {:>12.2f} {:>10}{}\n", c.name, f, 1000.0 * c.duration_s, 100.0 * c.remaining_worst,
+               100.0 * c.remaining_nominal, c.within_budget ? "ok" : "over", mark);
+  }
+  fmt::print("\nrecommended: {}\n", r.chosen ? r.candidates[*r.chosen].name : std::string("none"));
+  fmt::print("reason: {}\n", r.reason);
+  if (r.chosen) fmt::print("shaper: {}\n", shape_command(r.candidates[*r.chosen], r));
+}
+
+void run_recommend(const RecommendState& st) {
+  if (!st.plot.empty() && std::filesystem::path(st.plot).extension() != ".png") {
+    throw InvalidArgument(fmt::format("--plot {}: the figure is a PNG; give a path ending in .png", st.plot));
+  }
+  if (!(st.segment_s >= 0.0)) throw_invalid("--segment-s", st.segment_s, ">= 0 s (0: automatic)");
+  if (st.modes < 1 || st.modes > 2) throw_invalid("--modes", static_cast<double>(st.modes), "1 or 2");
+  const advise::RecommendOptions o = options(st);
+  std::vector<advise::MeasuredSpectrum> spectra;
+  for (const auto& path : st.data) {
+    advise::SpectrumRequest req;
+    req.path = path;
+    req.column = st.column;
+    req.time_column = st.time_column;
+    if (st.from_option->count() > 0) req.from_s = st.from_s;
+    if (st.to_option->count() > 0) req.to_s = st.to_s;
+    req.segment_s = st.segment_s;
+    spectra.push_back(advise::load_spectrum(req));
+  }
+  advise::ModeEstimateOptions mo;
+  mo.max_modes = st.modes;
+  mo.free_decay_fit = !st.no_fit;
+  mo.min_frequency_hz = o.min_frequency_hz;
+  const advise::ModeEstimation est = advise::estimate_modes(spectra, mo);
+  const advise::Recommendation r = advise::recommend(spectra, est.modes, o);
+  if (!r.chosen) fmt::print(stderr, "clearshape recommend: warning: no recommendation: {}\n", r.reason);
+  if (!st.plot.empty()) write_recommend_plot(st.plot, spectra, r);
+  if (st.json) {
+    print_json_result(st, spectra, est, r, o);
+  } else {
+    print_table(spectra, est, r);
+    if (!st.plot.empty()) fmt::print("plot: {}\n", st.plot);
+  }
+}
+
+void setup(CLI::App& sub) {
+  auto st = std::make_shared<RecommendState>();
+  sub.add_option("--data", st->data,
+                 "Recording: a clearshape CSV, Klipper's raw accelerometer CSV (#time,accel_x,…) or its PSD CSV (freq,psd_x,…); "
+                 "repeat for several (worst case over them)")
+      ->required();
+  sub.add_option("--column", st->column,
+                 "Column to analyse: a table's column (e.g. gyro_deg_s; required for tables); Klipper: accel_x|accel_y|accel_z|xyz "
+                 "or psd_x|…|psd_xyz (default xyz)");
+  sub.add_option("--time-column", st->time_column, "Time column of a table, s (default: time_s, time or t)");
+  st->from_option = sub.add_option("--from-s", st->from_s, "Window start, s from the record's first sample (e.g. the end of the move)");
+  st->to_option = sub.add_option("--to-s", st->to_s, "Window end, s from the record's first sample");
+  sub.add_option("--segment-s", st->segment_s, "Welch segment length, s (0: the largest power of two ≤ a quarter of the record)")
+      ->capture_default_str();
+  sub.add_option("--modes", st->modes, "Modes to look for: 1, or 2 (a second when a second peak stands out)")->capture_default_str();
+  st->delay_option = sub.add_option("--max-delay-s", st->max_delay_s, "Delay budget: candidates longer than this are not recommended, s");
+  sub.add_option("--damping-range", st->damping_range,
+                 "Test damping ratios 'low,high' (three evenly spaced; default: the mode's ζ ± max(2σ, ζ/4))");
+  st->design_damping_option = sub.add_option("--design-damping", st->design_damping, "Design damping ratio (default: the mode's ζ)");
+  sub.add_option("--candidates", st->candidates, "Comma-separated candidates (default: zv,mzv,zvd,zvdd,zvddd,ei,ei2,ei3,si and, for two "
+                                                 "modes, zv*zv,mzv*mzv,zvd*zvd,ei*ei)");
+  sub.add_option("--frequency-sigmas", st->frequency_sigmas, "Frequency uncertainty in the worst case: ± this many σ (0: none)")
+      ->capture_default_str();
+  sub.add_option("--vibration-tolerance", st->vibration_tolerance,
+                 "Recommend the shortest candidate within this of the least remaining vibration (fraction)")
+      ->capture_default_str();
+  sub.add_option("--threshold", st->threshold, "PSD threshold as a fraction of its maximum (Klipper: 0.05)")->capture_default_str();
+  sub.add_option("--scan-step-hz", st->scan_step_hz, "Step of the design-frequency scan, Hz")->capture_default_str();
+  st->min_frequency_option = sub.add_option("--min-frequency-hz", st->min_frequency_hz, "Ignore the spectrum below this, Hz "
+                                                                                       "(default: two resolution bins)");
+  sub.add_flag("--no-free-decay-fit", st->no_fit, "Use the spectral mode estimate only");
+  sub.add_option("--plot", st->plot, "Write the spectrum and every candidate's remaining-vibration curve to this PNG");
+  sub.add_flag("--json", st->json, "Print the result as JSON");
+  sub.callback([st] { run_recommend(*st); });
+}
+
+const bool registered = register_command(
+    {"recommend", "Recommend an input shaper from recorded vibration (after Klipper's calibrate_shaper)", 32, setup});
+
+}  // namespace
+
+}  // namespace clearshape::cli

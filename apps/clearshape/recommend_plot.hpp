@@ -1,0 +1,20 @@
+#pragma once
+// The figure of `clearshape recommend --plot`: the measured spectrum and every candidate's
+// remaining-vibration curve (as Klipper's calibrate_shaper draws them), drawn by
+// python/plot_recommend.py in the study's figure style (python/clearshape_plot), written
+// atomically. The PNG has fixed metadata: the same inputs give the same bytes.
+#include <filesystem>
+
+#include "clearshape/advise/recommend.hpp"
+
+namespace clearshape::cli {
+
+/// Throws InvalidArgument for a path that does not end in .png, RuntimeError when Python or
+/// matplotlib fail (their message on stderr).
+void write_recommend_plot(const std::filesystem::path& png, const std::vector<advise::MeasuredSpectrum>& spectra,
+                          const advise::Recommendation& recommendation);
+
+/// The folder holding plot_recommend.py: $CLEARSHAPE_PYTHON_DIR, else the source tree's python/.
+std::filesystem::path python_dir();
+
+}  // namespace clearshape::cli
