@@ -34,8 +34,20 @@ struct Meeting {
   StartRule rule = StartRule::crossing;
 };
 
-// First index i >= from where s_i == M or s_i − M changes sign with respect to s_{i−1} − M
-// (the thesis's "first coincide point", §5.1.2).
+// Departure (header step 2): the first index j >= from at which |s_j − M| reaches half the
+// largest |s_i − M|, i >= from; s.size() when the response never leaves M.
+std::size_t departure(std::span<const double> s, std::size_t from, double m) {
+  double largest = 0.0;
+  for (std::size_t i = from; i < s.size(); ++i) largest = std::max(largest, std::abs(s[i] - m));
+  if (!(largest > 0.0)) return s.size();
+  for (std::size_t i = from; i < s.size(); ++i) {
+    if (std::abs(s[i] - m) >= 0.5 * largest) return i;
+  }
+  return s.size();
+}
+
+// First index i > from where s_i == M or s_i − M changes sign with respect to s_{i−1} − M
+// (the thesis's "first coincide point", §5.1.2); `from` is the departure.
 std::optional<std::size_t> first_crossing(std::span<const double> s, std::size_t from, double m) {
   for (std::size_t i = from; i < s.size(); ++i) {
     const double d = s[i] - m;
@@ -69,10 +81,12 @@ std::optional<std::size_t> first_band_entry(std::span<const double> s, std::size
   return run_start;  // inside the band to the end of the record
 }
 
-// The start k(M) of header step 2: the earlier of the first crossing and the first band entry
-// (a tie counts as a crossing).
-std::optional<Meeting> first_meeting(std::span<const double> s, std::size_t from, double m,
+// The start k(M) of header step 2: after the departure, the earlier of the first crossing and
+// the first band entry (a tie counts as a crossing).
+std::optional<Meeting> first_meeting(std::span<const double> s, std::size_t search_from, double m,
                                      double band, std::size_t dwell) {
+  const std::size_t from = departure(s, search_from, m);
+  if (from >= s.size()) return std::nullopt;
   const auto crossing = first_crossing(s, from, m);
   const auto entry = first_band_entry(s, from, crossing.value_or(s.size()), m, band, dwell);
   if (entry) return Meeting{*entry, StartRule::band_entry};

@@ -111,6 +111,23 @@ TEST(SimulateCli, ShapingLowersTheMeanDeviation) {
   EXPECT_LT(md_shaped, 0.5 * md_unshaped) << md_unshaped << " " << md_shaped;
 }
 
+TEST(SimulateCli, GyroAndLinkRateMeanDeviationsAgree) {
+  // Issue 12: 20° ZVDD step (1/30 s rise at 0.5 s), calibrated rig, noise-free gyroscope. The
+  // gyro is the link rate quantized to 1/14.375 °/s and low-passed at 42 Hz, so Eq. 5.1 on it
+  // must be close to Eq. 5.1 on the link rate (it read 28.2 against 0.22: the quantized rest
+  // before the move was taken as the steady state's start).
+  const auto j = run_json("--mode position --signal step --amplitude 20 --start-s 0.5 --rise-s 0.0333333333333 "
+                          "--shaper zvdd --shaper-frequency-hz 14.955 --shaper-zeta 0.129 --no-noise");
+  const auto& md = j["mean_deviation_eq_5_1"];
+  const double link = md["link_rate_deg_s"]["mean_deviation"].get<double>();
+  const double gyro = md["gyro_deg_s"]["mean_deviation"].get<double>();
+  EXPECT_LT(link, 1.0);
+  EXPECT_NEAR(gyro, link, 0.25 * link + 0.05);
+  // Both start after the move's peak rate, never on its rising edge (the ramp ends at 0.533 s).
+  EXPECT_GT(md["gyro_deg_s"]["start_s"].get<double>(), 0.55);
+  EXPECT_NEAR(md["gyro_deg_s"]["steady_mean"].get<double>(), 0.0, 0.05);
+}
+
 TEST(SimulateCli, ContactLawsAndRestitution) {
   for (const char* law : {"kelvin-voigt", "hunt-crossley", "lankarani-nikravesh", "flores", "impulse"}) {
     SCOPED_TRACE(law);

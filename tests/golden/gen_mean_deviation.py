@@ -4,7 +4,8 @@
 Independent NumPy implementation of the definition in include/clearshape/metrics/mean_deviation.hpp:
 M0 = mean of the final window; band b = max(k_noise * sigma_n, f_move * |M0 - s_first|) with sigma_n
 from the mean square successive difference of the final window; the start k(M) is the earlier of
-the first crossing of M and the first stay of `dwell` samples (or to the end) inside |s - M| <= b;
+the first crossing of M and the first stay of `dwell` samples (or to the end) inside |s - M| <= b,
+both after the departure (the first sample at half the largest |s - M|);
 M and k iterated to a fixed point. Run with Debian's Python:
     /usr/bin/python3 tests/golden/gen_mean_deviation.py
 Writes mean_deviation_signals.csv and mean_deviation_expected.json beside this script.
@@ -50,12 +51,17 @@ def mean_deviation(s, ts=TS, frac=0.2, search_from_s=-np.inf, k_noise=0.0, f_mov
 
     def meet(mean):
         d = s[first:] - mean
+        big = np.abs(d).max()
+        if not big > 0:
+            return None
+        j = int(np.flatnonzero(np.abs(d) >= 0.5 * big)[0])  # departure: half the largest excursion
+        d = d[j:]
         c = first_crossing(d)
         e = first_band_entry(d, b, dwell)
         if e is not None and (c is None or e < c):
-            return first + e, "band-entry"
+            return first + j + e, "band-entry"
         if c is not None:
-            return first + c, "crossing"
+            return first + j + c, "crossing"
         return None
 
     got = meet(m)
@@ -97,8 +103,12 @@ def main():
     shaped = 0.5 * shaped + 0.5 * np.concatenate([np.zeros(int(round(0.5 / 3.0 / np.sqrt(1 - 0.01) / TS))), shaped])[: T.size]
     shaped = shaped - 0.004 * np.clip(T - 0.5, 0, None) / 3.5
 
+    # The rate of the ringing step as a noise-free gyroscope reports it: 14.375 LSB per unit,
+    # rounded; it rests at 0 (exactly its steady mean) before the move.
+    rate = np.round(np.gradient(ringing, TS) * 14.375) / 14.375
+
     cols = {"time_s": T, "ringing": ringing, "damped": damped, "damped_noisy": damped_noisy,
-            "damped_loud": damped_loud, "shaped": shaped}
+            "damped_loud": damped_loud, "shaped": shaped, "quantized_rate": rate}
     names = list(cols)
     np.savetxt(os.path.join(HERE, "mean_deviation_signals.csv"), np.column_stack([cols[c] for c in names]),
                delimiter=",", header=",".join(names), comments="", fmt="%.17g")
@@ -109,6 +119,7 @@ def main():
     cases += [
         {"signal": "damped", "options": {"search_from_s": 0.5, "band_half_width": 0.0}},
         {"signal": "damped", "options": {}},
+        {"signal": "quantized_rate", "options": {}},  # rests on M = 0 before the move (departure)
         {"signal": "damped_noisy", "options": {"search_from_s": 0.5, "band_noise_multiple": 3.0}},
         {"signal": "damped_loud", "options": {"search_from_s": 0.5, "band_noise_multiple": 3.0}},
         {"signal": "shaped", "options": {"search_from_s": 0.5, "band_move_fraction": 0.002,

@@ -232,6 +232,31 @@ TEST(MeanDeviation, SearchFromSkipsEarlierCrossings) {
   EXPECT_NEAR(later.mean_deviation, std::sqrt(100 * 0.0625 / 101.0), 1e-13);
 }
 
+TEST(MeanDeviation, ARateThatRestsOnItsMeanMeetsItOnTheReturn) {
+  // A quantized rate during a position move: 0 (exactly the steady mean) at rest, a pulse, then
+  // ringing ±1. M₀ = mean of the last 2 samples = 0; the largest |s − M| is 8, so the departure
+  // is sample 3 (|4| >= 4) and the first crossing after it is sample 6 (4 → −1). M = mean of
+  // −1, 1, −1, 1 = 0: a fixed point, MD = 1 (Eq. 5.1). Without the departure the rest at
+  // sample 0 "met" M, the iteration moved M to the mean of the pulse (16/7) and k to its
+  // rising edge (sample 3): MD measured the move.
+  cs::UniformSeries s;
+  s.sample_time_s = 0.01;
+  s.values = {0.0, 0.0, 0.0, 4.0, 8.0, 4.0, -1.0, 1.0, -1.0, 1.0};
+  const auto r = m::mean_deviation(s);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.start_index, 6u);
+  EXPECT_EQ(r.start_rule, m::StartRule::crossing);
+  EXPECT_EQ(r.steady_mean, 0.0);
+  EXPECT_EQ(r.mean_deviation, 1.0);
+  // A response that never leaves its mean has no meeting: the final window.
+  cs::UniformSeries flat;
+  flat.sample_time_s = 0.01;
+  flat.values.assign(10, 0.5);
+  const auto f = m::mean_deviation(flat);
+  EXPECT_EQ(f.start_rule, m::StartRule::window_start);
+  EXPECT_EQ(f.mean_deviation, 0.0);
+}
+
 TEST(MeanDeviation, RejectsBadInput) {
   cs::UniformSeries s;
   s.values = {1.0};

@@ -16,6 +16,16 @@
 //                  around M and stays in it for `band_dwell_s` (L samples, or until the record
 //                  ends).
 //      k(M) is the earlier of the two; the result names the rule that decided it.
+//      Both rules look only from the departure j(M) on: the first sample at which |s_j − M|
+//      reaches half the largest |s_i − M| of the search range. A response must leave its mean
+//      before it can meet it. For a step on an angle the first sample is that far (unless the
+//      overshoot exceeds the move), so j is the search start; for a response that begins at
+//      its steady mean — the link RATE during a position step, 0 before and after — j is on
+//      the move's rising edge and the meeting is the return, as for an angle. Without it the
+//      rest before the move (a noise-free gyroscope reads exactly 0 LSB = M; or it sits just
+//      below a slightly positive M and the rising edge crosses it) was the "first coincide
+//      point", the iteration put M at the mean rate of the whole move and MD measured the move
+//      (28 °/s against 0.22 °/s from the link rate, 20° ZVDD step, calibrated rig).
 //   3. M_{m+1} = mean(s_k … s_{N−1}) with k = k(M_m); repeat until k stops changing. At the
 //      fixed point M is exactly the mean of the samples that enter Eq. 5.1 and k is the first
 //      point where the response meets that mean. A repeated k that is not the previous one (a
@@ -52,7 +62,7 @@
 // band_half_width >= 0 overrides the computed b (0: the crossing rule alone).
 //
 //   The search starts at the first sample at or after `search_from_s`; a sign change counts only
-//   between two samples that are both in the search range. Several fixed points can exist; the
+//   between two samples that are both at or after the departure. Several fixed points can exist; the
 //   iteration returns the one reached from M₀, deterministically. A response that never meets
 //   its mean (no crossing, never inside the band) takes k = the first sample of the final window.
 #include <cstddef>
