@@ -52,7 +52,9 @@ ExportText to_rrf(const ShaperDesign& design, const ExportOptions& /*options*/) 
   // A named type when RRF's own design from the printed F and S matches ours.
   const std::optional<std::string_view> type = rrf_type_for(design.method);
   std::string why_custom;
-  if (!type) {
+  if (design.method == sh::Method::custom) {
+    why_custom = "the design is a custom impulse list";
+  } else if (!type) {
     why_custom = fmt::format("RRF has no {} type", sh::to_string(design.method));
   } else if (design.second_mode) {
     why_custom = "RRF's named types shape one mode";
