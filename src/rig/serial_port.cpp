@@ -91,8 +91,8 @@ void SerialPort::open(const std::string& name, int baud) {
   }
   sp_port* port = nullptr;
   if (sp_get_port_by_name(name.c_str(), &port) != SP_OK) {
-    throw RuntimeError(fmt::format("serial port {}: no such port ({}); check the cable and pass one of them "
-                                   "with --port",
+    throw RuntimeError(fmt::format("serial port {}: no such port ({}); check the cable and name one of "
+                                   "those",
                                    name, port_list_text()));
   }
   if (sp_open(port, SP_MODE_READ_WRITE) != SP_OK) {

@@ -57,6 +57,12 @@ TEST(RigCli, ProbeErrorsNameThePortAndTheOption) {
   const auto rate = run_cli("rig probe --port /dev/ttyCLEARSHAPE_NONE --rate 5000");
   EXPECT_EQ(rate.exit_code, 2);
   EXPECT_NE(rate.err.find("--rate"), std::string::npos) << rate.err;
+  const fs::path protocol = fs::path(CLEARSHAPE_GOLDEN_DIR).parent_path().parent_path() / "studies" / "thesis-position.toml";
+  const auto absent = run_cli("study " + protocol.string() + " --quick --rig 'serial:/dev/ttyCLEARSHAPE_NONE?baud=115200' --out " +
+                              temp("absent").string());
+  EXPECT_EQ(absent.exit_code, 1);
+  EXPECT_NE(absent.err.find("rig serial:/dev/ttyCLEARSHAPE_NONE at 115200 baud"), std::string::npos) << absent.err;
+  EXPECT_NE(absent.err.find("no such port"), std::string::npos) << absent.err;
   const auto spec = run_cli("study studies/thesis-position.toml --rig usb:/dev/ttyACM0");
   EXPECT_EQ(spec.exit_code, 2);
   EXPECT_NE(spec.err.find("serial:PORT?baud=N"), std::string::npos) << spec.err;
