@@ -21,6 +21,7 @@
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/metrics/mean_deviation.hpp"
+#include "clearshape/rig/builtin_truths.hpp"
 #include "clearshape/rig/offline.hpp"
 #include "clearshape/shaping/apply.hpp"
 #include "clearshape/shaping/design.hpp"
@@ -53,6 +54,8 @@ struct State {
   double restitution = 0.0;
   CLI::Option* restitution_option = nullptr;
   std::string config;
+  std::string rig_name;
+  CLI::Option* rig_option = nullptr;
   double duration_s = 0.0;
   CLI::Option* duration_option = nullptr;
   double rate_hz = 0.0;
@@ -166,8 +169,15 @@ void run(const State& st) {
   const rig::CommandMode mode = rig::command_mode_from_string(st.mode);
   const bool position = mode == rig::CommandMode::position;
 
-  // Truth: built-in thesis rig < config file < flags.
+  // Truth: built-in rig (--rig, default the calibrated thesis rig) < config file < flags.
+  if (st.rig_option->count() > 0 && !st.config.empty()) {
+    throw cs::InvalidArgument("--rig and --config: give one (a config file starts from the thesis rig)");
+  }
   cs::cli::RigConfig config = st.config.empty() ? cs::cli::RigConfig{} : cs::cli::load_rig_config(st.config);
+  if (st.rig_option->count() > 0) {
+    config.truth = rig::builtin_truth(st.rig_name, "--rig");
+    config.contact_model = config.truth.contact(mode).model;
+  }
   rig::RigTruth truth = config.truth;
   rig::RunOptions options = config.run;
   if (st.duration_option->count() > 0) options.duration_s = st.duration_s;
@@ -308,6 +318,7 @@ void run(const State& st) {
     doc["configuration"] = {{"mode", st.mode},
                             {"signal", {{"type", st.type}, {"parameters", signal_json}}},
                             {"shaper", shaper_json},
+                            {"builtin_rig", st.rig_option->count() > 0 ? st.rig_name : std::string("thesis")},
                             {"config_file", st.config.empty() ? nlohmann::ordered_json(nullptr)
                                                               : nlohmann::ordered_json(st.config)},
                             {"duration_s", options.duration_s},
@@ -340,6 +351,7 @@ void run(const State& st) {
     doc["mode"] = st.mode;
     doc["signal"] = st.type;
     doc["shaper"] = shaper ? nlohmann::ordered_json(shaper->method()) : nlohmann::ordered_json(nullptr);
+    doc["rig"] = st.rig_option->count() > 0 ? st.rig_name : std::string("thesis");
     doc["clearance_deg"] = cs::rad_to_deg(truth.clearance_rad);
     doc["contact"] = contact_json(contact);
     for (const auto& [k, v] : summary.items()) doc[k] = v;
@@ -388,6 +400,10 @@ void setup(CLI::App& sub) {
       ->check(CLI::IsMember({"thesis", "kelvin-voigt", "hunt-crossley", "lankarani-nikravesh", "flores", "impulse"}));
   st->restitution_option = sub.add_option("--restitution", st->restitution,
                                           "Coefficient of restitution e (not for the thesis law)");
+  st->rig_option = sub.add_option("--rig", st->rig_name,
+                                  "Built-in rig truth: thesis (calibrated, default) or large-play (1 deg steel pin, "
+                                  "docs/large-play.md); flags override it")
+                       ->check(CLI::IsMember({"thesis", "large-play"}));
   sub.add_option("--config", st->config, "Rig configuration (TOML); flags override it");
   st->duration_option = sub.add_option("--duration", st->duration_s, "Duration (s), default 5");
   st->rate_option = sub.add_option("--rate", st->rate_hz, "Output sample rate (Hz), default 1000");

@@ -12,9 +12,11 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/core/error.hpp"
+#include "clearshape/rig/builtin_truths.hpp"
 #include "clearshape/rig/serial_rig.hpp"
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/rig/truth.hpp"
@@ -97,8 +99,16 @@ study::RigFactory serial_rig_factory(const std::string& spec) {
 }
 
 void run(const StudyCliOptions& o) {
+  // --rig: a built-in simulated truth by name, or the physical rig over a serial port.
   std::optional<study::RigFactory> serial;
-  if (!o.rig.empty()) serial = serial_rig_factory(o.rig);  // a bad spec is an error before anything else
+  const bool builtin = !o.rig.empty() && rig::is_builtin_truth(o.rig);
+  if (!o.rig.empty() && !builtin) {
+    if (o.rig.rfind("serial:", 0) != 0) {
+      throw InvalidArgument(fmt::format("--rig {}: allowed: {} (built-in simulated rigs), serial:PORT or "
+                                        "serial:PORT?baud=N", o.rig, fmt::join(rig::kBuiltinTruthNames, ", ")));
+    }
+    serial = serial_rig_factory(o.rig);  // a bad spec is an error before anything else
+  }
   study::Protocol protocol = study::load_protocol(o.protocol);
   if (o.quick) protocol = study::quick_variant(protocol);
   if (o.print_manifest) {
@@ -114,6 +124,8 @@ void run(const StudyCliOptions& o) {
   options.fresh = o.fresh;
   options.threads = o.threads;
   options.progress = &std::cerr;
+  // The simulated rig: --rig NAME, else the protocol's [study] rig (default: thesis).
+  if (o.rig_config.empty() && !serial) options.rig = study::sim_rig_factory(builtin ? o.rig : protocol.rig);
   if (!o.rig_config.empty()) options.rig = configured_sim_rig(o.rig_config);
   if (serial) {
     options.rig = *serial;
@@ -150,8 +162,9 @@ const bool registered = register_command(
                       "Run against a simulated rig with this truth (a `clearshape simulate --config` file) "
                       "instead of the built-in thesis rig");
        sub.add_option("--rig", o->rig,
-                      "Run against the physical rig: serial:PORT or serial:PORT?baud=N (docs/hardware.md); "
-                      "one run at a time, a run that loses a sample fails");
+                      "The rig: a built-in simulated truth (thesis, large-play; default: the protocol's "
+                      "[study] rig, else thesis; docs/large-play.md) or the physical rig, serial:PORT or "
+                      "serial:PORT?baud=N (docs/hardware.md; one run at a time, a run that loses a sample fails)");
        sub.add_option("--recordings", o->recordings,
                       "Run the study on recorded runs: a folder of CSVs with a manifest.toml (docs/recordings.md)");
        sub.add_flag("--print-manifest", o->print_manifest,

@@ -6,9 +6,11 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/atomic_file.hpp"
+#include "clearshape/rig/builtin_truths.hpp"
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/signal/parameters.hpp"
 #include "toml_reader.hpp"
@@ -219,7 +221,12 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
   p.sample_rate_hz = study->positive("sample_rate_hz", 1000.0);
   p.record_s = study->positive("record_s", 5.0);
   p.repetitions = static_cast<int>(study->integer("repetitions", 10, 2, 1000));
-  study->finish("name, title, mode, seed, sample_rate_hz, record_s, repetitions");
+  p.rig = study->text("rig", "thesis");
+  if (!rig::is_builtin_truth(p.rig)) {
+    study->fail("rig", fmt::format("is '{}', not a built-in rig; allowed: {}", p.rig,
+                                   fmt::join(rig::kBuiltinTruthNames, ", ")));
+  }
+  study->finish("name, title, mode, seed, sample_rate_hz, record_s, repetitions, rig");
 
   if (const auto m = top.table("measure")) {
     const std::string s = m->text("md_signal", p.mode == rig::CommandMode::position
@@ -486,6 +493,7 @@ json to_json(const Protocol& p) {
   j["sample_rate_hz"] = p.sample_rate_hz;
   j["record_s"] = p.record_s;
   j["repetitions"] = p.repetitions;
+  if (p.rig != "thesis") j["rig"] = p.rig;  // absent for the default (older hashes unchanged)
   j["quick"] = p.quick;
   j["measure"] = {{"md_signal", to_string(p.measure.md_signal)},
                   {"bias_window_s", p.measure.bias_window_s},

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <memory>
 #include <ostream>
 #include <thread>
 
@@ -12,6 +13,7 @@
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/table.hpp"
+#include "clearshape/rig/builtin_truths.hpp"
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "context.hpp"
@@ -70,6 +72,24 @@ RigFactory sim_rig_factory() {
     return std::make_unique<rig::SimRig>(o);
   };
   f.description = "sim (rig::SimRig, calibrated thesis truth, behaviour " + behaviour_fingerprint(f) + ")";
+  return f;
+}
+
+RigFactory sim_rig_factory(std::string_view truth_name) {
+  if (truth_name == "thesis") return sim_rig_factory();
+  auto truth = std::make_shared<const rig::RigTruth>(rig::builtin_truth(truth_name));
+  RigFactory f;
+  f.parallel_runs = 64;
+  f.kind = "simulated-" + std::string(truth_name);
+  f.make = [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
+    rig::SimRigOptions o;
+    o.mode = mode;
+    o.sample_rate_hz = rate_hz;
+    o.seed = seed;
+    return rig::make_sim_rig_with_truth(o, *truth);
+  };
+  f.description = fmt::format("sim (rig::SimRig, built-in {} truth, behaviour {})", truth_name,
+                              behaviour_fingerprint(f));
   return f;
 }
 

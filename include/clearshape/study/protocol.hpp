@@ -190,6 +190,9 @@ struct Protocol {
   double sample_rate_hz = 1000.0;
   double record_s = 5.0;
   int repetitions = 10;
+  /// [study] rig: the built-in simulated truth the study runs on by default ("thesis",
+  /// "large-play"; rig/builtin_truths.hpp). `study --rig/--rig-config/--recordings` override it.
+  std::string rig = "thesis";
   bool quick = false;  ///< the [quick] reduction has been applied
   MeasureSpec measure;
   ShapingSpec shaping;

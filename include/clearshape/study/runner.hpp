@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <iosfwd>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -42,6 +43,9 @@ inline constexpr int kResultsSchemaVersion = 1;
 /// The simulated thesis rig: a rig::SimRig with its built-in (calibrated) truth, rig/truth.hpp;
 /// any number of parallel runs.
 RigFactory sim_rig_factory();
+/// The simulated rig with a built-in truth by name (rig/builtin_truths.hpp): "thesis" is
+/// sim_rig_factory(); others have kind "simulated-<name>". Throws InvalidArgument for others.
+RigFactory sim_rig_factory(std::string_view truth_name);
 
 struct StudyOptions {
   std::filesystem::path out_dir = "out/study";
