@@ -5,6 +5,7 @@ target_compile_options(clearshape_warnings INTERFACE -Wall -Wextra -Wpedantic -W
                        -Wnon-virtual-dtor -Wold-style-cast -Wcast-align -Wunused -Woverloaded-virtual
                        -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
 
+include(GNUInstallDirs)  # CMAKE_INSTALL_INCLUDEDIR for the installed include path
 set(CLEARSHAPE_MODULES "" CACHE INTERNAL "modules of the clearshape library")
 
 function(clearshape_add_module name)
@@ -14,15 +15,19 @@ function(clearshape_add_module name)
     set(scope PUBLIC)
     add_library(clearshape_${name} STATIC ${sources})
     set_target_properties(clearshape_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
-    target_link_libraries(clearshape_${name} PRIVATE clearshape_warnings)
+    # Warnings are for this build only: not part of the installed targets' interface.
+    target_link_libraries(clearshape_${name} PRIVATE $<BUILD_INTERFACE:clearshape_warnings>)
   else()  # a module with headers only (or not written yet)
     set(scope INTERFACE)
     add_library(clearshape_${name} INTERFACE)
   endif()
   add_library(clearshape::${name} ALIAS clearshape_${name})
+  # Installed as clearshape::<name> (cmake/ClearshapeInstall.cmake), like the alias above.
+  set_target_properties(clearshape_${name} PROPERTIES EXPORT_NAME ${name})
   target_include_directories(clearshape_${name} ${scope}
     $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
-    $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/generated>)
+    $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/generated>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   foreach(dep IN LISTS ARG_DEPS)
     target_link_libraries(clearshape_${name} ${scope} clearshape_${dep})
   endforeach()

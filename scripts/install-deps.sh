@@ -12,6 +12,7 @@ packages=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-scipy python3-matplotlib
+  pybind11-dev python3-dev python3-pytest python3-h5py python3-distributed
   chromium fonts-dejavu-core
   gcc-avr avr-libc simavr libsimavr-dev libserialport-dev
 )

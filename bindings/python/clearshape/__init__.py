@@ -1,0 +1,38 @@
+"""clearshape: input shaping for servo-driven joints with clearance.
+
+The C++ library for Python: command signals and the drive's command paths, shaper design
+(every method), residual vibration and sensitivity, offline and streaming shaping, the
+simulated rig, identification, vibration modes and the thesis's metrics (Eq. 4.1, Eq. 5.1).
+NumPy arrays in and out; a bad parameter raises ValueError with the C++ message, a failure
+while computing raises RuntimeError. Units are in the names (_s, _hz, _rad, _deg, _n_m).
+Sweeps over rigs, commands and shapers: clearshape.sweep (docs/sweeps.md).
+"""
+from ._core import (  # noqa: F401
+    __version__,
+    RigTruth,
+    Shaper,
+    StreamingShaper,
+    consistency,
+    design,
+    identify,
+    improvement_percent,
+    insensitivity,
+    mean_deviation,
+    modes,
+    position_path,
+    residual_vibration,
+    sensitivity,
+    shape,
+    shaper_methods,
+    shaping_delay_s,
+    signal,
+    signal_parameters,
+    signal_types,
+    simulate,
+    simulate_rig,
+    speed_path,
+    thesis_truth,
+    truth,
+    truth_names,
+    uncalibrated_truth,
+)

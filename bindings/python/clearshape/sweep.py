@@ -1,0 +1,165 @@
+"""Sweeps over rig truths, commands and shapers (docs/sweeps.md), locally or on a Dask cluster.
+
+    python3 -m clearshape.sweep SWEEP.toml --out DIR [--scheduler tcp://HOST:8786] [--workers N]
+    clearshape sweep SWEEP.toml --out DIR …            (the CLI runs this module)
+
+    >>> from clearshape.sweep import run_sweep
+    >>> summary = run_sweep("SWEEP.toml", "out/sweep")            # every core of this machine
+    >>> summary = run_sweep("SWEEP.toml", "out/sweep", scheduler="tcp://head:8786")
+
+Points are batched into tasks; each task evaluates its points with the bindings. Finished
+batches are stored as they arrive, so an interrupted sweep resumes where it stopped and ends
+with the same bytes as a fresh run. A point that fails is kept with its reason (status column);
+a task that fails is retried (Dask: `retries`) and, if it still fails, left for the next run.
+"""
+import argparse
+import concurrent.futures
+import os
+import sys
+import time
+
+from . import _core
+from .sweep_run import run_batch
+from .sweep_spec import Sweep, SweepError
+from . import sweep_store as store
+
+
+class Progress:
+    """One line on stderr per finished task: points done, failed points, points per second."""
+
+    def __init__(self, total, done, quiet):
+        self.total, self.done, self.failed, self.quiet = total, done, 0, quiet
+        self.start, self.fresh = time.monotonic(), 0
+
+    def add(self, results):
+        self.done += len(results)
+        self.fresh += len(results)
+        self.failed += sum(r["status"] != "ok" for r in results)
+        if not self.quiet:
+            rate = self.fresh / max(1e-9, time.monotonic() - self.start)
+            print(f"clearshape sweep: {self.done}/{self.total} points ({self.failed} failed) "
+                  f"{rate:.2f} points/s", file=sys.stderr, flush=True)
+
+
+def _batches(points, size):
+    return [points[i:i + size] for i in range(0, len(points), size)]
+
+
+def _run_local(todo, settings, workers, on_done):
+    if workers == 1:
+        for bid, batch in todo:
+            on_done(bid, run_batch(batch, settings))
+        return []
+    with concurrent.futures.ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = {pool.submit(run_batch, batch, settings): bid for bid, batch in todo}
+        lost = []
+        for f in concurrent.futures.as_completed(futures):
+            try:
+                on_done(futures[f], f.result())
+            except Exception as e:  # noqa: BLE001 — a dead worker: the batch stays for the next run
+                lost.append((futures[f], repr(e)))
+        return lost
+
+
+def _run_dask(todo, settings, scheduler, retries, digest, on_done):
+    from distributed import Client, as_completed
+
+    client = scheduler if isinstance(scheduler, Client) else Client(scheduler, set_as_default=False)
+    try:
+        futures = {client.submit(run_batch, batch, settings, retries=retries, pure=False,
+                                 key=f"clearshape-sweep-{digest[:12]}-{bid}"): bid for bid, batch in todo}
+        lost = []
+        for f in as_completed(futures):
+            try:
+                on_done(futures[f], f.result())
+            except Exception as e:  # noqa: BLE001 — failed after its retries
+                lost.append((futures[f], repr(e)))
+        return lost
+    finally:
+        if client is not scheduler:
+            client.close()
+
+
+def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, quiet=False):
+    """Runs (or resumes) a sweep into folder `out`; returns a summary dict.
+
+    sweep: a path to SWEEP.toml or a Sweep. scheduler: None (this machine, `workers` processes,
+    default every core), a Dask scheduler address 'tcp://HOST:8786' or a distributed.Client.
+    Raises SweepError (a ValueError) for a bad sweep file and RuntimeError when tasks were lost.
+    """
+    if not isinstance(sweep, Sweep):
+        sweep = Sweep.load(sweep)
+    os.makedirs(os.path.join(out, store.STATE), exist_ok=True)
+    if fresh:
+        store.remove_own_files(out)
+        os.makedirs(os.path.join(out, store.STATE), exist_ok=True)
+    digest = sweep.digest()
+    settings = sweep.settings
+    points = sweep.points()
+    batches = _batches(points, settings["batch"])
+    done = store.load_batches(out, digest)
+    todo = [(bid, b) for bid, b in enumerate(batches) if bid not in done]
+    progress = Progress(len(points), sum(len(batches[b]) for b in done if b < len(batches)), quiet)
+    t0 = time.monotonic()
+
+    def on_done(bid, results):
+        store.save_batch(out, digest, bid, results)
+        done[bid] = results
+        progress.add(results)
+
+    if scheduler is None:
+        lost = _run_local(todo, settings, workers or os.cpu_count() or 1, on_done)
+    else:
+        lost = _run_dask(todo, settings, scheduler, retries, digest, on_done)
+    wall_s = time.monotonic() - t0
+    if lost:
+        first = lost[0]
+        raise RuntimeError(f"{len(lost)} task(s) failed after their retries (batch {first[0]}: {first[1]}); "
+                           f"their points are not lost: rerun the same command to do them")
+    results = [r for bid in sorted(done) for r in done[bid]]
+    rows = store.table(points, results)
+    attributes = {"schema_version": 1, "clearshape_version": _core.__version__, "sweep_digest": digest,
+                  "sweep_file": sweep.text, "points": len(points)}
+    store.write_hdf5(os.path.join(out, "results.h5"), rows, attributes)
+    store.write_csv(os.path.join(out, "results.csv"), rows)
+    header = {"schema_version": 1, "clearshape_version": _core.__version__, "sweep_digest": digest,
+              "settings": settings, "axes": sweep.axes()}
+    store.write_json(os.path.join(out, "results.json"), rows, header)
+    failed = [r for r in rows if r["status"] != "ok"]
+    return {"points": len(points), "ran": progress.fresh,
+            "failed": len(failed), "failures": [(r["index"], r["status"]) for r in failed],
+            "wall_s": wall_s, "out": out}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="clearshape sweep", description=__doc__.split("\n")[0])
+    ap.add_argument("sweep", help="the sweep file (TOML, docs/sweeps.md)")
+    ap.add_argument("--out", required=True, help="output folder (results.h5, results.csv, results.json)")
+    ap.add_argument("--scheduler", help="Dask scheduler address, e.g. tcp://HOST:8786 (default: this machine)")
+    ap.add_argument("--workers", type=int, help="local worker processes (default: every core)")
+    ap.add_argument("--retries", type=int, default=2, help="Dask: retries of a failed task (default 2)")
+    ap.add_argument("--fresh", action="store_true", help="remove this folder's earlier sweep results first")
+    ap.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    a = ap.parse_args(argv)
+    if a.workers is not None and not 1 <= a.workers <= 4096:
+        ap.error(f"--workers = {a.workers} is out of range; allowed: [1, 4096]")
+    if not 0 <= a.retries <= 100:
+        ap.error(f"--retries = {a.retries} is out of range; allowed: [0, 100]")
+    if a.scheduler is not None and not a.scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
+        ap.error(f"--scheduler = {a.scheduler} must be an address such as tcp://HOST:8786")
+    try:
+        s = run_sweep(a.sweep, a.out, a.scheduler, a.workers, a.retries, a.fresh, a.quiet)
+    except (SweepError, ValueError, FileNotFoundError, IsADirectoryError) as e:
+        print(f"clearshape sweep: error: {e}", file=sys.stderr)
+        return 2
+    except (RuntimeError, OSError) as e:
+        print(f"clearshape sweep: error: {e}", file=sys.stderr)
+        return 1
+    for index, status in s["failures"][:20]:
+        print(f"clearshape sweep: point {index} {status}", file=sys.stderr)
+    print(f"points {s['points']}  failed {s['failed']}  wall {s['wall_s']:.2f} s  -> {a.out}/results.h5")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The installed package (docs/package.md): `cmake --install` into a temporary prefix, then
+#   1. a separate CMake project builds examples/02_design_shapers.cpp against the installed
+#      clearshape::clearshape (find_package, nothing from the source or build tree) and runs it;
+#   2. the same example built with the installed pkg-config file only, and run;
+#   3. the installed Python module imports from the prefix and designs a shaper.
+# Usage: install_test.sh BUILD_DIR SOURCE_DIR PYTHON
+set -euo pipefail
+build=$1 source=$2 python=$3
+work=$(mktemp -d /tmp/clearshape-install-test.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+prefix=$work/prefix
+example=$source/examples/02_design_shapers.cpp
+
+cmake --install "$build" --prefix "$prefix" > "$work/install.log"
+for f in bin/clearshape lib/cmake/clearshape/clearshapeConfig.cmake \
+         lib/cmake/clearshape/clearshapeConfigVersion.cmake lib/cmake/clearshape/clearshapeTargets.cmake \
+         lib/pkgconfig/clearshape.pc lib/libclearshape_core.a lib/libclearshape_study.a \
+         include/clearshape/shaping/design.hpp include/clearshape/core/version.hpp; do
+  [[ -e $prefix/$f ]] || { echo "install_test: $f was not installed" >&2; exit 1; }
+done
+# The exported targets must not point back into the source or build tree.
+if grep -l -e "$source" -e "$build" "$prefix"/lib/cmake/clearshape/*.cmake "$prefix/lib/pkgconfig/clearshape.pc"; then
+  echo "install_test: an installed CMake/pkg-config file names the source or build tree" >&2
+  exit 1
+fi
+
+# 1. CMake consumer.
+cmake -S "$source/tests/package/consumer" -B "$work/consumer" -DCMAKE_BUILD_TYPE=Release \
+      -DCMAKE_PREFIX_PATH="$prefix" -DEXAMPLE_SOURCE="$example" > "$work/consumer.log" 2>&1 \
+  || { cat "$work/consumer.log" >&2; exit 1; }
+grep -q "clearshape_DIR = $prefix/lib/cmake/clearshape" "$work/consumer.log" \
+  || { echo "install_test: the consumer did not find the installed package" >&2; cat "$work/consumer.log" >&2; exit 1; }
+cmake --build "$work/consumer" > "$work/consumer-build.log" 2>&1 || { cat "$work/consumer-build.log" >&2; exit 1; }
+"$work/consumer/consumer"
+
+# 2. pkg-config consumer.
+flags=$(PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --cflags --libs clearshape)
+c++ -O1 "$example" -o "$work/pc_consumer" $flags
+"$work/pc_consumer" > /dev/null
+
+# 3. Python from the prefix (not the build tree); PYTHON "none" when the module is not built.
+[[ $python == none ]] || PYTHONPATH="$prefix/lib/python3/dist-packages" "$python" -c "
+import clearshape, sys
+assert clearshape.__file__.startswith('$prefix'), clearshape.__file__
+s = clearshape.design('zvd', frequency_hz=3.32, zeta=0.288)
+assert abs(clearshape.residual_vibration(s, 3.32, 0.288)) < 1e-12
+print('installed python module:', clearshape.__file__, s)
+"
+echo "install_test: ok ($prefix)"
