@@ -49,6 +49,21 @@ TEST(JsonExport, TapsAreDiscretizesBitForBit) {
   for (const auto& t : j["discrete"]["taps"]) imp.push_back({t["delay_samples"].get<double>() * 1e-3, t["weight"].get<double>()});
   const sh::Shaper discrete("taps", imp, sh::Shaper::Normalize::no);
   EXPECT_EQ(j["residual_vibration"]["at_design"]["discrete"].get<double>(), sh::residual_vibration(discrete, *d.mode));
+  // The same from Eq. 2.19 written out here (Singer & Seering 1990): V = e^{−ζωn·t_N}·√(C² + S²)/ΣA,
+  // C = Σ A_i e^{ζωn·t_i} cos(ωd·t_i), S = Σ A_i e^{ζωn·t_i} sin(ωd·t_i) — at every band point.
+  for (const auto& point : j["residual_vibration"]["band"]["points"]) {
+    const double wn = point["ratio"].get<double>() * d.mode->natural_frequency_rad_s;
+    const double z = d.mode->damping_ratio;
+    const double wd = wn * std::sqrt(1.0 - z * z);
+    const double t_last = imp.back().time_s;
+    double c = 0.0, s_ = 0.0, sum = 0.0;
+    for (const sh::Impulse& p : imp) {
+      c += p.amplitude * std::exp(z * wn * (p.time_s - t_last)) * std::cos(wd * p.time_s);
+      s_ += p.amplitude * std::exp(z * wn * (p.time_s - t_last)) * std::sin(wd * p.time_s);
+      sum += p.amplitude;
+    }
+    EXPECT_NEAR(point["discrete"].get<double>(), std::hypot(c, s_) / sum, 1e-12) << point["ratio"];
+  }
   EXPECT_LT(j["residual_vibration"]["at_design"]["continuous"].get<double>(), 1e-12);
   EXPECT_GT(j["residual_vibration"]["at_design"]["discrete"].get<double>(), 1e-6);  // linear split: not zero
   ASSERT_EQ(j["residual_vibration"]["band"]["points"].size(), ex::kBandPoints);
