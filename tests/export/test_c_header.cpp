@@ -68,7 +68,7 @@ bool have(const std::string& tool) {
   return run("command -v " + tool, ignored) == 0;
 }
 
-// The driver: reads "u x15 x31" lines (the first line also resets every state), prints
+// The driver: reads a CSV with the header "u,x15,x31" (the first row also resets every state), prints
 // "y_double y_float y_q15 y_q31" with %a (exact) for the floating-point outputs.
 std::string driver(const std::string& p) {
   std::string c = R"(#include <stdio.h>
@@ -84,6 +84,7 @@ int main(int argc, char **argv)
 #endif
   char line[256];
   int first = 1;
+  int header = 1;
   FILE *in;
   FILE *out;
   if (argc != 3) return 2;
@@ -92,9 +93,16 @@ int main(int argc, char **argv)
   if (in == NULL || out == NULL) return 2;
   while (fgets(line, sizeof line, in) != NULL) {
     char *end;
-    double u = strtod(line, &end);
-    long x15 = strtol(end, &end, 10);
-    long x31 = strtol(end, &end, 10);
+    double u;
+    long x15;
+    long x31;
+    if (header) {
+      header = 0;
+      continue;
+    }
+    u = strtod(line, &end);
+    x15 = strtol(end + 1, &end, 10);
+    x31 = strtol(end + 1, &end, 10);
     if (first) {
       P_reset_double(&sd, u);
       P_reset_float(&sf, (float)u);
@@ -198,7 +206,10 @@ std::string avr_program(const std::vector<double>& u, const std::vector<double>&
                   "AVR_MCU(16000000, \"atmega2560\");\nAVR_MCU_SIMAVR_CONSOLE(&GPIOR0);\n";
   auto list = [&c](const char* decl, const std::vector<double>& v, auto format) {
     c += decl;
-    for (std::size_t i = 0; i < v.size(); ++i) c += (i ? "," : "") + format(v[i]);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (i > 0) c += ',';
+      c += format(v[i]);
+    }
     c += "};\n";
   };
   char buf[64];
@@ -290,18 +301,18 @@ void run_case(const Case& c) {
   std::vector<double> uf;   // the float driver's input, as the C++ reference sees it
   std::vector<double> x15;  // integer inputs (the NaN sample holds the previous value)
   std::vector<double> x31;
-  std::string input;
+  std::string input = "u,x15,x31\n";
   char buffer[128];
   for (std::size_t k = 0; k < u.size(); ++k) {
     const double held = std::isfinite(u[k]) ? u[k] : u[k - 1];
     uf.push_back(static_cast<double>(static_cast<float>(u[k])));
     x15.push_back(std::round(held * s15));
     x31.push_back(std::round(held * s31));
-    std::snprintf(buffer, sizeof buffer, "%.17g %.0f %.0f\n", u[k], x15.back(), x31.back());
+    std::snprintf(buffer, sizeof buffer, "%.17g,%.0f,%.0f\n", u[k], x15.back(), x31.back());
     input += buffer;
   }
-  write_file(dir / "in.txt", input);
-  ASSERT_EQ(run((dir / "driver").string() + " " + (dir / "in.txt").string() + " " + (dir / "out.txt").string(), log), 0)
+  write_file(dir / "in.csv", input);
+  ASSERT_EQ(run((dir / "driver").string() + " " + (dir / "in.csv").string() + " " + (dir / "out.txt").string(), log), 0)
       << log;
 
   const std::vector<double> ref_d = stream(taps, c.options.sample_time_s, u);
