@@ -220,7 +220,19 @@ static inline void cs_decoder_resync_(cs_decoder* d) {
   d->fill = (uint8_t)(d->fill - start);
 }
 
-/* Feeds one byte. Returns 1 when `frame` now holds a complete good frame, else 0. */
+/* Internal: after a good frame of `used` bytes, keep what follows it (from its first SYNC). */
+static inline void cs_decoder_keep_rest_(cs_decoder* d, uint8_t used) {
+  uint8_t i;
+  uint8_t start = used;
+  while (start < d->fill && d->buffer[start] != CS_WIRE_SYNC) ++start;
+  d->skipped_bytes += (uint32_t)(start - used);
+  for (i = start; i < d->fill; ++i) d->buffer[i - start] = d->buffer[i];
+  d->fill = (uint8_t)(start < d->fill ? (uint8_t)(d->fill - start) : 0u);
+}
+
+/* Feeds one byte. Returns 1 when `frame` now holds a complete good frame, else 0. A frame
+ * that was already complete in the buffer (possible only after a resync) is returned on the
+ * next push, before the new byte is considered. */
 static inline int cs_decoder_push(cs_decoder* d, uint8_t byte, cs_frame* frame) {
   uint8_t length;
   uint8_t i;
@@ -252,8 +264,11 @@ static inline int cs_decoder_push(cs_decoder* d, uint8_t byte, cs_frame* frame) 
     frame->seq = d->buffer[2];
     frame->length = length;
     for (i = 0; i < length; ++i) frame->payload[i] = d->buffer[CS_WIRE_HEADER_BYTES + i];
-    d->fill = 0;
     ++d->frames;
+    /* After a resync the buffer can hold bytes beyond this frame (the start of the next one,
+     * or all of it): keep them as the next candidate, from its SYNC on; a complete frame among
+     * them comes out on the next push. */
+    cs_decoder_keep_rest_(d, (uint8_t)total);
     return 1;
   }
 }
