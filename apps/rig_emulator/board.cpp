@@ -252,6 +252,7 @@ const std::string& Board::pty_path() const { return impl_->pty->slave_path(); }
 
 int Board::run(const volatile int& stop_requested) {
   Impl& m = *impl_;
+  m.pty->set_stop_flag(&stop_requested);
   m.wall_start = std::chrono::steady_clock::now();
   const auto end_cycle = static_cast<avr_cycle_count_t>(m.options.duration_s * kCpuHz);
   for (;;) {
@@ -267,7 +268,7 @@ int Board::run(const volatile int& stop_requested) {
     if (m.options.duration_s > 0.0 && m.avr->cycle >= end_cycle) break;
   }
   m.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.wall_start).count();
-  m.pty->service();
+  if (!stop_requested) m.pty->service();
   return 0;
 }
 

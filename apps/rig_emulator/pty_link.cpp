@@ -85,7 +85,7 @@ void PtyLink::flush_output(bool wait) {
       sent_ += static_cast<std::uint64_t>(written);
       continue;
     }
-    if (!wait || to_host_.size() <= kOutputLimit) return;
+    if (!wait || to_host_.size() <= kOutputLimit || (stop_ != nullptr && *stop_)) return;
     pollfd p{master_, POLLOUT, 0};
     poll(&p, 1, 50);
   }

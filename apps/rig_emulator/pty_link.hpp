@@ -34,6 +34,8 @@ class PtyLink {
   void service();
   /// A CONFIGURE frame the host sent since the last call: its mode byte, else -1.
   int take_configured_mode() noexcept;
+  /// A flag that ends the wait for a slow reader (SIGINT/SIGTERM).
+  void set_stop_flag(const volatile int* stop) noexcept { stop_ = stop; }
 
   std::uint64_t bytes_to_host() const noexcept { return sent_; }
   std::uint64_t bytes_from_host() const noexcept { return received_; }
@@ -48,6 +50,7 @@ class PtyLink {
 
   avr_t* avr_;
   DamageOptions damage_;
+  const volatile int* stop_ = nullptr;
   int master_ = -1;
   int slave_ = -1;  // kept open: the line settings stay raw and reads never see EIO
   std::string slave_path_;
