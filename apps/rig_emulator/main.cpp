@@ -7,12 +7,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
 #include "board.hpp"
 #include "clearshape/core/error.hpp"
+#include "clearshape/rig/builtin_truths.hpp"
 #include "clearshape/rig/truth.hpp"
 #include "option_checks.hpp"
 
@@ -55,8 +57,12 @@ int main(int argc, char** argv) {
   double plant_step_us = 100.0;
   app.add_option("--elf", board.elf_path, "firmware ELF to run (default: the build's)");
   app.add_option("--link", link, "also make a symlink PATH to the pty (removed at exit)");
-  app.add_option("--rig", rig, "plant truth: thesis (calibrated, default) or prior (uncalibrated)")
-      ->check(CLI::IsMember({"thesis", "prior"}));
+  std::vector<std::string> rig_names(rig::kBuiltinTruthNames.begin(), rig::kBuiltinTruthNames.end());
+  rig_names.emplace_back("prior");
+  app.add_option("--rig", rig,
+                 "plant truth: a built-in truth (thesis: the calibrated thesis rig, default; "
+                 "large-play) or prior (the uncalibrated thesis prior)")
+      ->check(CLI::IsMember(rig_names));
   app.add_option("--seed", plant.seed, "seed of the gyroscope noise");
   app.add_flag("--no-noise", no_noise, "no gyroscope noise");
   app.add_option("--initial-play", plant.initial_play_fraction,
@@ -87,7 +93,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "clearshape-rig-emulator: --elf: no firmware given and none was built\n");
     return 2;
   }
-  rig::RigTruth truth = rig == "prior" ? rig::uncalibrated_thesis_rig_prior() : rig::thesis_rig_truth();
+  const rig::RigTruth truth =
+      rig == "prior" ? rig::uncalibrated_thesis_rig_prior() : rig::builtin_truth(rig, "--rig");
   plant.noise = !no_noise;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
