@@ -129,6 +129,12 @@ std::vector<Impulse> parse_impulses(std::string_view text) {
     }
     const double time_s = parse_number(item.substr(0, colon), "time", entry, item);
     const double amplitude = parse_number(item.substr(colon + 1), "amplitude", entry, item);
+    // An impulse of amplitude 0 is no impulse: it would only move t_N, the time at which Eq. 2.19
+    // measures the residual, and let the decay e^{−ζω(t_N−tᵢ)} fake a small V.
+    if (amplitude == 0.0) {
+      throw InvalidArgument(fmt::format("impulses: entry {} ('{}') has amplitude 0; every impulse needs a "
+                                        "non-zero amplitude", entry, trim(item)));
+    }
     impulses.push_back({time_s, amplitude});
     if (comma == std::string_view::npos) break;
     rest.remove_prefix(comma + 1);

@@ -81,19 +81,44 @@ struct Evaluator {
   double operator()(double ratio) const {
     return std::abs(detail::residual_phasor(amplitudes, times, ratio * design_rad_s, damping)) / sum;
   }
+  // E(r) = Σ|Aᵢ| e^{−ζ r ω (t_N − tᵢ)} / |ΣA| >= V(r) (triangle inequality on Eq. 2.19), and E
+  // never increases with r: where E <= vtol, so is V at that ratio and at every larger one.
+  double envelope(double ratio) const {
+    const double sigma = damping * ratio * design_rad_s;
+    double e = 0.0;
+    for (std::size_t i = 0; i < amplitudes.size(); ++i) {
+      e += std::abs(amplitudes[i]) * std::exp(-sigma * (times.back() - times[i]));
+    }
+    return e / sum;
+  }
 };
 
 // Walks from r = 1 in steps of `step` (sign gives the side) until V exceeds `limit` (or the
 // ratio leaves (0, r_max]); returns the last crossing of `vtol` before that, refined by bisection.
+// The envelope E >= V (Evaluator::envelope) skips the stretch where E <= vtol, which no crossing
+// can lie in: upward the band is then open (r_max); downward the walk starts where E meets vtol.
+// Without it a long shaper with a small last impulse (damped mode) took ~10⁹ steps.
 double band_edge(const Evaluator& v, double vtol, double limit, double step, double r_max) {
-  double last_ok = 1.0;         // last sample with V <= vtol
-  bool have_ok = v(1.0) <= vtol;
-  double after_ok = 1.0;        // the sample following last_ok
+  double origin = 1.0;
+  if (v.envelope(1.0) <= vtol) {
+    if (step > 0.0) return r_max;
+    double low = 0.0;  // E(0) = Σ|A|/|ΣA| >= 1 > vtol
+    double high = 1.0;
+    for (int i = 0; i < 200 && high - low > 1e-15; ++i) {
+      const double mid = 0.5 * (low + high);
+      if (v.envelope(mid) <= vtol) high = mid; else low = mid;
+    }
+    origin = high;
+  }
+  double last_ok = origin;      // last sample with V <= vtol
+  bool have_ok = v(origin) <= vtol;
+  double after_ok = origin;     // the sample following last_ok
   bool after_set = false;
   for (long k = 1;; ++k) {
-    const double r = 1.0 + static_cast<double>(k) * step;
+    const double r = origin + static_cast<double>(k) * step;
     if (r <= 0.0) break;            // V(0) = 1 > vtol: the lower edge lies before 0
     if (r > r_max) return r_max;    // the band is open above (documented cap)
+    if (step > 0.0 && k % 256 == 0 && v.envelope(r) <= vtol) return r_max;
     const double value = v(r);
     if (value <= vtol) {
       last_ok = r;
@@ -170,6 +195,13 @@ InsensitivityBand insensitivity(const Shaper& shaper, const Mode& design, double
   // V varies on a ratio scale of about 1/(duration in design periods): sample finer for long
   // shapers so no crossing is stepped over.
   const double periods = shaper.duration_s() * design.natural_frequency_rad_s / (2.0 * std::numbers::pi);
+  // Beyond 10⁴ periods the step (≤ 1e-7) makes the walk ~10⁸ samples, and near 10⁵³ periods it
+  // falls below the spacing of doubles near r = 1 (the walk then never moves).
+  constexpr double kMaxPeriods = 1e4;
+  if (!(periods <= kMaxPeriods)) {
+    throw_invalid("insensitivity: shaper duration in design periods", periods, "<= 10000",
+                  "the band of a shaper lasting that many periods of its mode is not resolved");
+  }
   const double step = 1e-3 / std::max(1.0, periods);
   constexpr double kRatioMax = 10.0;
   InsensitivityBand band;

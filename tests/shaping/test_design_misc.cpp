@@ -45,6 +45,20 @@ TEST(DesignMisc, ParseImpulses) {
   }
 }
 
+TEST(DesignMisc, ParseImpulsesRefusesAZeroAmplitude) {
+  // Found by fuzz_impulses: "0:2,5:0,52:0,250:0" was one unit impulse that claimed V = 0 (the
+  // zero impulses moved t_N to 250 s, where the mode had decayed) and a 10-s insensitivity walk.
+  for (const char* bad : {"0:2,5:0,52:0,250:0", "0:0", "0:1, 0.1:-0"}) {
+    try {
+      cs::parse_impulses(bad);
+      ADD_FAILURE() << bad;
+    } catch (const clearshape::InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find("amplitude 0"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(cs::parse_impulses("0:1,0.1:-1e-300").size(), 2u);  // tiny but not zero
+}
+
 TEST(DesignMisc, CustomThroughDispatcher) {
   cs::DesignRequest req;
   req.method = cs::Method::custom;

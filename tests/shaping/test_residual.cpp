@@ -1,6 +1,8 @@
 // Residual vibration V(ω, ζ) (Eq. 2.19), sensitivity curves and insensitivity bands against
 // closed forms and the reference note's tables ((c1), (c3), (c4)).
+#include <chrono>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -230,4 +232,52 @@ TEST(Residual, SensitivityCurveGridAndValidation) {
   EXPECT_THROW(cs::insensitivity(s, cs::Mode::from_hz(10.0, 1.5), 0.05), clearshape::InvalidArgument);
   // V(1) above vtol: width 0.
   EXPECT_EQ(cs::insensitivity(cs::design_zv(k10Hz1), cs::Mode::from_hz(13.0, 0.1), 0.05).width(), 0.0);
+}
+
+// A long shaper whose last impulse is small: V stays below vtol from r = 1 up (the band is open
+// above, capped at 10) and the lower edge lies where the first impulse's decayed term grows back
+// above vtol. Reference: V of two impulses in closed form, |a0 e^{−σT} + a1 e^{iω_d T}|/(a0 + a1)
+// (σ = ζrωn, ω_d = rωn√(1−ζ²); Eq. 2.19), scanned down from r = 1 and bisected. Found by
+// fuzz_impulses: the walk took a sample per 10⁻³/(duration in periods) to r = 10 (minutes for
+// long shapers); it now skips where the envelope bound is below vtol.
+TEST(Residual, LongShaperWithASmallLastImpulseHasItsBandQuickly) {
+  const cs::Mode design = cs::Mode::from_hz(10.0, 0.05);
+  for (const double t_last : {30.0, 900.0}) {
+    const double a0 = 1.0;
+    const double a1 = 0.01;
+    const cs::Shaper s("long", {{0.0, a0}, {t_last, a1}}, cs::Shaper::Normalize::no);
+    const auto v = [&](double r) {
+      const double wn = r * design.natural_frequency_rad_s;
+      const double z = design.damping_ratio;
+      const std::complex<double> sum = a0 * std::exp(-z * wn * t_last) +
+                                       a1 * std::polar(1.0, wn * std::sqrt(1 - z * z) * t_last);
+      return std::abs(sum) / (a0 + a1);
+    };
+    const double vtol = 0.05;
+    // Independent lower edge: scan down with a step far below the ratio period 1/(periods).
+    const double periods = t_last * design.natural_frequency_hz();
+    const double scan = 0.05 / periods;
+    double inside = 1.0;
+    while (v(inside - scan) <= vtol) inside -= scan;
+    double outside = inside - scan;
+    for (int i = 0; i < 200; ++i) {
+      const double mid = 0.5 * (inside + outside);
+      (v(mid) <= vtol ? inside : outside) = mid;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const cs::InsensitivityBand band = cs::insensitivity(s, design, vtol);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(band.ratio_high, 10.0) << t_last;
+    EXPECT_NEAR(band.ratio_low, inside, 1e-9 * inside) << t_last;
+    EXPECT_LT(seconds, 1.0) << t_last;  // was ~10⁸ samples up to r = 10 at 900 s
+  }
+  // Found by fuzz_impulses: at 7e52 s the step fell below the spacing of doubles and the walk
+  // never ended; beyond 10⁴ design periods the band is refused by name.
+  const cs::Shaper absurd("long", {{0.0, 4.0}, {7e52, 1e-4}}, cs::Shaper::Normalize::no);
+  try {
+    (void)cs::insensitivity(absurd, design, 0.05);
+    ADD_FAILURE();
+  } catch (const clearshape::InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("design periods"), std::string::npos) << e.what();
+  }
 }

@@ -70,7 +70,7 @@ Shaper design_um_zv(const Mode& mode);
 Shaper convolve(const Shaper& a, const Shaper& b, double tolerance_s = 1e-9);
 
 /// Parses a custom impulse list "t1:a1,t2:a2,…" (times in seconds; spaces allowed). Throws
-/// InvalidArgument naming the offending entry.
+/// InvalidArgument naming the offending entry (not a number, not finite, amplitude 0).
 std::vector<Impulse> parse_impulses(std::string_view text);
 
 /// Dispatcher used by the CLI. `vtol` applies to ei/ei2/ei3/si; `si` needs the band.

@@ -39,7 +39,10 @@ struct InsensitivityBand {
 /// where V first exceeds vtol·(1 + hump_tolerance), and its edge is the last crossing of vtol
 /// before that. The ratios are sampled from r = 1 outward (step 1e-3 / max(1, duration in
 /// design periods)) and the edge refined by bisection to 1e-14. For a damped mode whose V
-/// stays below vtol at high ratios (a small last impulse) ratio_high is capped at 10.
+/// stays below vtol at high ratios (a small last impulse) ratio_high is capped at 10. The walk
+/// skips ratios where the envelope Σ|Aᵢ|e^{−ζrω(t_N−tᵢ)}/|ΣA| (an upper bound of V) is below
+/// vtol, so its cost does not grow with the shaper's duration there. Throws InvalidArgument for
+/// a shaper lasting more than 10⁴ periods of the design mode (the sampling cannot resolve it).
 InsensitivityBand insensitivity(const Shaper& shaper, const Mode& design, double vtol,
                                 double hump_tolerance = 0.0);
 
