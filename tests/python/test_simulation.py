@@ -91,3 +91,16 @@ def test_truth_fields_round_trip():
     assert (c["stiffness"], c["damping"]) == (100.0, 2.0)
     with pytest.raises(ValueError):
         t.set_contact("speed", stiffness=-1.0)
+
+
+def test_large_play_truth_is_the_clis(cli, tmp_path):
+    assert {"thesis", "large-play", "uncalibrated"} <= set(clearshape.truth_names())
+    out = tmp_path / "lp.csv"
+    cli("simulate", "--rig", "large-play", "--signal", "step", "--amplitude", 10, "--duration", 1.0, "-o", out)
+    ref = read_csv(out)
+    _, deg = clearshape.signal("step", amplitude=10, duration_s=1.0)
+    r = clearshape.simulate(deg_to_rad(deg), 1e-3, "position", clearshape.truth("large-play"), duration_s=1.0)
+    np.testing.assert_array_equal(rad_to_deg(r["link_angle_rad"]), ref["link_deg"])
+    np.testing.assert_array_equal(r["contact_torque_n_m"], ref["contact_torque_n_m"])
+    with pytest.raises(ValueError, match="large-play"):
+        clearshape.truth("huge-play")

@@ -20,6 +20,7 @@ seed = 7
 samples = 2
 duration_s = 1.2
 batch = 3
+plot = ["frequency_error", "contact_damping"]
 
 [fixed]
 mode = "position"
@@ -39,7 +40,8 @@ contact_damping = [0.05, 0.3]
 
 
 def files(out):
-    return {n: open(os.path.join(out, n), "rb").read() for n in ("results.h5", "results.csv", "results.json")}
+    names = ("results.h5", "results.csv", "results.json", "improvement_map.png")
+    return {n: open(os.path.join(out, n), "rb").read() for n in names}
 
 
 @pytest.fixture(scope="module")
@@ -92,6 +94,20 @@ def test_local_results_and_metrics(local, sweep_file):
     assert doc["points"][5]["md_unshaped"] == md
 
 
+def test_improvement_map(local):
+    from clearshape.sweep_plot import improvement_map
+
+    out, _ = local
+    doc = json.load(open(os.path.join(out, "results.json")))
+    xl, yl, mean, count = improvement_map(doc["points"], "frequency_error", "contact_damping", bins=2)
+    assert xl == [0.0, 0.2] and len(yl) == 2 and count.sum() == 16
+    pts = doc["points"]
+    lo = [p["improvement_percent"] for p in pts if p["frequency_error"] == 0.0]
+    assert np.nansum(mean[:, 0] * count[:, 0]) / count[:, 0].sum() == pytest.approx(np.mean(lo), rel=1e-12)
+    png = open(os.path.join(out, "improvement_map.png"), "rb").read()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_resume_gives_the_same_bytes(local, sweep_file, tmp_path):
     out, _ = local
     resumed = str(tmp_path / "resumed")
@@ -100,7 +116,7 @@ def test_resume_gives_the_same_bytes(local, sweep_file, tmp_path):
     batches = sorted(os.listdir(state))
     for name in batches[::2]:  # as if killed half-way
         os.unlink(os.path.join(state, name))
-    for name in ("results.h5", "results.csv", "results.json"):
+    for name in ("results.h5", "results.csv", "results.json", "improvement_map.png"):
         os.unlink(os.path.join(resumed, name))
     s = run_sweep(sweep_file, resumed, workers=1, quiet=True)
     assert s["ran"] == sum(3 if i < 5 else 1 for i in range(0, 6, 2))
@@ -134,7 +150,8 @@ def test_cli_sweep_matches_and_validates(local, sweep_file, tmp_path):
 
 
 def test_failed_points_are_kept_with_their_reason(tmp_path):
-    text = SWEEP.replace("zeta = 0.05", "zeta = 0.4").replace("samples = 2", "samples = 1")
+    text = SWEEP.replace("zeta = 0.05", "zeta = 0.4").replace("samples = 2", "samples = 1").replace(
+        'plot = ["frequency_error", "contact_damping"]', 'plot = ["clearance_deg", "frequency_error"]')
     s = run_sweep(Sweep(text, "inline.toml"), str(tmp_path), workers=1, quiet=True)
     assert s["points"] == 8 and s["failed"] == 4  # EI3 does not exist at ζ = 0.4
     assert all("ValueError" in why and "ei3" in why.lower() for _, why in s["failures"])
@@ -147,5 +164,7 @@ def test_bad_sweep_files():
         Sweep(SWEEP.replace('["zv", "ei3"]', '["zq"]'), "x.toml")
     with pytest.raises(SweepError, match="design_frequency_hz"):
         Sweep(SWEEP.replace("design_frequency_hz = 6.5", ""), "x.toml")
+    with pytest.raises(SweepError, match="does not vary"):
+        Sweep(SWEEP.replace('"contact_damping"]', '"zeta"]'), "x.toml")
     with pytest.raises(SweepError, match="also in"):
         Sweep(SWEEP.replace("zeta = 0.05", "zeta = 0.05\nclearance_deg = 1"), "x.toml")

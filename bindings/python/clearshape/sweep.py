@@ -125,6 +125,15 @@ def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, 
     header = {"schema_version": 1, "clearshape_version": _core.__version__, "sweep_digest": digest,
               "settings": settings, "axes": sweep.axes()}
     store.write_json(os.path.join(out, "results.json"), rows, header)
+    if settings["plot"]:
+        from .sweep_plot import plot_png
+
+        x, y = settings["plot"]
+        try:
+            png = plot_png(rows, x, y, f"mean improvement over {x} × {y} ({len(points)} points)")
+            store.write_atomic(os.path.join(out, "improvement_map.png"), png)
+        except ValueError as e:  # no successful point: the table is still written
+            print(f"clearshape sweep: no improvement map: {e}", file=sys.stderr)
     failed = [r for r in rows if r["status"] != "ok"]
     return {"points": len(points), "ran": progress.fresh,
             "failed": len(failed), "failures": [(r["index"], r["status"]) for r in failed],

@@ -40,6 +40,7 @@ SETTINGS = {  # [sweep] table
     "duration_s": ("number", 3.0, (0.1, 100.0), "simulated time per run (s)"),
     "rate_hz": ("number", 1000.0, (10.0, 1e5), "sample rate of the command and the output (Hz)"),
     "batch": ("integer", 8, (1, 10**6), "points per task"),
+    "plot": ("axes", [], None, "two varying parameters: DIR/improvement_map.png over them"),
 }
 
 
@@ -86,6 +87,11 @@ class Sweep:
             if key not in SETTINGS:
                 raise SweepError(f"{path}: sweep.{key} is not known; allowed: {', '.join(SETTINGS)}")
             kind, _, allowed, _ = SETTINGS[key]
+            if kind == "axes":
+                if not (isinstance(value, list) and len(value) == 2 and all(isinstance(v, str) for v in value)):
+                    raise SweepError(f"{path}: sweep.{key} must be two parameter names, e.g. [\"clearance_deg\", \"frequency_error\"]")
+                self.settings[key] = list(value)
+                continue
             self.settings[key] = _check(path, f"sweep.{key}", kind, allowed, value)
         self.fixed, self.grid, self.random = {}, {}, {}
         seen = {}
@@ -113,6 +119,10 @@ class Sweep:
         if "design_frequency_hz" not in seen:
             raise SweepError(f"{path}: design_frequency_hz (the mode the shaper is designed for, Hz) is required "
                              "in [fixed], [grid] or [random]")
+        for axis in self.settings["plot"]:
+            if axis not in self.grid and axis not in self.random:
+                raise SweepError(f"{path}: sweep.plot names {axis!r}, which does not vary; "
+                                 f"allowed: {', '.join(self.axes()) or 'no parameter varies'}")
         if self.random and self.settings["samples"] == 0:
             raise SweepError(f"{path}: [random] needs sweep.samples >= 1 (draws per grid point)")
 
@@ -129,7 +139,8 @@ class Sweep:
 
     def digest(self):
         """SHA-256 of what decides the results (the settings and parameters, not the file's layout)."""
-        key = {"settings": self.settings, "fixed": self.fixed, "grid": self.grid,
+        settings = {k: v for k, v in self.settings.items() if k != "plot"}  # a plot changes no result
+        key = {"settings": settings, "fixed": self.fixed, "grid": self.grid,
                "random": {k: list(v) for k, v in self.random.items()}}
         return hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
 

@@ -74,7 +74,7 @@ def remove_own_files(out):
             if name.startswith(("batch-", ".tmp-")):
                 os.unlink(os.path.join(folder, name))
         os.rmdir(folder)
-    for name in ("results.h5", "results.csv", "results.json"):
+    for name in ("results.h5", "results.csv", "results.json", "improvement_map.png"):
         if os.path.exists(os.path.join(out, name)):
             os.unlink(os.path.join(out, name))
 

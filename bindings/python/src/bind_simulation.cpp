@@ -9,6 +9,7 @@
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
+#include "clearshape/rig/builtin_truths.hpp"
 #include "clearshape/rig/offline.hpp"
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/rig/truth.hpp"
@@ -154,13 +155,18 @@ void bind_simulation(py::module_& m) {
         t.variation = v;
       }, "Run-to-run variation σs (dict; rig/variation.hpp). simulate() runs the nominal rig; simulate_rig() draws them.");
 
-  m.def("truth_names", [] { return std::vector<std::string>{"thesis", "uncalibrated"}; },
-        "Names of the built-in truths truth(name) knows.");
+  m.def("truth_names", [] {
+    std::vector<std::string> names;
+    for (auto n : rg::kBuiltinTruthNames) names.emplace_back(n);
+    names.emplace_back("uncalibrated");
+    return names;
+  }, "Names of the truths truth(name) knows: the built-in ones (thesis, large-play, …) and uncalibrated.");
   m.def("truth", [](const std::string& name) {
-    if (name == "thesis") return rg::thesis_rig_truth();
     if (name == "uncalibrated") return rg::uncalibrated_thesis_rig_prior();
-    throw InvalidArgument("truth '" + name + "' is not known; allowed: thesis, uncalibrated");
-  }, py::arg("name"), "A built-in truth by name: thesis (calibrated), uncalibrated (the physical prior).");
+    return rg::builtin_truth(name, "truth");
+  }, py::arg("name"),
+        "A truth by name: thesis (the calibrated thesis rig), large-play (1° steel-pin joint; docs/large-play.md), "
+        "uncalibrated (the physical prior of the calibration).");
   m.def("thesis_truth", &rg::thesis_rig_truth, "The built-in truth: the calibrated thesis rig (2β = 0.032°).");
   m.def("uncalibrated_truth", &rg::uncalibrated_thesis_rig_prior,
         "The physical prior the calibration starts from (2β = 1.0°).");
