@@ -134,6 +134,43 @@ def test_dask_local_cluster_is_byte_identical(local, sweep_file, tmp_path):
     assert files(str(tmp_path / "dask")) == files(out)
 
 
+def test_dask_retries_failed_tasks_and_never_loses_points(local, sweep_file, tmp_path):
+    """A task that fails is retried; one that keeps failing is reported and left for the rerun."""
+    from distributed import Client, LocalCluster
+
+    from clearshape.sweep_run import run_batch
+
+    out, _ = local
+    marks = str(tmp_path / "marks")
+    os.makedirs(marks)
+
+    def flaky(points, settings, fail_times=1):  # fails the first `fail_times` tries of each batch
+        mark = os.path.join(marks, f"batch-{points[0]['index']}")
+        tries = sum(n.startswith(os.path.basename(mark) + ".") for n in os.listdir(marks))
+        if tries < fail_times:
+            open(f"{mark}.{tries}", "w").close()
+            raise OSError(f"worker lost (simulated), try {tries}")
+        return run_batch(points, settings)
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        s = run_sweep(sweep_file, str(tmp_path / "retried"), scheduler=client, retries=1, quiet=True,
+                      batch_function=flaky)
+        assert s["failed"] == 0
+        assert files(str(tmp_path / "retried")) == files(out)
+        assert len(os.listdir(marks)) == 6  # every one of the 6 tasks failed once and was retried
+        for name in os.listdir(marks):
+            os.unlink(os.path.join(marks, name))
+        always = lambda points, settings: flaky(points, settings, fail_times=10 if points[0]["index"] == 3 else 0)  # noqa: E731
+        with pytest.raises(RuntimeError, match="1 task\\(s\\) failed after their retries.*rerun"):
+            run_sweep(sweep_file, str(tmp_path / "lost"), scheduler=client, retries=2, quiet=True,
+                      batch_function=always)
+    assert len(os.listdir(tmp_path / "lost" / ".sweep")) == 5  # the other five batches are kept
+    s = run_sweep(sweep_file, str(tmp_path / "lost"), workers=1, quiet=True)  # the rerun does the rest
+    assert s["ran"] == 3
+    assert files(str(tmp_path / "lost")) == files(out)
+
+
 def test_cli_sweep_matches_and_validates(local, sweep_file, tmp_path):
     out, _ = local
     cli = os.environ["CLEARSHAPE_CLI"]

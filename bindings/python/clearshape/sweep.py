@@ -45,13 +45,13 @@ def _batches(points, size):
     return [points[i:i + size] for i in range(0, len(points), size)]
 
 
-def _run_local(todo, settings, workers, on_done):
+def _run_local(todo, settings, workers, on_done, fn):
     if workers == 1:
         for bid, batch in todo:
-            on_done(bid, run_batch(batch, settings))
+            on_done(bid, fn(batch, settings))
         return []
     with concurrent.futures.ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(run_batch, batch, settings): bid for bid, batch in todo}
+        futures = {pool.submit(fn, batch, settings): bid for bid, batch in todo}
         lost = []
         for f in concurrent.futures.as_completed(futures):
             try:
@@ -61,12 +61,12 @@ def _run_local(todo, settings, workers, on_done):
         return lost
 
 
-def _run_dask(todo, settings, scheduler, retries, digest, on_done):
+def _run_dask(todo, settings, scheduler, retries, digest, on_done, fn):
     from distributed import Client, as_completed
 
     client = scheduler if isinstance(scheduler, Client) else Client(scheduler, set_as_default=False)
     try:
-        futures = {client.submit(run_batch, batch, settings, retries=retries, pure=False,
+        futures = {client.submit(fn, batch, settings, retries=retries, pure=False,
                                  key=f"clearshape-sweep-{digest[:12]}-{bid}"): bid for bid, batch in todo}
         lost = []
         for f in as_completed(futures):
@@ -80,12 +80,16 @@ def _run_dask(todo, settings, scheduler, retries, digest, on_done):
             client.close()
 
 
-def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, quiet=False):
+def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, quiet=False,
+              batch_function=run_batch):
     """Runs (or resumes) a sweep into folder `out`; returns a summary dict.
 
     sweep: a path to SWEEP.toml or a Sweep. scheduler: None (this machine, `workers` processes,
     default every core), a Dask scheduler address 'tcp://HOST:8786' or a distributed.Client.
-    Raises SweepError (a ValueError) for a bad sweep file and RuntimeError when tasks were lost.
+    batch_function(points, settings) evaluates one task (default sweep_run.run_batch; the tests
+    pass one that fails to exercise the retries). Raises SweepError (a ValueError) for a bad
+    sweep file and RuntimeError when tasks still failed after their retries (their points are
+    kept for the next run).
     """
     if not isinstance(sweep, Sweep):
         sweep = Sweep.load(sweep)
@@ -108,9 +112,9 @@ def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, 
         progress.add(results)
 
     if scheduler is None:
-        lost = _run_local(todo, settings, workers or os.cpu_count() or 1, on_done)
+        lost = _run_local(todo, settings, workers or os.cpu_count() or 1, on_done, batch_function)
     else:
-        lost = _run_dask(todo, settings, scheduler, retries, digest, on_done)
+        lost = _run_dask(todo, settings, scheduler, retries, digest, on_done, batch_function)
     wall_s = time.monotonic() - t0
     if lost:
         first = lost[0]
