@@ -215,6 +215,7 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
     covariance = detail::covariance_at(kept, {}, y, free);
   }
   ModeIdentification out = finish(kept, covariance, {}, y, response.sample_time_s, options);
+  out.fitted.start_s = response.start_s;  // on the record's grid: a window keeps its own start time
   out.decimation = q;
   out.method = method;
   return out;

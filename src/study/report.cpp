@@ -40,7 +40,7 @@ json ambiguities(const Protocol& p, std::string_view rig_kind) {
       "'coincide' is read as agreement within a small share of the move, the order of a settling tolerance.");
   add("which-mode", "Which mode are the shapers designed for?",
       "Both, side by side: the drive model's ωn = 1/Tw, ζ = Zeta (the thesis's choice, §3.3) and the "
-      "link's residual mode identified from the gyro's free response (DESIGN.md §2). The tables name "
+      "link's residual mode identified from the gyro's free response (docs/design.md §2). The tables name "
       "the source of every shaped column.",
       "The position-mode drive model has ζ = 0.9968: its ZV-family shapers collapse to one impulse and "
       "cannot give the published improvement; the vibration that matters is the link's.");
@@ -59,7 +59,7 @@ json ambiguities(const Protocol& p, std::string_view rig_kind) {
   add("contact-units", "In which units are the contact parameters?",
       "Torsional play: K in N·m/rad^n, D in N·m·s/rad, δ in rad; the model's link inertia is fixed "
       "(only K/J and D/J are identifiable from the gyro).",
-      "The thesis gives K and D without units (DESIGN.md §2).");
+      "The thesis gives K and D without units (docs/design.md §2).");
   add("gyro-filter", "Which digital low-pass did the thesis's gyroscope use?",
       "The clearance fit compares the model's link rate through each ITG-3205 DLPF setting (none, "
       "256 … 5 Hz, first order) with the mean gyro record and keeps the setting that fits best "
@@ -82,13 +82,20 @@ json ambiguities(const Protocol& p, std::string_view rig_kind) {
         "are for scale only; the study never reads the truth, and the shaped results are predictions.",
         "The thesis's rig plays 0.03 deg at its calibration (truth.hpp); this rig asks what its method "
         "does where the play dominates (issue 12).");
+  } else if (rig_kind == "simulated-config") {
+    add("rig-truth", "What is the simulated rig?",
+        "rig::SimRig with the truth of the rig configuration given to --rig-config (results.json "
+        "rig.description names the file and its hash). That truth is not calibrated to the thesis: the "
+        "thesis's numbers beside ours are for scale only and are not scored; the study never reads the "
+        "truth, and the shaped results are predictions.",
+        "A what-if rig: its play, contact and inertia are the configuration's, not the thesis's rig's.");
   } else if (rig_kind.rfind("simulated", 0) == 0) {
     add("rig-truth", "What is the simulated rig?",
         "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
-        "unshaped responses reproduce the thesis's 'without is' means, the spread of its trials and "
+        "unshaped responses reproduce the thesis's unshaped ('without IS') means, the spread of its trials and "
         "the repeatability of Tables 4.1–4.2 (seeded run-to-run variation, rig/variation.hpp); "
         "the study never reads that truth, and the shaped results are predictions.",
-        "DESIGN.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
+        "docs/design.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
   } else {
     add("rig-truth", "What rig gave the runs?",
         rig_kind == "physical"

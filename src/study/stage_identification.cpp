@@ -1,5 +1,5 @@
 // Stages 1–3: repeatability (Eq. 4.1, Tables 4.1/4.2), drive identification (Eq. 4.2, §4.2)
-// with cross-validation, and the link's residual mode (DESIGN.md §2).
+// with cross-validation, and the link's residual mode (docs/design.md §2).
 #include <algorithm>
 #include <cmath>
 
@@ -279,7 +279,7 @@ void stage_identification(Context& c) {
   } else if (wn && zeta) {
     c.drive_mode = {false, shaping::Mode{*wn, *zeta},
                     fmt::format("ζ = {:.4f} ≥ 1: the drive model has no oscillatory mode; a shaper designed "
-                                "from it is the identity (DESIGN.md §2)", *zeta)};
+                                "from it is the identity (docs/design.md §2)", *zeta)};
   } else {
     c.drive_mode = {false, {}, "the model structure has no underdamped pair (U)"};
   }
@@ -398,7 +398,7 @@ void stage_link_mode(Context& c) {
   c.sections["link_mode"] = section;
   c.log(fmt::format("link-mode: {:.3f} Hz, ζ = {:.4f} (median of {} runs)", w / 6.283185307179586, z, wn.size()));
 
-  json table = make_table("link-mode", "parameters", "The link's residual mode, identified from the gyro (clearshape; DESIGN.md §2)", "");
+  json table = make_table("link-mode", "parameters", "The link's residual mode, identified from the gyro (clearshape; docs/design.md §2)", "");
   table["row_labels"] = {"natural frequency (Hz)", "damping ratio", "runs used"};
   table["columns"] = {{{"key", "link-mode"}, {"label", "link mode (gyro)"},
                        {"ours", {w / 6.283185307179586, z, static_cast<double>(wn.size())}},

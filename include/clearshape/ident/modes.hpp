@@ -1,5 +1,5 @@
 #pragma once
-// Residual-mode identification (DESIGN.md §2 "Which mode to shape"): the dominant lightly damped
+// Residual-mode identification (docs/design.md §2 "Which mode to shape"): the dominant lightly damped
 // modes of a link-sensor record — frequency, damping ratio, amplitude, each with its 1σ — for
 // shaper design (shaping::Mode{ωn, ζ}).
 //  * Free response (e.g. gyro rate after a move): ERA/Ho–Kalman on the (differenced, block-
@@ -49,7 +49,7 @@ struct ModeIdentification {
   double sample_time_s = 1.0;
   double fit_percent = 0.0;         ///< NRMSE fit of the fitted model to the record
   double rmse = 0.0;
-  UniformSeries fitted;             ///< the model's output on the record's grid
+  UniformSeries fitted;             ///< the model's output on the record's grid (same start_s)
   std::size_t decimation = 1;       ///< block-averaging factor used for the subspace step
   std::string method;               ///< "era+ls", "era", "n4sid+oe", "n4sid"
 };
