@@ -14,6 +14,7 @@ data-figures-loaded (images with naturalWidth > 0) and data-figures-failed on <b
 from __future__ import annotations
 
 import base64
+import dataclasses
 import html
 import json
 import math
@@ -23,6 +24,9 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import jinja2  # noqa: E402
+from markupsafe import Markup  # noqa: E402
 
 from clearshape_plot import tables as tbl  # noqa: E402
 from clearshape_plot.data import StudyDataError, read_json  # noqa: E402
@@ -37,7 +41,7 @@ SECTIONS = [
     ("identification", "Identification",
      "Thesis §4.2: the process model of Eq. 4.2 fitted per input to the encoder record and cross-validated, "
      "ωn = 1/Tw and ζ of the selected model (Figures 4.16–4.17); and, beyond the thesis, the link's residual "
-     "mode identified from the gyroscope (DESIGN.md §2)."),
+     "mode identified from the gyroscope (docs/design.md §2)."),
     ("clearance", "Clearance model",
      "Thesis §4.2, end: the contact law of Eq. 4.3 added to the identified drive and calibrated until the "
      "simulated link rate matches the gyro record; agreement by Eq. 4.1 (Figures 4.19–4.20)."),
@@ -53,6 +57,20 @@ SECTIONS = [
 ]
 SECTION_IDS = [s[0] for s in SECTIONS]
 SECTION_TITLES = {s[0]: s[1] for s in SECTIONS}
+
+# The page is rendered from python/templates (Debian's python3-jinja2): report.html.j2 is the page,
+# parts.html.j2 its pieces (figures, facts, compared numbers, shapers, ambiguities), report.css and
+# report.js are inlined. Autoescaping is on; what this module builds itself is passed as Markup.
+TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
+TEMPLATES = jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)), autoescape=True,
+                               undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True,
+                               keep_trailing_newline=True)
+
+
+def parts():
+    """The macros of parts.html.j2."""
+    return TEMPLATES.get_template("parts.html.j2").module
+
 
 # PNGs are drawn at 150 dpi; shown at 0.75 × their pixel size the 9.5 pt figure text is about the
 # size of the page's body text.
@@ -197,6 +215,12 @@ def section_of_table(t: tbl.Table) -> str:
 # Context and the reasons for differences
 
 
+# Rig kinds (results.json "rig.kind") whose numbers are not scored against the thesis's.
+NOT_SCORED_KINDS = {"simulated-config": "a simulated rig whose truth comes from a rig configuration file",
+                    "simulated-large-play": "the simulated large-play rig (1° play), not fitted to any measurement"}
+NOT_SCORED_CRITERION = "not scored: this rig is not the thesis's, so its number is shown for scale only"
+
+
 class Context:
     def __init__(self, results: dict):
         self.results = results
@@ -208,6 +232,14 @@ class Context:
         rig_kind = results.get("rig", {}).get("kind") if isinstance(results.get("rig"), dict) else None
         if isinstance(rig_kind, str):  # results.json "rig": {kind, description} decides when present
             self.simulated_rig = rig_kind.startswith("simulated")
+        self.rig_kind = rig_kind if isinstance(rig_kind, str) else ("simulated-thesis" if self.simulated_rig
+                                                                   else "physical")
+        rig = results.get("rig") if isinstance(results.get("rig"), dict) else {}
+        self.rig_description = str(rig.get("description") or self.rig_text)
+        # Only the thesis's rig is scored against the thesis: the calibrated simulated thesis rig, or
+        # a physical or recorded rig that repeats its experiment. A what-if rig (--rig-config, the
+        # large-play truth) shows the thesis's numbers for scale only.
+        self.scored = self.rig_kind not in NOT_SCORED_KINDS
         self.synthetic = bool(results.get("synthetic")) or "fixture" in self.rig_text.lower()
         self.sections = results.get("sections", {}) if isinstance(results.get("sections"), dict) else {}
 
@@ -258,7 +290,7 @@ def why(ctx: Context, t: tbl.Table, c: tbl.Comparison) -> str:
     if col is not None and col.unshaped:
         if ctx.simulated_rig and ctx.mode == "position":
             return ("Calibration target: the simulated rig's play, flank stiffness and damping and gyro noise are "
-                    "fitted once (clearshape calibrate-rig) so that its unshaped trials reproduce the 'without is' "
+                    "fitted once (clearshape calibrate-rig) so that its unshaped trials reproduce the unshaped ('without IS') "
                     f"means of Tables B.1–B.5 together; ours is {direction} by the calibration residual for this "
                     "input (one physical rig cannot match every input exactly), or the calibration in use is not "
                     "current." + own)
@@ -297,12 +329,16 @@ def comparisons_of(ctx: Context, t: tbl.Table, spreads: dict | None = None) -> l
             if sd:
                 v = tbl.verdict(c.ours, c.thesis, sd, "s.d. of the thesis's per-trial improvements")
                 c.diff, c.rel, c.agrees, c.criterion = v["diff"], v["rel"], v["agrees"], v["criterion"]
-    # Contact parameters whose units the thesis does not state cannot be compared (DESIGN.md §2).
+    # Contact parameters whose units the thesis does not state cannot be compared (docs/design.md §2).
     _, thesis_col = tbl.parameter_pair(t) if t.kind == "parameters" else (None, None)
     if thesis_col is not None and "unstated" in thesis_col.label.lower():
         for c in out:
             if re.search(r"N·m|N\.m|Nm", c.quantity):
                 c.agrees, c.criterion = None, "the thesis states no unit for it: not comparable"
+    if not ctx.scored:
+        for c in out:
+            if c.thesis is not None:
+                c.agrees, c.criterion = None, NOT_SCORED_CRITERION
     for c in out:
         c.why = why(ctx, t, c)
     return out
@@ -434,7 +470,7 @@ def render_rowwise_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
         for k in c.extra:
             out.append(f'<th scope="col">{esc(c.label)}: {esc(k.replace("_", " "))}</th>')
         if c.thesis:
-            out.append(f'<th scope="col" class="thesis">thesis</th><th scope="col">Δ</th><th scope="col">verdict</th>')
+            out.append('<th scope="col" class="thesis">thesis</th><th scope="col">Δ</th><th scope="col">verdict</th>')
     out.append("</tr></thead><tbody>")
     for i, row in enumerate(t.row_labels):
         out.append(f'<tr><th scope="row">{esc(row)}</th>')
@@ -445,9 +481,36 @@ def render_rowwise_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
                 out.append(f"<td>{fmt(arr[i]) if i < len(arr) else '—'}</td>")
             if c.thesis:
                 q = f"{row}" + (f" — {c.label}" if len(cols) > 1 else "")
-                m = comp.get((id(c), q))
+                m = comp.get((id(c), q)) or comp.get((id(c), f"{row} — {c.label}")) or comp.get((id(c), str(row)))
                 out.append(f"<td class=\"thesis\">{fmt(c.thesis[i]) if i < len(c.thesis) else '—'}</td>"
                            f"<td class=\"delta\">{fmt_signed(m.diff) if m else '—'}</td>{verdict_cell(m.agrees if m else None)}")
+        out.append("</tr>")
+    out.append("</tbody></table>")
+    return "".join(out)
+
+
+def transposed(t: tbl.Table) -> bool:
+    """A results table (no thesis values) with more columns than rows reads better turned: one row per
+    column (shaper), one column per row (input), so it fits the page instead of running off it."""
+    return (not t.is_trials and t.kind != "parameters" and not any(c.thesis for c in t.columns)
+            and len(t.columns) > len(t.row_labels) and 0 < len(t.row_labels) <= MAX_CELLS_PER_PART)
+
+
+def render_transposed_table(t: tbl.Table) -> str:
+    """One row per column of results.json, one column per row label; a column's other per-row
+    values (e.g. delay_s) are shown under the value."""
+    out = [f'<table class="results rows turned" id="table-{slug(t.id)}">',
+           _caption(t, "one row per shaper, one column per input"), '<thead><tr><th scope="col"></th>']
+    out += [f'<th scope="col">{esc(r)}</th>' for r in t.row_labels]
+    out.append("</tr></thead><tbody>")
+    for c in t.columns:
+        out.append(f'<tr><th scope="row">{esc(c.label)}</th>')
+        for i in range(len(t.row_labels)):
+            v = c.ours[i] if i < len(c.ours) else None
+            extra = "".join(f'<span class="sub">{esc(k.removesuffix("_s").replace("_", " "))} {fmt(arr[i])}'
+                            f'{" s" if k.endswith("_s") else ""}</span>'
+                            for k, arr in c.extra.items() if i < len(arr) and arr[i] is not None)
+            out.append(f"<td>{fmt(v)}{extra}</td>")
         out.append("</tr>")
     out.append("</tbody></table>")
     return "".join(out)
@@ -459,20 +522,87 @@ def is_composite(t: tbl.Table, ids: set) -> bool:
     return bool(refs) and len(refs) == len(t.columns) and all(r in ids and r != t.id for r in refs)
 
 
+# Widest table part, in value cells beside the row labels: at a 1400 px window (and in print) the
+# page's 64rem column holds about this many numeric cells next to an input's name.
+MAX_CELLS_PER_PART = 8
+
+
+def _empty(col: tbl.Column) -> bool:
+    vals = list(col.ours) + list(col.thesis) + [v for arr in col.extra.values() for v in arr]
+    return all(v is None for v in vals) and col.improvement is None and col.thesis_improvement is None \
+        and col.ours_mean is None and col.thesis_mean is None
+
+
+def without_empty_columns(t: tbl.Table) -> tuple[tbl.Table, list[tbl.Column]]:
+    """The table without its columns that hold no value at all (e.g. shapers that could not be
+    designed), and those columns, so the page can say which were left out and why."""
+    empty = [c for c in t.columns if _empty(c)]
+    if not empty or len(empty) == len(t.columns):
+        return t, []
+    return dataclasses.replace(t, columns=[c for c in t.columns if not _empty(c)]), empty
+
+
+def _cells(t: tbl.Table, c: tbl.Column) -> int:
+    if t.is_trials:
+        return 2
+    return (1 if c.ours else 0) + len(c.extra) + (3 if c.thesis else 0)
+
+
+def table_parts(t: tbl.Table) -> list[tbl.Table]:
+    """The table split by columns into parts of at most MAX_CELLS_PER_PART value cells, so no part is
+    wider than the page; the unshaped column, when there is one, heads every part."""
+    if t.kind == "parameters":
+        return [t]
+    base = next((c for c in t.columns if c.unshaped), None)
+    rest = [c for c in t.columns if c is not base]
+    budget = MAX_CELLS_PER_PART - (_cells(t, base) if base is not None else 0)
+    parts, cur, used = [], [], 0
+    for c in rest:
+        n = _cells(t, c)
+        if cur and used + n > budget:
+            parts.append(cur)
+            cur, used = [], 0
+        cur.append(c)
+        used += n
+    if cur or not parts:
+        parts.append(cur)
+    if len(parts) == 1:
+        return [t]
+    lead = [base] if base is not None else []
+    return [dataclasses.replace(t, columns=lead + p) for p in parts]
+
+
 def render_table(t: tbl.Table, comps: list[tbl.Comparison], composite: bool = False) -> str:
     if composite:
         refs = sorted({c.key.split(":", 1)[0] for c in t.columns})
         inner = render_table(t, comps)
         return (f'<details class="composite"><summary>Table {esc(t.id)} — {esc(t.title)}: the same trials as '
                 f'Table(s) {esc(", ".join(refs))} (the thesis prints them twice); show</summary>{inner}</details>')
-    if t.is_trials:
-        body = render_trial_table(t, comps)
-    elif t.kind == "parameters":
-        body = render_parameter_table(t, comps)
-    else:
-        body = render_rowwise_table(t, comps)
-    note = f'<p class="note">{esc(t.note)}</p>' if t.note else ""
-    return f'<div class="table-wrap">{body}</div>{note}'
+    t, empty = without_empty_columns(t)
+    parts = [t] if transposed(t) else table_parts(t)
+    bodies = []
+    for k, part in enumerate(parts):
+        if transposed(part):
+            body = render_transposed_table(part)
+        elif t.is_trials:
+            body = render_trial_table(part, comps)
+        elif t.kind == "parameters":
+            body = render_parameter_table(part, comps)
+        else:
+            body = render_rowwise_table(part, comps)
+        if len(parts) > 1:  # ids stay unique, the caption says which part
+            body = body.replace(f'id="table-{slug(t.id)}"', f'id="table-{slug(t.id)}-part{k + 1}"', 1)
+            body = body.replace("</caption>", f'<span class="part">part {k + 1} of {len(parts)}</span></caption>', 1)
+        bodies.append(f'<div class="table-wrap">{body}</div>')
+    notes = []
+    if empty:
+        reasons = sorted({c.note for c in empty if c.note})
+        notes.append(f'<p class="note empty-columns"><strong>Left out, no values:</strong> '
+                     f'{esc(", ".join(c.label for c in empty))}'
+                     + (f" — {esc(' '.join(reasons))}" if reasons else "") + "</p>")
+    if t.note:
+        notes.append(f'<p class="note">{esc(t.note)}</p>')
+    return "".join(bodies) + "".join(notes)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -482,24 +612,18 @@ def render_table(t: tbl.Table, comps: list[tbl.Comparison], composite: bool = Fa
 def render_figure(rec: dict, number: int) -> str:
     spec = rec["spec"]
     num = spec.get("thesis_figure")
-    title = spec.get("title") or rec["id"]
-    label = f"Figure {number}" + (f" (analogue of thesis Fig. {num})" if num else " (clearshape)")
-    anchor = f"fig-{slug(rec['id'])}"
+    f = {"label": f"Figure {number}" + (f" (analogue of thesis Fig. {num})" if num else " (clearshape)"),
+         "title": tbl.plain_label(str(spec.get("title") or rec["id"])), "anchor": f"fig-{slug(rec['id'])}",
+         "caption": tbl.plain_label(str(spec.get("caption") or "")), "error": None, "pdf": None, "png": None}
     if rec.get("error") or not rec.get("png"):
-        return (f'<div class="figure-missing" role="note" id="{anchor}"><strong>{esc(label)} — {esc(title)}</strong>: '
-                f'could not be drawn: {esc(rec.get("error") or "no PNG")}</div>')
+        f["error"] = rec.get("error") or "no PNG"
+        return str(parts().figure(f))
     data = Path(rec["png"]).read_bytes()
     w, h = png_size(data)
-    b64 = base64.b64encode(data).decode("ascii")
-    caption = spec.get("caption") or ""
-    links = ""
-    if rec.get("pdf"):
-        links = (f' <span class="files">(<a href="figures/{esc(Path(rec["pdf"]).name)}">PDF</a>, '
-                 f'<a href="figures/{esc(Path(rec["png"]).name)}">PNG</a>)</span>')
-    return (f'<figure id="{anchor}"><img src="data:image/png;base64,{b64}" alt="{esc(label)}: {esc(title)}" '
-            f'width="{round(w * DISPLAY_SCALE)}" height="{round(h * DISPLAY_SCALE)}" decoding="sync">'
-            f"<figcaption><strong>{esc(label)}.</strong> {esc(title)}{('. ' + esc(caption)) if caption else ''}"
-            f"{links}</figcaption></figure>")
+    f.update(png_b64=base64.b64encode(data).decode("ascii"), width=round(w * DISPLAY_SCALE),
+             height=round(h * DISPLAY_SCALE), png=Path(rec["png"]).name,
+             pdf=Path(rec["pdf"]).name if rec.get("pdf") else None)
+    return str(parts().figure(f))
 
 
 def md_summary_spec(results: dict) -> dict | None:
@@ -570,10 +694,11 @@ def render_generic(value) -> str:
 # Sections
 
 
-def section_open(sid: str) -> str:
+def section(sid: str, content: str, empty: str = "") -> dict:
+    """One section of the page for report.html.j2: number, title, intro and its content (markup)."""
     n = SECTION_IDS.index(sid) + 1
-    return (f'<section id="{sid}" aria-labelledby="h-{sid}"><h2 id="h-{sid}">{n}. {esc(SECTIONS[n - 1][1])}</h2>'
-            f'<p class="intro">{esc(SECTIONS[n - 1][2])}</p>')
+    return {"id": sid, "number": n, "title": SECTIONS[n - 1][1], "intro": SECTIONS[n - 1][2],
+            "content": Markup(content), "empty": empty}
 
 
 def setup_html(ctx: Context, study_dir: Path, records: list[dict]) -> str:
@@ -588,15 +713,12 @@ def setup_html(ctx: Context, study_dir: Path, records: list[dict]) -> str:
                      ("sample_rate_hz", "sample rate (Hz)"), ("source", "protocol file")):
         if key in proto:
             items.append((lab, proto[key]))
-    rows = "".join(f"<dt>{esc(k)}</dt><dd>{render_generic(v)}</dd>" for k, v in items if v is not None)
-    out = [f'<dl class="kv">{rows}</dl>']
+    out = [facts_html(items)]
     if ctx.synthetic:
         out.append('<p class="warn" role="note"><strong>Synthetic fixture.</strong> These numbers are made up by '
                    "python/clearshape_plot/fixture.py to exercise the report; they are not results.</p>")
-    elif ctx.simulated_rig:
-        out.append('<p class="note">The rig is clearshape\'s simulated thesis rig. Its hidden parameters were '
-                   "calibrated to what the thesis measured <em>without</em> shaping (DESIGN.md §2); the study never "
-                   "reads them, and every shaped result is a prediction.</p>")
+    else:
+        out.append(f'<p class="note" id="rig-kind" data-rig-kind="{esc(ctx.rig_kind)}">{rig_note(ctx)}</p>')
     if st.get("quick"):
         out.append('<p class="warn" role="note"><strong>Quick variant.</strong> Fewer repetitions and shorter '
                    "records than the thesis's programme, for tests; the thesis always lists its 10 trials.</p>")
@@ -630,6 +752,36 @@ def setup_html(ctx: Context, study_dir: Path, records: list[dict]) -> str:
     return "".join(out)
 
 
+def facts_html(items) -> str:
+    """(label, value) pairs as a definition list (parts.html.j2 facts); None values are left out."""
+    return str(parts().facts([(k, Markup(render_generic(v))) for k, v in items if v is not None]))
+
+
+def rig_note(ctx: Context) -> str:
+    """What the rig is and what its numbers mean beside the thesis's, per results.json rig.kind."""
+    desc = f" ({esc(ctx.rig_description)})" if ctx.rig_description else ""
+    kind = ctx.rig_kind
+    if kind == "simulated-config":
+        return ("The rig is a simulated rig whose hidden truth comes from a rig configuration file (--rig-config)"
+                f"{desc}. That truth is <em>not</em> calibrated to the thesis: the thesis's numbers are shown beside "
+                "ours for scale only and are not scored. The study never reads the truth, and every shaped result "
+                "is a prediction.")
+    if kind == "simulated-large-play":
+        return ("The rig is the simulated large-play rig (a 1° play, contact from the materials and geometry)"
+                f"{desc}. It is not fitted to any measurement: the thesis's numbers are shown beside ours for scale "
+                "only and are not scored. The study never reads the truth, and every shaped result is a prediction.")
+    if kind.startswith("simulated"):
+        return ("The rig is clearshape's simulated thesis rig. Its hidden parameters were calibrated to what the "
+                "thesis measured <em>without</em> shaping (docs/design.md §2); the study never reads them, and every "
+                "shaped result is a prediction.")
+    if kind == "physical":
+        return (f"The rig is a physical rig over its serial link{desc}. Every run, shaped or not, is a measurement "
+                "of that rig, not a calibrated prediction; its numbers are compared with the thesis's as a "
+                "repetition of its experiment on another rig.")
+    return (f"The runs were recorded elsewhere{desc}. Every run is a measurement of the rig that recorded it; its "
+            "numbers are compared with the thesis's as a repetition of its experiment on another rig.")
+
+
 def identification_facts(ctx: Context) -> str:
     ident = ctx.sections.get("identification")
     lm = ctx.sections.get("link_mode")
@@ -639,14 +791,12 @@ def identification_facts(ctx: Context) -> str:
         facts = [("selected model (identified from input)", ident.get("selected_input")),
                  ("drive model ωn = 1/Tw (rad/s)", dm.get("natural_frequency_rad_s")),
                  ("drive model ζ", dm.get("damping_ratio"))]
-        out.append('<dl class="kv">' + "".join(f"<dt>{esc(k)}</dt><dd>{render_generic(v)}</dd>" for k, v in facts
-                                               if v is not None) + "</dl>")
+        out.append(facts_html(facts))
     if isinstance(lm, dict) and lm.get("available", True):
         facts = [("link residual mode, from the gyro's free response after", lm.get("input")),
                  ("natural frequency (Hz)", lm.get("natural_frequency_hz")),
                  ("damping ratio", lm.get("damping_ratio")), ("note", lm.get("note"))]
-        out.append('<dl class="kv">' + "".join(f"<dt>{esc(k)}</dt><dd>{render_generic(v)}</dd>" for k, v in facts
-                                               if v is not None) + "</dl>")
+        out.append(facts_html(facts))
     return "".join(out)
 
 
@@ -689,6 +839,46 @@ def _rig_md(results: dict) -> tuple[float | None, float | None, str]:
     return None, None, ""
 
 
+def clearance_identified(cl: dict) -> list[str] | None:
+    """Names of the contact parameters the clearance fit identified (free, not at a bound,
+    identifiable by its 1σ); None when the fit lists no parameters (older results)."""
+    params = cl.get("parameters")
+    if not isinstance(params, list) or not params:
+        return None
+    return [str(p.get("name")) for p in params if isinstance(p, dict) and p.get("free", True)
+            and p.get("identifiable") and not p.get("at_bound")]
+
+
+def clearance_not_identified(cl: dict) -> str:
+    """The clearance section's lead when the fit identified nothing: what was fitted, why none of it
+    is a finding, and what the numbers are then good for ("" when something was identified)."""
+    names = clearance_identified(cl)
+    if names is None or names:
+        return ""
+    params = [p for p in cl["parameters"] if isinstance(p, dict) and p.get("free", True)]
+    rows = []
+    for p in params:
+        sd = p.get("std_error")
+        spread = (f"± {fmt(100 * float(sd), 2)} %" if isinstance(sd, (int, float)) and "relative" in
+                  str(p.get("std_error_kind", "")) else (f"± {fmt(sd, 2)}" if isinstance(sd, (int, float)) else "—"))
+        state = "at its bound" if p.get("at_bound") else "not identifiable"
+        unit = str(p.get("unit") or "")
+        unit = "" if unit in ("1", "-", "–") else unit
+        rows.append(f"<li>{esc(p.get('name'))} = {fmt(p.get('value'), 3)}{(' ' + esc(unit)) if unit else ''} "
+                    f"({spread}, {state})</li>")
+    agree, rigid = cl.get("agreement"), cl.get("rigid_agreement")
+    gain = ""
+    if isinstance(agree, (int, float)) and isinstance(rigid, (int, float)):
+        gain = (f" Eq. 4.1 agreement with the gyro record is {fmt(agree, 3)} with the play and {fmt(rigid, 3)} for a "
+                "rigid link: the play adds little that the record can see.")
+    return ('<h3 id="clearance-not-identified">The clearance fit identified nothing from this record</h3>'
+            '<p class="warn" role="note">The optimiser stopped normally ("converged" means only that its step '
+            "and function tolerances were met), but none of the contact parameters is identified: each is at a "
+            "bound of its range or has a standard error larger than its value. The numbers below are where the "
+            "search stopped, not properties of the rig; the shaped predictions rest on the identified drive and "
+            f"link mode, not on them.{gain}</p><ul>" + "".join(rows) + "</ul>")
+
+
 def flank_discussion(ctx: Context, results: dict) -> str:
     """Why the calibrated contact is a soft, lightly damped flank rather than the thesis's stiff
     Hertzian law, and what that means for the shaped predictions — every number from results.json."""
@@ -696,6 +886,9 @@ def flank_discussion(ctx: Context, results: dict) -> str:
     lm = ctx.sections.get("link_mode")
     if not isinstance(cl, dict) or not isinstance(lm, dict) or not lm.get("available", True):
         return ""
+    unidentified = clearance_not_identified(cl)
+    if unidentified:
+        return unidentified
     try:
         k, d = float(cl["stiffness_n_m_per_rad_pow_n"]), float(cl["damping_n_m_s_per_rad"])
         n, j = float(cl["exponent"]), float(cl["link_inertia_kg_m2"])
@@ -766,69 +959,65 @@ def flank_discussion(ctx: Context, results: dict) -> str:
 
 
 def shapers_html(ctx: Context) -> str:
+    """The shapers the study designed (impulses), and those it could not design, once, with the reason."""
     sh = ctx.sections.get("shapers")
     if not isinstance(sh, list) or not sh:
         return ""
-    out = ['<h3>Shapers used</h3><div class="table-wrap"><table class="generic"><thead><tr><th scope="col">shaper '
-           '@ mode source</th><th scope="col">impulse times (s)</th><th scope="col">amplitudes</th>'
-           '<th scope="col">duration (s)</th></tr></thead><tbody>']
+    designed, unavailable = [], {}
     for s in sh:
         if not isinstance(s, dict):
             continue
         imps = s.get("impulses") or []
-        out.append(f"<tr><th scope=\"row\">{esc(s.get('key', ''))}</th>"
-                   f"<td>{esc(', '.join(fmt(i.get('time_s')) for i in imps))}</td>"
-                   f"<td>{esc(', '.join(fmt(i.get('amplitude')) for i in imps))}</td>"
-                   f"<td>{fmt(s.get('duration_s'))}</td></tr>")
-    out.append("</tbody></table></div>")
-    return "".join(out)
+        if s.get("unavailable") or not imps:
+            unavailable.setdefault(str(s.get("unavailable") or "no impulses were designed"), []).append(
+                str(s.get("key", "")))
+            continue
+        designed.append({"key": s.get("key", ""), "times": ", ".join(fmt(i.get("time_s")) for i in imps),
+                         "amplitudes": ", ".join(fmt(i.get("amplitude")) for i in imps),
+                         "duration": fmt(s.get("duration_s"))})
+    return str(parts().shapers(designed, list(unavailable.items())))
 
 
 def ambiguities_html(amb) -> str:
-    if not amb:
-        return '<p class="empty">The study listed no settled ambiguities; see DESIGN.md §2.</p>'
     if isinstance(amb, dict):
         amb = [{"title": k, **(v if isinstance(v, dict) else {"settled": v})} for k, v in amb.items()]
-    out = ['<ol class="ambiguities">']
-    for a in amb:
+    items = []
+    for a in amb or []:
         if not isinstance(a, dict):
-            out.append(f"<li>{esc(a)}</li>")
+            items.append({"anchor": f"ambiguity-{slug(a)}", "title": str(a), "lines": []})
             continue
         title = a.get("question") or a.get("title") or a.get("id") or "ambiguity"
-        out.append(f'<li id="ambiguity-{slug(a.get("id", title))}"><h3>{esc(title)}</h3>')
-        for key, lab in (("settled", "Settled"), ("why", "Why"), ("reason", "Why"), ("effect", "Effect"),
-                         ("reference", "Reference")):
-            if a.get(key):
-                out.append(f"<p><strong>{lab}:</strong> {esc(a[key])}</p>")
-        out.append("</li>")
-    out.append("</ol>")
-    return "".join(out)
+        lines = [(lab, str(a[key])) for key, lab in (("settled", "Settled"), ("why", "Why"), ("reason", "Why"),
+                                                      ("effect", "Effect"), ("reference", "Reference")) if a.get(key)]
+        items.append({"anchor": f"ambiguity-{slug(a.get('id', title))}", "title": str(title), "lines": lines})
+    return str(parts().ambiguities(items))
 
 
 def comparison_rows(rows: list[tuple[str, tbl.Comparison]], reasons: bool = True) -> str:
     """One line of numbers per compared quantity, and below it the criterion and the reason."""
-    head = ('<th scope="col">where</th><th scope="col">quantity</th><th scope="col">clearshape</th>'
-            '<th scope="col" class="thesis">thesis</th><th scope="col">Δ</th><th scope="col">Δ %</th>'
-            '<th scope="col">verdict</th>')
-    body = []
+    out = []
     for sec, c in rows:
         unit = unit_text(c.unit)
-        where = f"{SECTION_TITLES.get(sec, sec)} · {'Table ' if re.match(r'^[0-9B]', c.table) else ''}{c.table}"
-        body.append(f"<tr class=\"nums\"><td class=\"where\">{esc(where)}</td><th scope=\"row\">{esc(c.quantity)}</th>"
-                    f"<td>{with_unit(c.ours, unit)}</td><td class=\"thesis\">{with_unit(c.thesis, unit)}</td>"
-                    f"<td class=\"delta\">{fmt_signed(c.diff)}</td><td class=\"delta\">{fmt_pct(c.rel)}</td>"
-                    f"{verdict_cell(c.agrees)}</tr>")
-        text = f"<span class=\"crit\">{esc(c.criterion)}.</span> {esc(c.why)}" if reasons and c.why else \
-            f"<span class=\"crit\">{esc(c.criterion)}.</span>"
-        body.append(f'<tr class="reason"><td colspan="7">{text}</td></tr>')
-    return (f'<div class="table-wrap"><table class="results compare"><thead><tr>{head}</tr></thead><tbody>'
-            + "".join(body) + "</tbody></table></div>")
+        cls, text = (("na", "not compared") if c.agrees is None else ("ok", "agrees") if c.agrees
+                     else ("diff", "differs"))
+        out.append({"where": f"{SECTION_TITLES.get(sec, sec)} · {'Table ' if re.match(r'^[0-9B]', c.table) else ''}"
+                             f"{c.table}",
+                    "quantity": c.quantity, "ours": Markup(with_unit(c.ours, unit)),
+                    "thesis": Markup(with_unit(c.thesis, unit)), "diff": fmt_signed(c.diff), "rel": fmt_pct(c.rel),
+                    "verdict_class": cls, "verdict": text, "criterion": c.criterion,
+                    "why": c.why if reasons else ""})
+    return str(parts().comparisons(out))
 
 
-def differences_html(all_comps: list[tuple[str, tbl.Comparison]]) -> str:
+def differences_html(all_comps: list[tuple[str, tbl.Comparison]], ctx: Context | None = None) -> str:
     comps = [(s, c) for s, c in all_comps if c.thesis is not None]
     if not comps:
         return '<p class="empty">No number of this study has a published thesis value to compare with.</p>'
+    if ctx is not None and not ctx.scored:
+        return (f"<p>{len(comps)} published numbers beside ours, <strong>not scored</strong>: the rig is "
+                f"{esc(NOT_SCORED_KINDS.get(ctx.rig_kind, ctx.rig_kind))}, not the thesis's, so agreeing or "
+                "differing with the thesis would say nothing about either.</p><h3>For scale</h3>"
+                + comparison_rows(comps))
     agree = [x for x in comps if x[1].agrees]
     differ = [x for x in comps if x[1].agrees is False]
     other = [x for x in comps if x[1].agrees is None]
@@ -865,8 +1054,12 @@ def dedupe(comps: list) -> list[tuple[str, tbl.Comparison]]:
     return [(s, c) for i, (s, c, _) in enumerate(comps) if i in keep]
 
 
-def headline_html(all_comps: list[tuple[str, tbl.Comparison]]) -> str:
+def headline_html(all_comps: list[tuple[str, tbl.Comparison]], ctx: Context | None = None) -> str:
     comps = [c for _, c in all_comps if c.thesis is not None]
+    if ctx is not None and not ctx.scored:
+        return (f'<div class="summary"><p>Not scored against the thesis: the rig is '
+                f'{esc(NOT_SCORED_KINDS.get(ctx.rig_kind, ctx.rig_kind))}, not the thesis\'s. {len(comps)} '
+                'published numbers are shown beside ours for scale (<a href="#differences">list</a>).</p></div>')
     agree = sum(1 for c in comps if c.agrees)
     differ = sum(1 for c in comps if c.agrees is False)
     imps = [c for _, c in all_comps if c.kind == "improvement" and c.thesis is not None and c.ours is not None]
@@ -931,7 +1124,7 @@ def build(study_dir: Path, records: list[dict] | None = None, output: Path | Non
         return "".join(out)
 
     body = []
-    body.append(section_open("setup") + setup_html(ctx, study_dir, records) + "</section>")
+    body.append(section("setup", setup_html(ctx, study_dir, records)))
     for sec in ("consistency", "identification", "clearance", "simulated", "rig"):
         pre = ""
         if sec == "identification":
@@ -950,124 +1143,31 @@ def build(study_dir: Path, records: list[dict] | None = None, output: Path | Non
             content = "".join(lead) + tables_html(sec) + figures(sec)
         else:
             content = pre + tables_html(sec) + figures(sec)
-        if not content:
-            content = (f'<p class="empty">Not produced by this {esc(ctx.mode or "")}-mode study '
-                       "(make run writes both modes' reports).</p>")
-        body.append(section_open(sec) + content + "</section>")
+        body.append(section(sec, content, f"Not produced by this {ctx.mode or ''}-mode study (make run writes "
+                                          "both modes' reports)."))
     all_comps = dedupe(all_comps)
-    body.append(section_open("ambiguities") + ambiguities_html(results.get("ambiguities")) + "</section>")
-    body.append(section_open("differences") + differences_html(all_comps) + "</section>")
+    body.append(section("ambiguities", ambiguities_html(results.get("ambiguities"))))
+    body.append(section("differences", differences_html(all_comps, ctx)))
 
-    page = page_html(ctx, "".join(body), headline_html(all_comps), records)
+    page = page_html(ctx, body, headline_html(all_comps, ctx), records)
     output = Path(output) if output else study_dir / "report.html"
     tmp = output.with_name(output.name + ".tmp")
     tmp.write_text(page, encoding="utf-8")
-    tmp.replace(output)
+    tmp.replace(output)  # atomic: a reader sees the old page or the new one, never half of one
     return output
 
 
-CSS = """
-:root{--fg:#1d1d1f;--muted:#5c5c66;--line:#d6d6dc;--bg:#fff;--band:#f6f6f8;--ok:#0b6e4f;--okbg:#e3f4ec;
---diff:#a23b00;--diffbg:#fbe9df;--accent:#0b5fa5}
-*{box-sizing:border-box}
-html{font-family:"DejaVu Sans",system-ui,sans-serif;font-size:15px;line-height:1.5;color:var(--fg);background:var(--bg)}
-body{margin:0 auto;max-width:64rem;padding:1.5rem 1.25rem 4rem}
-header h1{font-size:1.6rem;margin:0 0 .25rem}
-header p{margin:.2rem 0;color:var(--muted)}
-nav.toc{background:var(--band);border:1px solid var(--line);border-radius:6px;padding:.6rem 1rem;margin:1rem 0 1.5rem}
-nav.toc ol{margin:.3rem 0 .2rem 1.4rem;padding:0;columns:2}
-nav.toc a{color:var(--accent);text-decoration:none}nav.toc a:hover{text-decoration:underline}
-h2{font-size:1.3rem;border-bottom:2px solid var(--line);padding-bottom:.2rem;margin-top:2.4rem}
-h3{font-size:1.05rem;margin:1.4rem 0 .4rem}
-p.intro{color:var(--muted);margin-top:.2rem}
-.table-wrap{overflow-x:auto;margin:.8rem 0 .4rem}
-table{border-collapse:collapse;font-size:.84rem;font-variant-numeric:tabular-nums}
-caption{text-align:left;font-weight:bold;padding:.3rem 0;caption-side:top}
-caption .unit{display:block;font-weight:normal;color:var(--muted);font-size:.8rem}
-th,td{border-bottom:1px solid var(--line);padding:.2rem .5rem;text-align:right;vertical-align:top}
-thead th{background:var(--band);border-bottom:1.5px solid #9a9aa3;text-align:center}
-th.grp{border-left:2px solid #fff}
-tbody th,tfoot th{text-align:left;font-weight:normal;white-space:nowrap}
-td.thesis,th.thesis{color:#55555e;background:#f7f7f7}
-td.delta{color:var(--muted);text-align:center}
-td{white-space:nowrap}table.generic td,table.compare tr.reason td{white-space:normal}
-tfoot tr.mean td,tfoot tr.mean th{font-weight:bold;border-top:1.5px solid #9a9aa3}
-td.verdict{text-align:center;font-weight:bold;white-space:nowrap}
-td.verdict.ok{color:var(--ok);background:var(--okbg)}td.verdict.diff{color:var(--diff);background:var(--diffbg)}
-td.verdict.na{color:var(--muted);font-weight:normal}
-span.pm{color:var(--muted);font-size:.78rem}
-table.compare{width:100%}
-table.compare th,table.compare td.where{text-align:left}
-table.compare td.where{color:var(--muted);font-size:.78rem;white-space:normal;max-width:11rem}
-table.compare th{white-space:normal}
-table.compare tr.nums td,table.compare tr.nums th{border-bottom:none;padding-top:.45rem}
-table.compare tr.reason td{text-align:left;font-size:.8rem;color:#3a3a44;padding:0 .5rem .5rem 1.5rem}
-table.compare .crit{color:var(--muted)}
-table.generic td,table.generic th{text-align:left}
-figure{margin:1.2rem 0 1.6rem;padding:0}
-figure img{display:block;max-width:100%;height:auto;border:1px solid var(--line);border-radius:4px}
-figcaption{font-size:.86rem;color:var(--muted);margin-top:.35rem}
-dl.kv{display:grid;grid-template-columns:max-content 1fr;gap:.1rem 1rem;margin:.6rem 0}
-dl.kv dt{color:var(--muted)}dl.kv dd{margin:0}
-pre{background:var(--band);padding:.6rem;border-radius:4px;overflow-x:auto;font-size:.78rem;max-height:30rem}
-details{margin:.6rem 0}summary{cursor:pointer;color:var(--accent)}
-.note{color:var(--muted);font-size:.88rem;margin:.2rem 0 1.2rem}
-.warn{background:#fff4d6;border:1px solid #e6c76a;padding:.5rem .8rem;border-radius:4px}
-.empty{color:var(--muted);font-style:italic}
-.figure-missing{background:var(--diffbg);border:1px solid #e0a080;padding:.6rem .8rem;border-radius:4px;margin:1rem 0}
-div.summary{background:var(--band);border-left:4px solid var(--accent);padding:.4rem .9rem;margin:.8rem 0}
-div.summary p{margin:.2rem 0;color:var(--fg)}div.summary ul{margin:.2rem 0 .3rem 1.2rem;padding:0}
-ol.ambiguities>li{margin-bottom:.9rem}ol.ambiguities h3{margin:.2rem 0;font-size:1rem}ol.ambiguities p{margin:.2rem 0}
-footer{margin-top:3rem;color:var(--muted);font-size:.82rem;border-top:1px solid var(--line);padding-top:.6rem}
-@media print{body{max-width:none}nav.toc{display:none}figure,table{break-inside:avoid}}
-"""
-
-# Sets data-figures-loaded / data-figures-failed on <body> once the page has loaded: the window's
-# load event waits for every <img> (loaded or failed), after which naturalWidth > 0 tells a decoded
-# image from a broken one. (img.decode() promises are not used: under headless Chromium's virtual
-# time they may settle after the budget.)
-SCRIPT = """
-(function () {
-  function report() {
-    var imgs = Array.prototype.slice.call(document.images), ok = 0, bad = [];
-    imgs.forEach(function (img) {
-      if (img.complete && img.naturalWidth > 0) { ok += 1; }
-      else { var f = img.closest('figure'); bad.push(f ? f.id : img.alt); }
-    });
-    document.body.dataset.figuresTotal = String(imgs.length);
-    document.body.dataset.figuresLoaded = String(ok);
-    document.body.setAttribute('data-figures-failed', String(bad.length));
-    if (bad.length) { document.body.setAttribute('data-figures-failed-ids', bad.join(' ')); }
-  }
-  if (document.readyState === 'complete') { report(); } else { window.addEventListener('load', report); }
-})();
-"""
 
 
-def page_html(ctx: Context, body: str, headline: str, records: list[dict]) -> str:
+
+def page_html(ctx: Context, sections: list[dict], headline: str, records: list[dict]) -> str:
     st = ctx.study
-    name = st.get("name") or "clearshape study"
-    title = st.get("title") or ""
-    toc = "".join(f'<li><a href="#{sid}">{esc(t)}</a></li>' for sid, t, _ in SECTIONS)
-    drawn = sum(1 for r in records if not r.get("error"))
-    return (
-        "<!DOCTYPE html>\n"
-        '<html lang="en"><head><meta charset="utf-8">'
-        '<meta name="viewport" content="width=device-width, initial-scale=1">'
-        "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; img-src data:; "
-        "style-src 'unsafe-inline'; script-src 'unsafe-inline'\">"
-        f"<title>{esc(name)} — clearshape study report</title><style>{CSS}</style></head>"
-        f'<body data-figures-expected="{len(records)}" data-figures-drawn="{drawn}">'
-        f"<header><h1>{esc(name)}</h1>"
-        + (f"<p>{esc(title)}</p>" if title else "")
-        + "<p>clearshape's reproduction of the experimental programme of G. Gündüzalp, <em>Control of mechanical "
-        "joints that have joint clearance</em> (MSc thesis, İzmir Institute of Technology, 2015), Chapters 4–5 and "
-        f"Appendix B.</p>{headline}</header>"
-        f'<nav class="toc" aria-label="Contents"><strong>Contents</strong><ol>{toc}</ol></nav>'
-        f"<main>{body}</main>"
-        "<footer>Written by python/make_report.py from results.json and figures.json. Figures are embedded; the "
-        "page needs no network. Numbers: 4 significant digits; Δ = clearshape − thesis. Units: ° = degree.</footer>"
-        f"<script>{SCRIPT}</script></body></html>\n")
+    return TEMPLATES.get_template("report.html.j2").render(
+        study_name=st.get("name") or "clearshape study", study_title=st.get("title") or "",
+        headline=Markup(headline), sections=sections, figures_expected=len(records),
+        figures_drawn=sum(1 for r in records if not r.get("error")),
+        css=Markup((TEMPLATE_DIR / "report.css").read_text(encoding="utf-8")),
+        script=Markup((TEMPLATE_DIR / "report.js").read_text(encoding="utf-8")))
 
 
 def main(argv=None) -> int:

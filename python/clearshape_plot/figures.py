@@ -35,6 +35,7 @@ import numpy as np  # noqa: E402
 
 from . import roles  # noqa: E402
 from .data import CsvCache, StudyDataError  # noqa: E402
+from .tables import plain_label  # noqa: E402
 
 STYLE_PATH = Path(__file__).with_name("clearshape.mplstyle")
 LINE_KINDS = {"time-series", "timeseries", "lines", "repeat", "compare", "shaped", "commands", "psd"}
@@ -120,7 +121,7 @@ START_RULE_TEXT = {"crossing": "first crossing of M", "band-entry": "enters ±b 
                    "window-start": "never meets M: final window"}
 
 
-def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
+def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str, deviation_ax=None) -> None:
     series = panel.get("series") or []
     if not series:
         raise StudyDataError("figure has no series")
@@ -143,7 +144,7 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
         f = _file(panel, s)
         x = cache.column(f, _x_column(panel, s))
         y = cache.column(f, ycol) * float(s.get("scale", 1.0))
-        label = s.get("label") or roles.label_for(role) or roles.quantity_from_column(ycol)
+        label = plain_label(s.get("label") or roles.label_for(role) or roles.quantity_from_column(ycol))
         if role == "trial":
             i = len(trial_values)
             style = {"color": trial_colours[i], "linestyle": "-", "linewidth": 0.8, "zorder": 2}
@@ -176,6 +177,8 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
         n = min(len(v[1]) for v in trial_values)
         mean = np.mean([v[1][:n] for v in trial_values], axis=0)
         ax.plot(trial_values[0][0][:n], mean, label=f"mean of {len(trial_values)} runs", **roles.style_for("mean"))
+        if deviation_ax is not None:
+            _draw_deviations(deviation_ax, trial_values, trial_colours, unit)
     if panel.get("autozoom", True) and not panel.get("xlim"):
         window = _active_window([(cache.column(_file(panel, s), _x_column(panel, s)), cache.column(_file(panel, s), yc))
                                  for s, yc, _, _ in resolved])
@@ -190,6 +193,40 @@ def _draw_lines(ax, panel: dict, cache: CsvCache, kind: str) -> None:
         ax.set_xscale("log")
     ax.set_xlabel(_x_label(panel, _x_column(panel, resolved[0][0])))
     ax.set_ylabel(ylab)
+
+
+def eq_4_1(runs: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, float]:
+    """Eq. 4.1 (thesis §4.1.1, metrics/consistency.hpp): E_i = RMS_j(m_j − t_ij) / r with m the mean
+    of the runs and r = max m − min m. Returns (E per run, m, r)."""
+    n = min(len(r) for r in runs)
+    y = np.array([r[:n] for r in runs], dtype=float)
+    m = y.mean(axis=0)
+    rng = float(m.max() - m.min())
+    e = np.sqrt(np.mean((m - y) ** 2, axis=1)) / rng if rng > 0 else np.full(len(runs), np.nan)
+    return e, m, rng
+
+
+def trial_panel(panel: dict) -> bool:
+    """A panel of repeated runs (every series a trial, at least 3): drawn with its deviation panel."""
+    series = panel.get("series") or []
+    if len(series) < 3:
+        return False
+    return all(roles.infer_role(_y_column(s), s.get("label"))[0] == "trial" for s in series)
+
+
+def _draw_deviations(ax, trial_values, colours, unit: str) -> None:
+    """Each run minus the mean of the runs, in % of the mean's range r, labelled with its Eq. 4.1
+    error: the spread that Tables 4.1–4.2 measure, which the runs themselves hide by overlapping."""
+    e, m, rng = eq_4_1([v[1] for v in trial_values])
+    n = len(m)
+    x = trial_values[0][0][:n]
+    for i, (_, y) in enumerate(trial_values):
+        ax.plot(x, 100.0 * (y[:n] - m) / rng, color=colours[i], linewidth=0.7,
+                label=f"run {i + 1}: E = {e[i]:.2e}".replace("e-0", "e-"), zorder=2)
+    ax.axhline(0.0, color="#1a1a1a", linewidth=0.6, zorder=1)
+    ax.set_ylabel("run − mean (% of r)")
+    ax.set_title(f"Deviation from the mean; Eq. 4.1 error E per run (r = {rng:.3g} {unit})".replace(" )", ")"),
+                 fontweight="normal", fontsize=8.5)
 
 
 def _active_window(curves, threshold: float = 0.006, margin: float = 0.5):
@@ -221,7 +258,18 @@ def _active_window(curves, threshold: float = 0.006, margin: float = 0.5):
     return lo, hi
 
 
-def _draw_sensitivity(ax, panel: dict, cache: CsvCache) -> None:
+def sensitivity_groups(series: list[dict]) -> list[tuple[str, list[dict]]]:
+    """The sensitivity series grouped by shaper (ZV, ZVD, ...), in the shapers' usual order: one
+    small panel each, holding that shaper's variants (mode source, designed/applied)."""
+    groups: dict[str, list[dict]] = {}
+    for s in series:
+        role, _ = roles.infer_role(_y_column(s).removesuffix("_designed"))
+        groups.setdefault(roles.normalise_role(role) or _y_column(s), []).append(s)
+    order = {r: i for i, r in enumerate(roles.SHAPER_ORDER)}
+    return sorted(groups.items(), key=lambda kv: (order.get(kv[0], len(order)), kv[0]))
+
+
+def _draw_sensitivity(ax, panel: dict, cache: CsvCache, title: str | None = None, legend_lines: bool = True) -> None:
     """Residual vibration V(ω/ωm) (Eq. 2.19) per shaper; fractions are shown in %."""
     series = panel.get("series") or []
     if not series:
@@ -230,20 +278,29 @@ def _draw_sensitivity(ax, panel: dict, cache: CsvCache) -> None:
     for s in series:
         f = _file(panel, s)
         ys.append((s, cache.column(f, _x_column(panel, s)), cache.column(f, _y_column(s))))
-    as_fraction = max(float(np.nanmax(y)) for _, _, y in ys) <= 1.0 + 1e-9
+    as_fraction = panel.get("as_fraction")
+    if as_fraction is None:
+        as_fraction = max(float(np.nanmax(y)) for _, _, y in ys) <= 1.0 + 1e-9
     scale = 100.0 if as_fraction else 1.0
     for i, (s, x, y) in enumerate(ys):
         role, source = roles.infer_role(_y_column(s).removesuffix("_designed"))
         style = roles.style_for(role, i, source)
         if s.get("variant") == "designed":  # the shaper before the drive's update grid: thin, dotted
             style.update(linestyle=(0, (1, 1.2)), linewidth=1.0, alpha=0.9, zorder=2)
-        ax.plot(x, y * scale, label=s.get("label") or roles.label_for(role), **style)
+        label = s.get("label") or roles.label_for(role)
+        if title:  # in a small panel the shaper is the title; the legend says the variant
+            label = _variant_label(s, source)
+        ax.plot(x, y * scale, label=label, **style)
+    if title:
+        ax.set_title(title, fontsize=9, fontweight="bold")
     tol = panel.get("tolerance_percent", 5.0)
-    ax.axhline(float(tol), color="#7A7A7A", linestyle=":", linewidth=1.0, label=f"{tol:g} % (usual tolerance)")
+    ax.axhline(float(tol), color="#7A7A7A", linestyle=":", linewidth=1.0,
+               label=f"{tol:g} % (usual tolerance)" if legend_lines else None)
     markers = panel.get("markers") or [{"x": panel.get("design_x", 1.0), "label": "design frequency"}]
     for i, mk in enumerate(markers):
         ax.axvline(float(mk["x"]), color="#1a1a1a" if i == 0 else "#7A7A7A", linewidth=0.8,
-                   linestyle=(0, (2, 2)) if i == 0 else (0, (6, 2, 1, 2)), label=mk.get("label"))
+                   linestyle=(0, (2, 2)) if i == 0 else (0, (6, 2, 1, 2)),
+                   label=mk.get("label") if legend_lines else None)
     ax.set_ylim(bottom=0)
     ax.set_xlabel(_x_label(panel, _x_column(panel, series[0])))
     text = panel.get("y_label") or "residual vibration"
@@ -251,13 +308,63 @@ def _draw_sensitivity(ax, panel: dict, cache: CsvCache) -> None:
     ax.set_ylabel(f"{text} (%)" if as_fraction else roles.label_with_unit(panel.get("y_label"), _y_column(series[0])))
 
 
+def _variant_label(s: dict, source: str) -> str:
+    mode = {"link-mode": "link mode", "drive-model": "drive model"}.get(source, source or "")
+    text = f"designed for the {mode}" if mode else "as designed"
+    if s.get("variant") == "designed":
+        return text + " (before the update grid)"
+    return text
+
+
+def _draw_sensitivity_multiples(fig, spec: dict, cache: CsvCache) -> None:
+    """One small panel per shaper (2 columns), the same axes in each, one legend under the grid."""
+    panel = panels_of(spec)[0]
+    groups = sensitivity_groups(panel.get("series") or [])
+    if not groups:
+        raise StudyDataError("sensitivity figure has no series")
+    ncols = 2 if len(groups) > 1 else 1
+    nrows = math.ceil(len(groups) / ncols)
+    fig.set_size_inches(7.6, 1.0 + 1.75 * nrows)
+    axes = fig.subplots(nrows, ncols, squeeze=False, sharex=True, sharey=True)
+    flat = list(axes.ravel())
+    first_values = [cache.column(_file(panel, s), _y_column(s)) for s in panel["series"]]
+    as_fraction = max(float(np.nanmax(y)) for y in first_values) <= 1.0 + 1e-9
+    for k, (role, series) in enumerate(groups):
+        sub = dict(panel, series=series, as_fraction=as_fraction)
+        _draw_sensitivity(flat[k], sub, cache, title=roles.label_for(role), legend_lines=(k == 0))
+        if k % ncols:
+            flat[k].set_ylabel("")
+        if k < len(groups) - ncols:
+            flat[k].set_xlabel("")
+        else:  # the lowest panel of its column shows the frequency ratio's ticks
+            flat[k].xaxis.set_tick_params(labelbottom=True)
+    for ax in flat[len(groups):]:
+        ax.set_visible(False)
+    # One legend for every panel: the variants' line styles and the reference lines, taken from
+    # the panels (the first panel carries the reference lines), below the grid.
+    seen, handles, labels = set(), [], []
+    for ax in flat[:len(groups)]:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in seen:
+                seen.add(lab)
+                handles.append(h)
+                labels.append(lab)
+    target = flat[len(groups) - 1] if len(groups) % ncols == 0 else flat[len(groups)]
+    if target.get_visible():
+        target.legend(handles, labels, loc="upper left", bbox_to_anchor=(0.0, -0.35), ncol=2, fontsize=7.5)
+    else:
+        target.set_visible(True)
+        target.axis("off")
+        target.legend(handles, labels, loc="center", fontsize=7.5, frameon=False)
+
+
 def eq_5_1(t: np.ndarray, s: np.ndarray, final_window_fraction: float = 0.2,
            search_from_s: float = -math.inf, max_iterations: int = 100, band_noise_multiple: float = 0.0,
            band_move_fraction: float = 0.005, band_dwell_s: float = 0.1, band_half_width: float | None = None) -> dict:
     """Eq. 5.1 with the steady-state start of §5.1.2 as metrics::mean_deviation computes it
-    (include/clearshape/metrics/mean_deviation.hpp): the start is the earlier of the first crossing
-    of M and the first stay of band_dwell_s inside ±b around M, M and the start iterated to a fixed
-    point. Returns mean_deviation, steady_mean, start_index, start_rule, band_half_width."""
+    (include/clearshape/metrics/mean_deviation.hpp): after the response has departed from M (half
+    its largest excursion), the start is the earlier of the first crossing of M and the first stay
+    of band_dwell_s inside ±b around M, M and the start iterated to a fixed point. Returns mean_deviation, steady_mean, start_index, start_rule, band_half_width."""
     s = np.asarray(s, dtype=float)
     n = len(s)
     ts = float(t[1] - t[0]) if n > 1 else 1.0
@@ -274,6 +381,13 @@ def eq_5_1(t: np.ndarray, s: np.ndarray, final_window_fraction: float = 0.2,
 
     def meet(mean: float):
         d = s[first:] - mean
+        big = float(np.max(np.abs(d))) if d.size else 0.0
+        if not big > 0:
+            return None
+        # Departure: the steady state is looked for only after the response has left M, i.e. from
+        # the first sample at half its largest excursion (a rest on M before the move is no start).
+        j = int(np.flatnonzero(np.abs(d) >= 0.5 * big)[0])
+        d = d[j:]
         hit = d == 0.0
         hit[1:] |= np.sign(d[1:]) * np.sign(d[:-1]) < 0
         cross = np.flatnonzero(hit)
@@ -286,8 +400,8 @@ def eq_5_1(t: np.ndarray, s: np.ndarray, final_window_fraction: float = 0.2,
             ok = (ends - starts >= dwell) | (ends == d.size)
             e = int(starts[ok][0]) if ok.any() else None
         if e is not None and (c is None or e < c):
-            return first + e, "band-entry"
-        return (first + c, "crossing") if c is not None else None
+            return first + j + e, "band-entry"
+        return (first + j + c, "crossing") if c is not None else None
 
     got = meet(m)
     k, rule = got if got else (window_start, "window-start")
@@ -343,7 +457,7 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
                label="steady state (enters Eq. 5.1)")
     ax.axhspan(mean - md, mean + md, color="#0072B2", alpha=0.13, linewidth=0, label=f"M ± MD, MD = {md:.3g} {unit}")
     role, source = roles.infer_role(_y_column(s))  # md_signal_zvdd@link-mode → the ZVDD colour
-    ax.plot(t, y, label=s.get("label") or "response", **roles.style_for(role or "unshaped", 0, source))
+    ax.plot(t, y, label=plain_label(s.get("label") or "response"), **roles.style_for(role or "unshaped", 0, source))
     ax.axhline(mean, label=f"steady-state mean M = {mean:.4g} {unit}", **roles.style_for("mean"))
     if band:
         ax.axhline(mean - float(band), color="#7A7A7A", linewidth=0.7, linestyle=":",
@@ -365,6 +479,11 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
         ax.set_xlim(t_lo, float(t[-1]))
 
 
+# "Without shaping" bars: a neutral dark grey that no shaper uses, so no shaped bar can be
+# mistaken for an unshaped one (ZVD's orange sits next to the unshaped vermillion).
+WITHOUT_BAR_COLOUR = "#4D4D4D"
+
+
 def _draw_md_summary(axes, spec: dict) -> None:
     """Left: Eq. 5.1 means without/with shaping per table (ours solid, thesis hatched). Right:
     improvement % per table, ours beside the thesis's."""
@@ -378,7 +497,7 @@ def _draw_md_summary(axes, spec: dict) -> None:
     for j, (side, key) in enumerate((("ours", "without"), ("thesis", "without"), ("ours", "with"), ("thesis", "with"))):
         vals = [r.get(f"{side}_{key}") for r in rows]
         vals = [np.nan if v is None else v for v in vals]
-        colours = [roles.style_for("unshaped")["color"]] * len(rows) if key == "without" else shaped_colours
+        colours = [WITHOUT_BAR_COLOUR] * len(rows) if key == "without" else shaped_colours
         kw = ({"color": colours, "edgecolor": "#333333"} if side == "ours" else
               {"color": "white", "edgecolor": colours, "hatch": "////"})
         ax.bar(x + (j - 1.5) * w, vals, w, label=f"{'without' if key == 'without' else 'with'} shaping — "
@@ -388,8 +507,8 @@ def _draw_md_summary(axes, spec: dict) -> None:
     ax.set_ylabel(roles.label_with_unit(f"mean deviation, Eq. 5.1 ({spec.get('unit', '')})"))
     top = np.nanmax([v for r in rows for v in (r.get("ours_without"), r.get("thesis_without"),
                                                r.get("ours_with"), r.get("thesis_with")) if v is not None])
-    ax.set_ylim(0, 1.55 * top)  # room for the legend above the bars
-    ax.legend(fontsize=7, loc="upper left", ncol=2)
+    ax.set_ylim(0, 1.1 * top)
+    ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=2, borderaxespad=0.0)
     ours = [np.nan if r.get("ours_improvement") is None else r["ours_improvement"] for r in rows]
     th = [np.nan if r.get("thesis_improvement") is None else r["thesis_improvement"] for r in rows]
     ax2.bar(x - 0.18, ours, 0.36, color=shaped_colours, edgecolor="#333333", label="clearshape",
@@ -399,7 +518,7 @@ def _draw_md_summary(axes, spec: dict) -> None:
     ax2.grid(axis="x", visible=False)
     ax2.set_ylim(0, 105)
     ax2.set_ylabel("improvement by shaping (%)")
-    ax2.legend(fontsize=7, loc="lower right")
+    ax2.legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=2, borderaxespad=0.0)
     for a in (ax, ax2):
         for lab in a.get_xticklabels():
             lab.set_rotation(20)
@@ -420,12 +539,24 @@ def _new_figure(n_panels: int, spec: dict):
 def draw(spec: dict, cache: CsvCache, index: int = 0):
     """Builds the matplotlib Figure of one figure entry (raises StudyDataError on missing data)."""
     kind = str(spec.get("kind", "time-series")).lower()
+    panels = panels_of(spec)
     if kind == "md-summary":
         fig, axes = plt.subplots(1, 2, figsize=(7.6, 3.6), gridspec_kw={"width_ratios": [3, 2]})
         _draw_md_summary(axes, spec)
         panels, axes = [], []
+    elif kind == "sensitivity" and len(panels) == 1 and len(sensitivity_groups(panels[0].get("series") or [])) > 1:
+        fig = plt.figure()
+        _draw_sensitivity_multiples(fig, spec, cache)
+        panels, axes = [], []
+    elif kind in LINE_KINDS and len(panels) == 1 and trial_panel(panels[0]):
+        fig, (ax, dev) = plt.subplots(2, 1, figsize=(8.2, 5.2), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
+        _draw_lines(ax, panels[0], cache, kind, deviation_ax=dev)
+        ax.set_xlabel("")
+        dev.set_xlabel(_x_label(panels[0], _x_column(panels[0], panels[0]["series"][0])))
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+        dev.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=7)
+        panels, axes = [], []
     else:
-        panels = panels_of(spec)
         fig, axes = _new_figure(len(panels), spec)
         for ax, panel in zip(axes, panels):
             if kind == "sensitivity":
@@ -444,17 +575,15 @@ def draw(spec: dict, cache: CsvCache, index: int = 0):
         if panel.get("ylim"):
             ax.set_ylim(*panel["ylim"])
         handles, _ = ax.get_legend_handles_labels()
-        if len(handles) > 7 and len(panels) == 1:  # many curves: the legend goes beside the axes
+        if handles:  # the legend goes beside the axes, never on the data
             small = len(handles) > 12
             # Tall enough for the legend: about 0.17 in per entry at 7.5 pt (0.21 at the default size).
             height = max(fig.get_size_inches()[1], 0.8 + (0.17 if small else 0.21) * len(handles))
-            fig.set_size_inches(8.2 if not small else 9.0, height)
+            fig.set_size_inches(max(fig.get_size_inches()[0], 8.2 if not small else 9.0), height)
             ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
                       fontsize=7.5 if small else None)
-        elif handles:
-            ax.legend(loc=panel.get("legend", "best"))
     num = spec.get("thesis_figure")
-    head = (f"Fig. {num} analogue — " if num else "") + str(spec.get("title") or spec.get("id") or "")
+    head = (f"Fig. {num} analogue — " if num else "") + plain_label(str(spec.get("title") or spec.get("id") or ""))
     fig.suptitle("\n".join(textwrap.wrap(head, 92)[:2]), x=0.01, ha="left", fontsize=9, fontweight="normal",
                  color="#444444")
     return fig

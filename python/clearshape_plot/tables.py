@@ -99,6 +99,11 @@ _KNOWN = {"key", "label", "ours", "thesis", "ours_std", "ours_mean", "thesis_mea
           "thesis_improvement_percent", "note", "shaper", "thesis_std"}
 
 
+def plain_label(text: str) -> str:
+    """"without is" / "with is" (input shaping) spelled so it cannot read as the verb: "without IS"."""
+    return re.sub(r"\b([Ww]ith|[Ww]ithout) is\b", lambda m: f"{m.group(1)} IS", text)
+
+
 def normalise(t: dict) -> Table:
     rows = [str(r) for r in (t.get("row_labels") or [])]
     cols = []
@@ -107,7 +112,7 @@ def normalise(t: dict) -> Table:
             continue
         key = str(c.get("key") or c.get("label"))
         std = c.get("ours_std")
-        col = Column(key=key, label=str(c.get("label") or key), ours=nums(c.get("ours")),
+        col = Column(key=key, label=plain_label(str(c.get("label") or key)), ours=nums(c.get("ours")),
                      thesis=nums(c.get("thesis")), ours_std=nums(std) if isinstance(std, list) else None,
                      ours_mean=num(c.get("ours_mean")), ours_sd=num(std) if not isinstance(std, list) else None,
                      thesis_mean=num(c.get("thesis_mean")), improvement=num(c.get("improvement_percent")),
@@ -138,11 +143,17 @@ def verdict(ours, thesis, spread=None, spread_name="", rel_tol=DEFAULT_REL_TOLER
         return {"diff": None, "rel": None, "agrees": None, "criterion": "no value from the study"}
     diff = ours - thesis
     rel = diff / abs(thesis) if thesis != 0 else None
+    # The criterion states what was found, so a failing line never reads as if it held.
     if spread:
-        return {"diff": diff, "rel": rel, "agrees": abs(diff) <= spread,
-                "criterion": f"|Δ| ≤ {spread_name} ({spread:.3g})"}
-    return {"diff": diff, "rel": rel, "agrees": rel is not None and abs(rel) <= rel_tol,
-            "criterion": f"|Δ| ≤ {100 * rel_tol:g} % of the thesis value"}
+        ok = abs(diff) <= spread
+        return {"diff": diff, "rel": rel, "agrees": ok,
+                "criterion": f"|Δ| = {abs(diff):.3g} {'≤' if ok else '>'} {spread_name} ({spread:.3g})"}
+    if rel is None:
+        return {"diff": diff, "rel": None, "agrees": False,
+                "criterion": f"the thesis value is 0: no relative criterion, |Δ| = {abs(diff):.3g}"}
+    ok = abs(rel) <= rel_tol
+    return {"diff": diff, "rel": rel, "agrees": ok,
+            "criterion": f"|Δ| = {100 * abs(rel):.3g} % of the thesis value, {'≤' if ok else '>'} {100 * rel_tol:g} %"}
 
 
 def thesis_improvement_sd(without: Column, with_: Column):

@@ -1,7 +1,9 @@
 // The study report renders: python/render_study.py draws every figure of a study output folder
 // (PNG + PDF, same bytes for the same inputs) and writes a self-contained report.html, which
 // headless Chromium opens offline with every figure decoded (data-figures-loaded == number of
-// <img>, data-figures-failed == 0); a corrupted figure is detected. The study output is the
+// <img>, data-figures-failed == 0); a corrupted figure is detected. Issue 13's defects each have
+// a check in tests/report/report_checks.py, run here on the rendered report; the page is laid out
+// at 1400 px and printed to PDF by python/report_shots.py. The study output is the
 // quick thesis-position study when `clearshape study` exists, else a synthetic fixture
 // (python/clearshape_plot/fixture.py).
 #include <sys/wait.h>
@@ -9,6 +11,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -251,6 +254,56 @@ TEST_F(Report, ChromiumDetectsABrokenFigure) {
   ASSERT_EQ(dom.exit_code, 0);
   EXPECT_EQ(body_attribute(dom.out, "data-figures-failed"), "1");
   EXPECT_EQ(std::stoul(body_attribute(dom.out, "data-figures-loaded")), count(html, "<img ") - 1);
+}
+
+// Issue 13: one named check of tests/report/report_checks.py per defect of the report, on the
+// rendered report of the study above (or on a rewritten copy of its results.json).
+Shell report_check(const std::string& name, const fs::path& study) {
+  return run("/usr/bin/python3 " + quote(repo_root() / "tests" / "report" / "report_checks.py") + " " + name + " " +
+             quote(study) + " " + quote(python_dir()) + " " + quote(repo_root()));
+}
+
+#define REPORT_CHECK(test, check)                      \
+  TEST_F(Report, test) {                               \
+    const Shell r = report_check(check, study_);       \
+    EXPECT_EQ(r.exit_code, 0) << source_ << "\n" << r.out; \
+  }
+
+REPORT_CHECK(LinkModeFitStartsWhereTheFreeDecayDoes, "link-mode-fit")         // 1
+REPORT_CHECK(ClearanceFitThatIdentifiedNothingIsNoFinding, "clearance-identified")  // 2
+REPORT_CHECK(NoColumnOfDashesShapersNotDesignedAreNamed, "empty-columns")     // 3
+REPORT_CHECK(NoTableWiderThanThePage, "layout-1400")                          // 4
+REPORT_CHECK(InputShapingIsNeverReadAsTheVerb, "is-spelling")                 // 5
+REPORT_CHECK(SensitivityInSmallMultiples, "sensitivity")                      // 6
+REPORT_CHECK(SummaryChartColoursAndLegendsOffTheBars, "md-summary")           // 7
+REPORT_CHECK(RepeatabilityAsDeviationFromTheMeanWithEq41, "repeatability")    // 8
+REPORT_CHECK(FailingRowStatesItsCriterionAsFailed, "failing-criterion")       // 9
+REPORT_CHECK(NothingPointsOutsideTheRepository, "outside-references")         // 10
+REPORT_CHECK(OnlyTheThesisRigIsScoredAgainstTheThesis, "rig-kind")            // 11
+
+// The report as its readers see it: laid out by Chromium at 1400 px, nothing runs past the page's
+// column (layout.json lists any table or figure that does), and printed to PDF. With
+// $CLEARSHAPE_TEST_ARTEFACTS set (CI), one screenshot per section is kept there as well (about
+// 20 s more); the PDF and layout.json always go to $CLEARSHAPE_TEST_ARTEFACTS or ./artefacts.
+TEST_F(Report, ReadsAt1400PxAndInPrint) {
+  if (!have_chromium()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
+  const char* env = std::getenv("CLEARSHAPE_TEST_ARTEFACTS");
+  const bool shots = env != nullptr && *env != '\0';
+  const fs::path dir = (shots ? fs::path(env) : fs::current_path() / "artefacts") / "report-1400px";
+  fs::remove_all(dir);
+  const Shell r = run("/usr/bin/python3 " + quote(python_dir() / "report_shots.py") + " " +
+                      quote(study_ / "report.html") + " " + quote(dir) + (shots ? "" : " --no-shots"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto layout = nlohmann::json::parse(read_file(dir / "layout.json"));
+  EXPECT_TRUE(layout.at("overflow").empty()) << "cut off at 1400 px: " << layout.at("overflow").dump();
+  const std::string html = read_file(study_ / "report.html");
+  for (const char* id : {"setup", "consistency", "identification", "clearance", "simulated", "rig",
+                         "ambiguities", "differences"}) {
+    if (!shots || html.find(std::string("<section id=\"") + id + "\"") == std::string::npos) continue;
+    EXPECT_EQ(read_file(dir / (std::string(id) + ".png")).substr(0, 4), "\x89PNG") << id;
+  }
+  EXPECT_EQ(read_file(dir / "report.pdf").substr(0, 5), "%PDF-");
+  RecordProperty("artefacts", dir.string());
 }
 
 TEST(ReportDeterminism, SameInputsSameFigureBytes) {

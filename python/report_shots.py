@@ -1,0 +1,126 @@
+#!/usr/bin/python3
+"""Renders a study report as its readers see it: one headless-Chromium screenshot per section at a
+given width, and the page printed to PDF.
+
+    /usr/bin/python3 python/report_shots.py <report.html> <dir> [--width 1400] [--no-pdf] [--no-shots]
+
+Writes <dir>/<section>.png (the section alone, full height up to 16000 px) for every
+<section id> of the page, <dir>/report.pdf (Chromium's --print-to-pdf, the page's print CSS) and
+<dir>/layout.json: the page's height, each section's height, and every table, figure or block
+that runs past the page's column at this width with its overflow in px (a table cut off at this
+width, or scrolled inside its box, is listed). The report is never modified; the views are
+temporary copies with one extra style rule each. --no-shots writes layout.json (and the PDF) only.
+Exit codes: 0 written, 1 Chromium failed,
+2 bad input.
+"""
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+MAX_HEIGHT_PX = 16000
+
+# Measures, after load, the page's height and every element wider than the main column: the body
+# attribute data-layout holds {"height": h, "overflow": [[tag#id.class, px beyond], ...]}.
+MEASURE = """<script>window.addEventListener('load', function () {
+  var main = document.querySelector('main') || document.body, right = main.getBoundingClientRect().right, out = [];
+  document.querySelectorAll('main table, main figure, main pre, main img').forEach(function (e) {
+    var r = e.getBoundingClientRect(), wrap = e.closest('.table-wrap'), clip = 0;
+    if (wrap && wrap.scrollWidth > wrap.clientWidth + 1) clip = wrap.scrollWidth - wrap.clientWidth;
+    var beyond = Math.max(0, Math.round(r.right - right), clip);
+    if (beyond > 0) out.push([e.tagName.toLowerCase() + (e.id ? '#' + e.id : ''), beyond]);
+  });
+  var sections = {};
+  document.querySelectorAll('main > section[id]').forEach(function (s) {
+    sections[s.id] = Math.ceil(s.getBoundingClientRect().height);
+  });
+  document.body.setAttribute('data-layout', JSON.stringify({height: document.documentElement.scrollHeight,
+                                                           overflow: out, sections: sections}));
+});</script>"""
+
+
+def chromium(args: list[str], profile: Path) -> subprocess.CompletedProcess:
+    base = ["timeout", "180", "chromium", "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+            "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync",
+            "--disable-quic", f"--user-data-dir={profile}", "--virtual-time-budget=5000"]
+    return subprocess.run(base + args, capture_output=True, text=True, check=False)
+
+
+def view(html: str, section: str | None) -> str:
+    """The page with one section shown alone (None: the whole page), plus the measuring script."""
+    style = ""
+    if section:
+        style = (f"<style>header,nav.toc,footer{{display:none}}main>section:not(#{section}){{display:none}}"
+                 "</style>")
+    # The report's CSP allows inline scripts and styles only; the measuring script is inline.
+    return html.replace("</head>", style + "</head>", 1).replace("</body>", MEASURE + "</body>", 1)
+
+
+def layout(path: Path, width: int, profile: Path) -> dict:
+    r = chromium([f"--window-size={width},1000", "--dump-dom", f"file://{path}"], profile)
+    m = re.search(r"data-layout=\"([^\"]*)\"", r.stdout)
+    if not m:
+        raise RuntimeError(f"chromium did not lay out {path}: {r.stderr[-300:]}")
+    return json.loads(m.group(1).replace("&quot;", '"'))
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    width, pdf, shots = 1400, True, True
+    args = []
+    i = 0
+    while i < len(argv):
+        if argv[i] == "--width" and i + 1 < len(argv):
+            width = int(argv[i + 1])
+            i += 2
+            continue
+        if argv[i] == "--no-pdf":
+            pdf = False
+        elif argv[i] == "--no-shots":
+            shots = False
+        else:
+            args.append(argv[i])
+        i += 1
+    if len(args) != 2 or not Path(args[0]).is_file() or not 320 <= width <= 4000:
+        print("usage: report_shots.py <report.html> <dir> [--width 320…4000] [--no-pdf] [--no-shots]",
+              file=sys.stderr)
+        return 2
+    report, out = Path(args[0]).resolve(), Path(args[1])
+    out.mkdir(parents=True, exist_ok=True)
+    html = report.read_text(encoding="utf-8")
+    sections = re.findall(r'<section id="([a-z0-9-]+)"', html)
+    result = {"width_px": width, "sections": {}}
+    with tempfile.TemporaryDirectory(prefix="clearshape_shots_") as tmp:
+        tmp = Path(tmp)
+        try:
+            whole = tmp / "page.html"
+            whole.write_text(view(html, None), encoding="utf-8")
+            lay = layout(whole, width, tmp / "profile")
+            result["height_px"], result["overflow"] = lay["height"], lay["overflow"]
+            for sid in sections if shots else []:
+                page = tmp / f"{sid}.html"
+                page.write_text(view(html, sid), encoding="utf-8")
+                h = int(lay.get("sections", {}).get(sid, 2000))
+                height = min(MAX_HEIGHT_PX, max(200, h + 60))
+                chromium([f"--window-size={width},{height}", f"--screenshot={out / (sid + '.png')}",
+                          f"file://{page}"], tmp / "profile")
+                result["sections"][sid] = {"height_px": h}
+            if pdf:
+                r = chromium(["--no-pdf-header-footer", f"--print-to-pdf={out / 'report.pdf'}", f"file://{report}"],
+                             tmp / "profile")
+                if not (out / "report.pdf").exists():
+                    raise RuntimeError(f"chromium did not print {report}: {r.stderr[-300:]}")
+        except RuntimeError as e:
+            print(f"report_shots: {e}", file=sys.stderr)
+            return 1
+    (out / "layout.json").write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    print(out / "layout.json")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,385 @@
+#!/usr/bin/python3
+"""Checks of a rendered study report against issue 13's defects, one named check per call:
+
+    /usr/bin/python3 tests/report/report_checks.py <check> <study-dir> <python-dir> [<repo-root>]
+
+<study-dir> holds results.json, figures.json, data/ and report.html (python/render_study.py).
+Prints what it compared; exit 0 when the check holds, 1 when it does not, 2 on bad usage.
+Checks that need another study (another rig kind, a fit that identified nothing) rewrite a copy
+of results.json in a temporary folder and render that copy; the study folder is never modified.
+"""
+from __future__ import annotations
+
+import copy
+import csv
+import json
+import math
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from html.parser import HTMLParser
+from pathlib import Path
+
+FAILURES: list[str] = []
+
+
+def expect(cond: bool, what: str) -> None:
+    if not cond:
+        FAILURES.append(what)
+
+
+class Tables(HTMLParser):
+    """Every <table>: id, class, and its rows as lists of (tag, text)."""
+
+    def __init__(self):
+        super().__init__()
+        self.tables, self._stack, self._cell = [], [], None
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "table":
+            self._stack.append({"id": a.get("id", ""), "class": a.get("class", ""), "rows": [], "section": ""})
+        elif tag == "tr" and self._stack:
+            self._stack[-1]["rows"].append([])
+        elif tag in ("td", "th") and self._stack:
+            self._cell = [tag, "", int(a.get("colspan", "1"))]
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th") and self._cell and self._stack and self._stack[-1]["rows"]:
+            self._stack[-1]["rows"][-1].append((self._cell[0], self._cell[1].strip(), self._cell[2]))
+            self._cell = None
+        elif tag == "table" and self._stack:
+            self.tables.append(self._stack.pop())
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell[1] += data
+
+
+def tables_of(html: str) -> list[dict]:
+    p = Tables()
+    p.feed(html)
+    return p.tables
+
+
+def section(html: str, sid: str) -> str:
+    start = html.find(f'<section id="{sid}"')
+    end = html.find("</section>", start)
+    return html[start:end] if start >= 0 else ""
+
+
+def render_copy(study: Path, results: dict, tmp: Path) -> str:
+    """Renders the report of a copy of the study with `results` as its results.json."""
+    out = tmp / "study"
+    if out.exists():
+        shutil.rmtree(out)
+    out.mkdir(parents=True)
+    for name in ("figures.json",):
+        if (study / name).exists():
+            shutil.copy(study / name, out / name)
+    for d in ("data", "figures"):
+        if (study / d).is_dir():
+            shutil.copytree(study / d, out / d)
+    (out / "results.json").write_text(json.dumps(results), encoding="utf-8")
+    import make_report  # noqa: E402
+    return make_report.build(out).read_text(encoding="utf-8")
+
+
+# ----------------------------------------------------------------------------------------------
+
+
+def check_link_mode_fit(study: Path, results: dict, **_) -> None:
+    """1. The fitted link mode is drawn where the gyro's free decay is: the fit's time axis starts at
+    the analysed window, and there the fit and the gyro agree."""
+    lm = results.get("sections", {}).get("link_mode", {})
+    runs = [r for r in lm.get("runs", []) if "window_start_s" in r]
+    path = study / "data" / "link_mode_fit.csv"
+    if not runs or not path.exists():
+        print("no link-mode fit in this study")
+        return
+    rows = list(csv.DictReader(path.open()))
+    t0 = float(rows[0]["time_s"])
+    gyro = [float(r["gyro_deg_s"]) for r in rows]
+    fit = [float(r["fitted_deg_s"]) for r in rows]
+    span = max(gyro) - min(gyro)
+    rms = math.sqrt(sum((g - f) ** 2 for g, f in zip(gyro, fit)) / len(gyro))
+    print(f"window start {runs[0]['window_start_s']} s, CSV starts {t0} s; fit − gyro at start "
+          f"{fit[0] - gyro[0]:.3g}, RMS {rms:.3g} of a {span:.3g} span")
+    expect(abs(t0 - float(runs[0]["window_start_s"])) < 1e-9, "link_mode_fit.csv does not start at the window")
+    expect(abs(fit[0] - gyro[0]) <= 0.2 * span, "the fit and the gyro disagree at the window's start")
+    expect(rms <= 0.2 * span, "the fitted mode does not follow the gyro record")
+
+
+def check_clearance_identified(study: Path, results: dict, tmp: Path, **_) -> None:
+    """2. A clearance fit that identified no parameter is not presented as a finding."""
+    cl = results.get("sections", {}).get("clearance")
+    if not isinstance(cl, dict) or not cl.get("parameters"):
+        print("no clearance fit with parameters in this study")
+        return
+    r = copy.deepcopy(results)
+    for p in r["sections"]["clearance"]["parameters"]:
+        p["identifiable"] = False
+        if p.get("name") == "play":
+            p["at_bound"] = True
+    html = section(render_copy(study, r, tmp), "clearance")
+    expect("identified nothing" in html, "a fit without identified parameters is not said to have identified nothing")
+    expect("The calibrated flank" not in html, "a fit without identified parameters is discussed as a finding")
+    html = section((study / "report.html").read_text(encoding="utf-8"), "clearance")
+    identified = [p["name"] for p in cl["parameters"] if p.get("identifiable") and not p.get("at_bound")]
+    print(f"identified in this study: {identified or 'none'}")
+    expect(("identified nothing" in html) == (not identified), "the report's verdict on the fit contradicts results.json")
+
+
+def check_empty_columns(study: Path, results: dict, html: str, **_) -> None:
+    """3. No table column is all "—"; a shaper that could not be designed is named with the reason."""
+    bad = []
+    for t in tables_of(html):
+        if "results" not in t["class"] and "generic" not in t["class"]:
+            continue
+        body = [r for r in t["rows"] if r and r[0][0] == "th" and any(c[0] == "td" for c in r)]
+        if len(body) < 2:
+            continue
+        width = min(len(r) for r in body)
+        for j in range(1, width):
+            cells = [r[j][1] for r in body]
+            if all(c in ("—", "") for c in cells) and not all(c == "" for c in cells):
+                bad.append(f"{t['id'] or t['class']} column {j}")
+    print(f"columns with no value: {bad or 'none'}")
+    expect(not bad, f"columns that hold only —: {bad[:6]}")
+    for s in results.get("sections", {}).get("shapers", []) or []:
+        if isinstance(s, dict) and s.get("unavailable"):
+            expect(s["key"] in html and "Not designed" in html, f"{s['key']} is not named as not designed")
+            reason = s["unavailable"].split(":")[0]
+            expect(reason in html, f"the reason {reason!r} is not given")
+
+
+def check_layout_1400(study: Path, html: str, python_dir: Path, **_) -> None:
+    """4. No table too wide for the page at 1400 px or in print: each part of a table holds at most
+    14 cells in a row (the page's column holds about that many numbers). Chromium's own layout of
+    the page is checked by the report test from report_shots.py's layout.json."""
+    widest = 0
+    for t in tables_of(html):
+        if "results" in t["class"] and t["rows"]:
+            cells = max(sum(c[2] for c in r) for r in t["rows"])
+            widest = max(widest, cells)
+            expect(cells <= 14, f"table {t['id']} has {cells} cells in a row (too wide for the page)")
+    print(f"widest results table: {widest} cells in a row")
+
+
+def check_is_spelling(html: str, study: Path, **_) -> None:
+    """5. "without is / with is" never reads as the verb."""
+    text = html + (study / "figures.json").read_text(encoding="utf-8") if (study / "figures.json").exists() else html
+    hits = re.findall(r".{0,30}\b[Ww]ith(?:out)? is\b.{0,20}", text)
+    print(f"'with(out) is' found {len(hits)} times")
+    expect(not hits, f"'without is' / 'with is' in the report: {hits[:3]}")
+
+
+def _legend_clear_of_data(fig, ax) -> bool:
+    """The axes' legend (if any) does not overlap the axes' data area."""
+    fig.canvas.draw()
+    leg = ax.get_legend()
+    if leg is None or not ax.axison:  # a legend-only slot (axis off) holds no data
+        return True
+    r = fig.canvas.get_renderer()
+    a, b = leg.get_window_extent(r), ax.get_window_extent(r)
+    return not a.overlaps(b)
+
+
+def plt_close(fig) -> None:
+    import matplotlib.pyplot as plt  # noqa: E402
+    plt.close(fig)
+
+
+def _figures(study: Path, python_dir: Path):
+    sys.path.insert(0, str(python_dir))
+    from clearshape_plot import figures  # noqa: E402
+    from clearshape_plot.data import CsvCache  # noqa: E402
+    figures.use_style()
+    return figures, CsvCache(study), json.loads((study / "figures.json").read_text())["figures"]
+
+
+def check_sensitivity(study: Path, python_dir: Path, **_) -> None:
+    """6. The sensitivity plot: at most 3 shaper curves per panel, the legend off the curves."""
+    figures, cache, specs = _figures(study, python_dir)
+    spec = next((s for s in specs if s.get("kind") == "sensitivity"), None)
+    if spec is None:
+        print("no sensitivity figure")
+        return
+    fig = figures.draw(spec, cache)
+    axes = [a for a in fig.axes if a.get_visible() and a.get_lines()]
+    counts = [sum(1 for ln in a.get_lines() if len(ln.get_xdata()) > 2) for a in axes]
+    print(f"{len(spec['series'])} series in {len(axes)} panels, curves per panel {counts}")
+    expect(max(counts) <= 3, f"a panel holds {max(counts)} curves")
+    expect(all(_legend_clear_of_data(fig, a) for a in fig.axes), "a legend sits on the curves")
+
+
+def check_md_summary(study: Path, python_dir: Path, **_) -> None:
+    """7. The summary chart: "without" bars in a colour no shaped bar has; legends off the bars."""
+    sys.path.insert(0, str(python_dir))
+    from matplotlib.colors import to_rgb  # noqa: E402
+    from clearshape_plot import figures  # noqa: E402
+    figures.use_style()
+    rows = [{"table": "5.1", "label": f"5.1 {r.upper()}", "role": r, "ours_without": 0.45, "thesis_without": 0.39,
+             "ours_with": w, "thesis_with": w + 0.05, "ours_improvement": 100 * (1 - w / 0.45),
+             "thesis_improvement": 100 * (1 - (w + 0.05) / 0.39)}
+            for r, w in (("zv", 0.17), ("zvd", 0.15), ("zvdd", 0.13), ("mzv", 0.16), ("ei", 0.15))]
+    fig = figures.draw({"id": "md-summary", "kind": "md-summary", "unit": "deg_s", "title": "t", "rows": rows}, None)
+    ax, ax2 = fig.axes[:2]
+    lab = _lab
+    bars = [p for p in ax.patches]
+    n = len(rows)
+    without = [to_rgb(p.get_facecolor()[:3]) for p in bars[:n]]
+    shaped = [to_rgb(p.get_facecolor()[:3]) for p in bars[2 * n:3 * n]]
+    d = min(math.dist(lab(w), lab(s)) for w in without for s in shaped)
+    print(f"smallest CIELAB ΔE between a 'without' and a shaped bar: {d:.1f}")
+    expect(d >= 40, f"a shaped bar's colour is close to the 'without' colour (ΔE {d:.1f})")
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    for a in (ax, ax2):
+        leg = a.get_legend()
+        if leg is None:
+            continue
+        box = leg.get_window_extent(r)
+        over = [p for p in a.patches if p.get_height() > 0 and box.overlaps(p.get_window_extent(r))]
+        expect(not over, f"a legend covers {len(over)} bars")
+
+
+def _lab(rgb):
+    """sRGB (0–1) → CIELAB (D65)."""
+    c = [((v + 0.055) / 1.055) ** 2.4 if v > 0.04045 else v / 12.92 for v in rgb]
+    x = (0.4124 * c[0] + 0.3576 * c[1] + 0.1805 * c[2]) / 0.95047
+    y = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+    z = (0.0193 * c[0] + 0.1192 * c[1] + 0.9505 * c[2]) / 1.08883
+    f = [t ** (1 / 3) if t > 0.008856 else 7.787 * t + 16 / 116 for t in (x, y, z)]
+    return (116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2]))
+
+
+def check_repeatability(study: Path, results: dict, python_dir: Path, **_) -> None:
+    """8. Repeatability figures show each run's deviation from the mean with its Eq. 4.1 error, the
+    same E as the consistency table; no legend on the curves of any line figure."""
+    figures, cache, specs = _figures(study, python_dir)
+    cons = [s for s in specs if str(s.get("id", "")).startswith("consistency-")]
+    table = next((t for t in results.get("tables", []) if t.get("kind") == "consistency"), None)
+    expect(bool(cons) and table is not None, "no repeatability figure or consistency table")
+    compared = 0
+    for spec in cons:
+        fig = figures.draw(spec, cache)
+        expect(len(fig.axes) >= 2, f"{spec['id']}: no deviation panel")
+        if len(fig.axes) < 2:
+            continue
+        labels = fig.axes[1].get_legend_handles_labels()[1]
+        e = [float(m.group(1)) for m in (re.search(r"E = ([0-9.e+-]+)", lab) for lab in labels) if m]
+        key = spec["id"].removeprefix("consistency-")
+        col = next((c for c in table["columns"] if c.get("key") == key), None) if table else None
+        if col is not None and e:
+            expect(len(e) == len(col["ours"]), f"{spec['id']}: {len(e)} runs in the legend, {len(col['ours'])} in the table")
+            for a, b in zip(e, col["ours"]):
+                expect(abs(a - b) <= 0.006 * abs(b), f"{spec['id']}: E {a} in the figure, {b} in Table {table['id']}")
+                compared += 1
+        expect(all(_legend_clear_of_data(fig, a) for a in fig.axes), f"{spec['id']}: a legend sits on the curves")
+        plt_close(fig)
+    for spec in specs:
+        if spec.get("kind", "time-series") in ("time-series",) and not str(spec.get("id")).startswith("consistency-"):
+            fig = figures.draw(spec, cache)
+            expect(all(_legend_clear_of_data(fig, a) for a in fig.axes), f"{spec['id']}: a legend sits on the curves")
+            plt_close(fig)
+    print(f"{len(cons)} repeatability figures, {compared} Eq. 4.1 errors compared with the table")
+
+
+def check_failing_criterion(html: str, python_dir: Path, **_) -> None:
+    """9. A failing comparison states its criterion as failed (>), a passing one as held (≤)."""
+    sys.path.insert(0, str(python_dir))
+    from clearshape_plot import tables  # noqa: E402
+    v = tables.verdict(2.0, 1.0, 0.5, "s.d.")
+    expect(not v["agrees"] and ">" in v["criterion"] and "≤" not in v["criterion"], f"failing: {v['criterion']}")
+    v = tables.verdict(1.2, 1.0)
+    expect(not v["agrees"] and ">" in v["criterion"] and "≤" not in v["criterion"], f"failing: {v['criterion']}")
+    v = tables.verdict(1.05, 1.0)
+    expect(v["agrees"] and "≤" in v["criterion"], f"passing: {v['criterion']}")
+    diff = section(html, "differences")
+    differ = diff.split("<h3>Where clearshape differs</h3>")[1].split("<h3>")[0] if "Where clearshape differs" in diff else ""
+    crits = re.findall(r'<span class="crit">([^<]*)</span>', differ)
+    print(f"{len(crits)} failing rows")
+    for c in crits:
+        expect("≤" not in c and (">" in c or "&gt;" in c or "no relative criterion" in c), f"failing row reads: {c}")
+
+
+def check_no_outside_references(html: str, repo: Path, **_) -> None:
+    """10. Neither the report nor any file of the repository points to a design note or a reference
+    file that is not in the repository (the upper-case design file, the reference folder)."""
+    pat = re.compile("DESIGN" + r"\.md|\b" + "reference" + r"/[a-z_]+\.md|\b(?:clearance_sim|sysid|aesthetics_ecosystem)"
+                     + r"\.md")
+    expect(not pat.search(html), "the report cites a file outside the repository")
+    try:
+        files = subprocess.run(["git", "-C", str(repo), "ls-files"], capture_output=True, text=True,
+                               check=True).stdout.split()
+    except (OSError, subprocess.CalledProcessError):
+        files = [str(p.relative_to(repo)) for p in repo.rglob("*") if p.is_file()
+                 and not any(part.startswith(("build", ".")) for part in p.relative_to(repo).parts)]
+    hits = []
+    for f in files:
+        p = repo / f
+        if not p.is_file() or p.stat().st_size > 2_000_000:
+            continue
+        try:
+            text = p.read_text(encoding="utf-8")
+        except (UnicodeDecodeError, OSError):
+            continue
+        if pat.search(text):
+            hits.append(f)
+    print(f"{len(files)} files searched; outside references in {hits or 'none'}")
+    expect(not hits, f"files citing a file outside the repository: {hits[:10]}")
+
+
+def check_rig_kind(study: Path, results: dict, tmp: Path, **_) -> None:
+    """11. A rig that is not the thesis's is neither called calibrated to the thesis nor scored
+    against it; the thesis's own simulated rig is."""
+    seen = {}
+    for kind in ("simulated-config", "simulated-large-play", "simulated-thesis", "physical", "recorded"):
+        r = copy.deepcopy(results)
+        r["rig"] = {"kind": kind, "description": f"test rig ({kind})"}
+        html = render_copy(study, r, tmp)
+        scored = 'class="verdict ok"' in html or 'class="verdict diff"' in html
+        calibrated = "calibrated to what the thesis measured" in html
+        seen[kind] = (scored, calibrated)
+        if kind in ("simulated-config", "simulated-large-play"):
+            expect(not scored, f"{kind}: the report scores the study against the thesis")
+            expect(not calibrated, f"{kind}: the report says the rig was calibrated to the thesis")
+            expect("not scored" in html.lower(), f"{kind}: the report does not say it is not scored")
+        elif kind == "simulated-thesis":
+            expect(scored and calibrated, "the thesis rig is no longer scored or called calibrated")
+        else:
+            expect(not calibrated, f"{kind}: a measured rig is called calibrated to the thesis")
+            expect("measurement" in html, f"{kind}: the report does not say its runs are measurements")
+    print(f"(scored, called calibrated) per rig kind: {seen}")
+
+
+CHECKS = {
+    "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
+    "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
+    "sensitivity": check_sensitivity, "md-summary": check_md_summary, "repeatability": check_repeatability,
+    "failing-criterion": check_failing_criterion, "outside-references": check_no_outside_references,
+    "rig-kind": check_rig_kind,
+}
+
+
+def main(argv) -> int:
+    if len(argv) < 3 or argv[0] not in CHECKS:
+        print(f"usage: report_checks.py <{'|'.join(CHECKS)}> <study-dir> <python-dir> [<repo-root>]", file=sys.stderr)
+        return 2
+    study, python_dir = Path(argv[1]), Path(argv[2])
+    repo = Path(argv[3]) if len(argv) > 3 else python_dir.parent
+    sys.path.insert(0, str(python_dir))
+    results = json.loads((study / "results.json").read_text(encoding="utf-8"))
+    html = (study / "report.html").read_text(encoding="utf-8")
+    with tempfile.TemporaryDirectory(prefix="clearshape_checks_") as tmp:
+        CHECKS[argv[0]](study=study, results=results, html=html, python_dir=python_dir, repo=repo, tmp=Path(tmp))
+    for f in FAILURES:
+        print(f"FAIL: {f}")
+    return 1 if FAILURES else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))
