@@ -11,7 +11,7 @@ packages=(
   libeigen3-dev libsundials-dev libceres-dev libnlopt-cxx-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-numpy python3-scipy python3-matplotlib
+  python3 python3-numpy python3-scipy python3-matplotlib python3-jinja2
   pybind11-dev python3-dev python3-pytest python3-h5py python3-distributed
   chromium fonts-dejavu-core
   gcc-avr avr-libc simavr libsimavr-dev libserialport-dev
