@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Simulated rig, 10 s runs: clearshape (CVODE BDF) vs SciPy solve_ivp on the same model.
 
-The peer is an independent re-implementation of the plant equations (DESIGN.md §2,
+The peer is an independent re-implementation of the plant equations (docs/design.md §2,
 rig/truth.hpp): the rig's linear drive (its state-space realization read from the sidecar;
 position mode: command deg -> motor angle; speed mode: V -> motor rate, integrated to the angle),
 the link J·dω/dt = τ_contact − b_g·ω − b_j·dφ/dt with the torsional play |φ| <= β and the

@@ -1,4 +1,4 @@
-# One static library per module (DESIGN.md §3). A module links only modules on lower floors,
+# One static library per module (docs/design.md §3). A module links only modules on lower floors,
 # so the floors are enforced by the build: clearshape_add_module(shaping DEPS core LIBS NLopt::nlopt)
 add_library(clearshape_warnings INTERFACE)
 target_compile_options(clearshape_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow

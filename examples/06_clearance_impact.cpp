@@ -1,7 +1,7 @@
 // One impact of the link against the clearance stop, with a Kelvin–Voigt law tuned for e = 0.8
 // and a Hunt–Crossley law with nominal e = 0.8. Prints the effective restitution read from the
 // contact events and checks it: KV returns e exactly, Hunt–Crossley 0.833 (its known bias,
-// reference/clearance_sim.md §3.3).
+// docs/design.md §5).
 #include <cmath>
 #include <cstdio>
 

@@ -1,5 +1,5 @@
 // `clearshape calibrate-rig`: calibrates the simulated rig's hidden truth to the thesis's
-// measurements (DESIGN.md §2; study/rig_calibration.hpp): the speed drive under the §3.3 filter
+// measurements (docs/design.md §2; study/rig_calibration.hpp): the speed drive under the §3.3 filter
 // chain, then the play, flank stiffness and damping and the gyro noise against the unshaped
 // ("without is") means of Tables B.1–B.5, then the run-to-run variation against the mean Eq. 4.1
 // errors of Tables 4.1–4.2 and the unshaped trials' spread (Tables 5.1, B.1–B.5). Writes

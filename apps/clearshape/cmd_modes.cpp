@@ -1,7 +1,7 @@
 // clearshape modes: the dominant lightly damped modes of a record — a free decay of the link
 // sensor after a move (ERA + damped-sinusoid least squares), or input/output data (subspace +
 // output-error fit) — with frequency, damping ratio, amplitude and their 1σ, ready for shaper
-// design (DESIGN.md §2: the link's residual mode, not the drive's ζ ≈ 1 position model).
+// design (docs/design.md §2: the link's residual mode, not the drive's ζ ≈ 1 position model).
 #include <algorithm>
 #include <cctype>
 #include <cmath>

@@ -57,7 +57,7 @@ def normalise_role(role: str | None) -> str:
     return aliases.get(r, r)
 
 
-# The mode a shaper was designed for (DESIGN.md §2): the link's identified residual mode draws solid,
+# The mode a shaper was designed for (docs/design.md §2): the link's identified residual mode draws solid,
 # the drive model (Eq. 4.2) dashed, so both ZVDD variants stay visible over the unshaped response.
 SOURCE_LINESTYLE = {"link-mode": "-", "drive-model": (0, (5, 2))}
 
@@ -80,7 +80,7 @@ def label_for(role: str | None) -> str:
     return SHAPER_LABELS.get(r, str(role) if role else "")
 
 
-# Unit suffixes of CSV column names (DESIGN.md §4: time_s, command_deg, gyro_deg_s, ...), longest first.
+# Unit suffixes of CSV column names (docs/design.md §4: time_s, command_deg, gyro_deg_s, ...), longest first.
 _UNITS = [
     ("_deg_s2", "°/s²"), ("_rad_s2", "rad/s²"), ("_deg_s", "°/s"), ("_rad_s", "rad/s"), ("_n_m", "N·m"),
     ("_deg", "°"), ("_rad", "rad"), ("_hz", "Hz"), ("_ms", "ms"), ("_s", "s"), ("_v", "V"),

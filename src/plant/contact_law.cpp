@@ -115,7 +115,7 @@ ContactLaw ContactLaw::kelvin_voigt_restitution(double stiffness, double restitu
   require_positive("effective_mass", effective_mass,
                    "give the mass (or inertia) that hits the stop");
   const double zeta = kelvin_voigt_damping_ratio(restitution);
-  // c = 2 ζ √(k m) (clearance_sim.md §3.2, Chrono "Hooke" mapping)
+  // c = 2 ζ √(k m) (docs/design.md §5, Chrono "Hooke" mapping)
   ContactLaw law = kelvin_voigt(stiffness, 2.0 * zeta * std::sqrt(stiffness * effective_mass),
                                 policy);
   law.restitution_ = restitution;
@@ -153,7 +153,7 @@ ContactLaw ContactLaw::hysteresis(Hysteresis model, double stiffness, double exp
 }
 
 namespace {
-// F = F_el + F_d with the policy (clearance_sim.md §3.4; MSL ElastoBacklash for `bounded`).
+// F = F_el + F_d with the policy (docs/design.md §5; MSL ElastoBacklash for `bounded`).
 ContactForce combine(double fe, double dfe, double fd, double dfd_rate, DampingPolicy policy) noexcept {
   ContactForce out;
   out.elastic = fe;
@@ -208,7 +208,7 @@ ContactForce ContactLaw::evaluate(double delta, double rate,
       out.elastic_d_penetration = stiffness_;
       return out;
     }
-    case Kind::hysteresis: {  // F = K δⁿ (1 + χ δ̇/δ̇⁻), clamped (clearance_sim.md §3.3)
+    case Kind::hysteresis: {  // F = K δⁿ (1 + χ δ̇/δ̇⁻), clamped (docs/design.md §5)
       const double pow_nm1 = std::pow(delta, exponent_ - 1.0);
       const double fe = stiffness_ * pow_nm1 * delta;
       ContactForce out;

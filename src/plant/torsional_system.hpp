@@ -1,5 +1,5 @@
 #pragma once
-// Internal: drive + link with 1-D torsional play (the primary joint model, DESIGN.md §2).
+// Internal: drive + link with 1-D torsional play (the primary joint model, docs/design.md §2).
 // State: [x (drive) | φ = θ_link − θ_motor | ω_link | W_diss | W_drive].
 #include "joint_system.hpp"
 

@@ -223,7 +223,7 @@ TEST(ModesCli, PerSampleWithoutSampleTime) {
   fs::remove(g);
 }
 
-// DaISy 96-009 (reference/sysid.md §3.1): two lightly damped resonances at 0.0582 and 0.1267
+// DaISy 96-009 (docs/design.md §5): two lightly damped resonances at 0.0582 and 0.1267
 // cycles/sample; a two-mode shaper (ZVD ∗ ZVD, Crain et al. 1996) designed from them leaves no
 // residual vibration at either mode (time unit: one sample).
 TEST(ModesCli, DaisyRobotArmTwoModesAndTwoModeShaper) {

@@ -1,6 +1,6 @@
 // General state-space estimation: exact on noise-free synthetic data (poles, continuous model,
 // transfer function), and the DaISy 96-009 flexible robot arm (real data, ../shared/data) against
-// the reference numbers of reference/sysid.md §3.1: an order-4 model on samples 1–512 must
+// the reference numbers of docs/design.md §5: an order-4 model on samples 1–512 must
 // validate at ≥ 90 % fit on the second half when the whole record is simulated from zero state
 // (Octave 7.3 n4sid: 92.3 %) and show two resonances at 0.0582 and 0.1267 cycles/sample with
 // ζ < 0.01.

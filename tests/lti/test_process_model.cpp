@@ -108,7 +108,7 @@ TEST(ProcessModel, ThesisSpeedModeFigures) {
   ASSERT_EQ(modes.size(), 1u);
   EXPECT_NEAR(modes[0].natural_frequency_rad_s, 1.0 / 0.0479, 1e-10);
   EXPECT_NEAR(modes[0].damping_ratio, 0.2880, 1e-12);
-  EXPECT_NEAR(modes[0].damped_frequency_rad_s(), 19.992, 1e-3);  // reference/sysid.md §0
+  EXPECT_NEAR(modes[0].damped_frequency_rad_s(), 19.992, 1e-3);  // docs/design.md §5
   // The transfer function's numeric roots agree with the closed form.
   const auto tf = m.transfer_function();
   const auto tp = tf.poles();
@@ -124,7 +124,7 @@ TEST(ProcessModel, ThesisPositionModeFigures) {
   const auto modes = m.oscillatory_modes();
   ASSERT_EQ(modes.size(), 1u);
   EXPECT_NEAR(modes[0].damping_ratio, 0.9968, 1e-12);
-  EXPECT_NEAR(modes[0].damped_frequency_rad_s(), 7.84, 1e-2);  // reference/sysid.md §0
+  EXPECT_NEAR(modes[0].damped_frequency_rad_s(), 7.84, 1e-2);  // docs/design.md §5
 }
 
 TEST(ProcessModel, OverdampedPairGivesRealPolesWithProductOneOverTw2) {

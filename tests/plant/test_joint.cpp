@@ -1,4 +1,4 @@
-// Clearance-joint dynamics oracles (reference/clearance_sim.md §7: T5–T9, T11, T12) for the
+// Clearance-joint dynamics oracles (docs/design.md §5) for the
 // torsional play and the planar journal bearing.
 #include <gtest/gtest.h>
 

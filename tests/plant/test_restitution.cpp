@@ -1,4 +1,4 @@
-// Single-impact oracles (reference/clearance_sim.md §7 T1–T4, §3.3–3.4, B1–B2).
+// Single-impact oracles (docs/design.md §5).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -32,7 +32,7 @@ TEST(Restitution, KelvinVoigtRecoversRestitutionExactly) {
   }
 }
 
-// T2: effective restitution of the hysteresis family, Hertz n = 1.5 (clearance_sim.md §3.3
+// T2: effective restitution of the hysteresis family, Hertz n = 1.5 (docs/design.md §5
 // table, computed by the reference with RK4 h = 5e-5 in normalised units), ± 0.002.
 struct HysteresisRow {
   cp::Hysteresis model;
@@ -83,7 +83,7 @@ TEST(Restitution, HysteresisInvariantToScale) {
 }
 
 // T3: thesis law F = K δ^1.5 + D δ̇; e depends only on z = D (m v₀²/K)^(2/5)/(m v₀)
-// (clearance_sim.md §3.4 table), ± 0.003. With m = K = v₀ = 1, z = D.
+// (docs/design.md §5), ± 0.003. With m = K = v₀ = 1, z = D.
 TEST(Restitution, ThesisLawMatchesReferenceTable) {
   const double z[8] = {0.01, 0.03, 0.10, 0.20, 0.30, 0.50, 1.0, 2.0};
   const double raw[7] = {0.982, 0.947, 0.833, 0.689, 0.563, 0.357, 0.041};

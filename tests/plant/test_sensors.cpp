@@ -1,4 +1,4 @@
-// Sensor models (clearance_sim.md §7 T12): encoder, ITG-3205 gyroscope, MF-614 converters.
+// Sensor models (docs/design.md §5): encoder, ITG-3205 gyroscope, MF-614 converters.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Guards the calibration of the simulated rig (DESIGN.md §2): the default rig's unshaped
+// Guards the calibration of the simulated rig (docs/design.md §2): the default rig's unshaped
 // responses reproduce the thesis's "without is" means (Tables B.1–B.5) within the stated
 // tolerance, and the truth's speed drive seen through the §3.3 chain is the thesis's Eq. 4.2.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Error types and boundary validation (DESIGN.md §3–4).
+// Error types and boundary validation (docs/design.md §3–4).
 // Configuration-time code throws; real-time code returns clearshape::Status instead.
 //   InvalidArgument  a parameter outside its allowed range   -> CLI exit code 2
 //   InputError       bad data in an input file (file, line, field) -> CLI exit code 2

@@ -1,5 +1,5 @@
 #pragma once
-// Status values returned by real-time paths, which never throw (DESIGN.md §3, after Ruckig's
+// Status values returned by real-time paths, which never throw (docs/design.md §3, after Ruckig's
 // Result and ros2_control's return_type).
 #include <cstdint>
 #include <string_view>

@@ -1,5 +1,5 @@
 #pragma once
-// JSON documents written by clearshape carry schema_version and the tool version (DESIGN.md §4).
+// JSON documents written by clearshape carry schema_version and the tool version (docs/design.md §4).
 #include <filesystem>
 
 #include <nlohmann/json.hpp>

@@ -1,6 +1,6 @@
 #pragma once
 // Numeric tables: reading comma- or whitespace-separated numeric columns (with or without a
-// header line) and writing CSV with a plain unit-suffixed header (DESIGN.md §4).
+// header line) and writing CSV with a plain unit-suffixed header (docs/design.md §4).
 #include <cstddef>
 #include <filesystem>
 #include <optional>

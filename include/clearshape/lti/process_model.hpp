@@ -5,7 +5,7 @@
 //   den(s) = (1 + 2 Zeta Tw s + (Tw s)²) [(1 + Tp3 s)]     (P2U, P3U: underdamped pair)
 // The structure code is "P" + number of poles (0–3) + letters in any order: D (delay Td),
 // Z (zero Tz), U (underdamped pair Tw, Zeta; needs ≥ 2 poles), I (integrator).
-// The thesis model (Eq. 4.2) is P3UZ. Gains map command units to output units (DESIGN.md §2).
+// The thesis model (Eq. 4.2) is P3UZ. Gains map command units to output units (docs/design.md §2).
 #include <complex>
 #include <span>
 #include <string>

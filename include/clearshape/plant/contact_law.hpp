@@ -1,10 +1,10 @@
 #pragma once
 // Normal contact laws F(δ, δ̇) for a clearance joint (thesis §2.3.2.1, Eq. 2.2–2.7, Eq. 4.3;
-// reference/clearance_sim.md §3). A ContactLaw is an immutable, validated design (a value type);
+// docs/design.md §5). A ContactLaw is an immutable, validated design (a value type);
 // evaluate() is noexcept and allocation-free.
 //
 // Units. The law is unit-agnostic: δ is the penetration in the joint's coordinate and F the
-// generalized force along it. For the torsional play (DESIGN.md §2) δ is in rad and F is a
+// generalized force along it. For the torsional play (docs/design.md §2) δ is in rad and F is a
 // torque in N·m, so K is in N·m/rad^n and D in N·m·s/rad; for the planar journal δ is in m,
 // F in N, K in N/m^n and D in N·s/m.
 //
@@ -15,7 +15,7 @@
 
 namespace clearshape::plant {
 
-/// How a law whose damping does not vanish at δ = 0 is kept physical (clearance_sim.md §3.4).
+/// How a law whose damping does not vanish at δ = 0 is kept physical (docs/design.md §5).
 enum class DampingPolicy : std::uint8_t {
   raw,      ///< F = F_spring + F_damper as written; may pull (F < 0) and jumps at onset
   clamped,  ///< F = max(F_spring + F_damper, 0): never pulls; still jumps at onset
@@ -23,7 +23,7 @@ enum class DampingPolicy : std::uint8_t {
             ///< never pulls and is continuous at onset
 };
 
-/// Hysteresis-damping factor χ(e) of F = K δⁿ (1 + χ(e) δ̇/δ̇⁻) (clearance_sim.md §3.3 table).
+/// Hysteresis-damping factor χ(e) of F = K δⁿ (1 + χ(e) δ̇/δ̇⁻) (docs/design.md §5).
 enum class Hysteresis : std::uint8_t {
   hunt_crossley,        ///< 3(1−e)/2                     (Hunt & Crossley 1975)
   herbert_mcwhannell,   ///< 6(1−e)/((2e−1)²+3)           (Herbert & McWhannell 1977)
@@ -45,7 +45,7 @@ std::string_view to_string(DampingPolicy policy) noexcept;
 double kelvin_voigt_damping_ratio(double restitution);
 
 /// z = D (m v₀²/K)^(2/5)/(m v₀): the single group that sets the restitution of the thesis law
-/// F = K δ^1.5 + D δ̇ for a mass (inertia) m hitting at v₀ (clearance_sim.md §3.4; raw law
+/// F = K δ^1.5 + D δ̇ for a mass (inertia) m hitting at v₀ (docs/design.md §5; raw law
 /// sticks for z ≳ 2). For exponent n the group is D (m v₀²/K)^(1/(n+1))/(m v₀).
 double dashpot_group(double stiffness, double exponent, double damping, double mass,
                      double approach_rate);
@@ -94,7 +94,7 @@ class ContactLaw {
   static ContactLaw kelvin_voigt(double stiffness, double damping,
                                  DampingPolicy policy = DampingPolicy::raw);
   /// Linear Kelvin–Voigt with c = 2 ζ(e) √(k m_eff): with the raw policy a single impact of
-  /// the effective mass (inertia) m_eff returns exactly e (clearance_sim.md §3.2).
+  /// the effective mass (inertia) m_eff returns exactly e (docs/design.md §5).
   static ContactLaw kelvin_voigt_restitution(double stiffness, double restitution,
                                              double effective_mass,
                                              DampingPolicy policy = DampingPolicy::raw);

@@ -1,7 +1,7 @@
 #pragma once
-// Drive models: command → motor angle and speed (thesis §3.2, §4.2, Eq. 4.2; DESIGN.md §1).
+// Drive models: command → motor angle and speed (thesis §3.2, §4.2, Eq. 4.2; docs/design.md §1).
 //
-// Coupling (DESIGN.md §1, clearance_sim.md §6.1): the identified transfer functions are the
+// Coupling (docs/design.md §1): the identified transfer functions are the
 // closed-loop responses of the servo driver, so the motor motion is *imposed* on the joint
 // (one-way coupling): the contact torque of the link does not load the motor. The drive's
 // state-space realization is embedded in the ODE state: ẋ = A x + B u(t − T_d).

@@ -1,6 +1,6 @@
 #pragma once
 // Friction torque (or force) as a smooth function of the sliding rate v: viscous + regularized
-// Coulomb with an optional Stribeck peak (clearance_sim.md §3.5):
+// Coulomb with an optional Stribeck peak (docs/design.md §5):
 //   τ(v) = −b·v − [F_c + (F_s − F_c)·exp(−(v/v_S)²)]·tanh(v/v_t)
 // v_t is the regularization scale: |v| ≫ v_t slides at the full Coulomb level; the tanh adds
 // a stiffness of order F_c/v_t to the ODE (choose v_t ≈ 1e-4…1e-3 of the typical rate).

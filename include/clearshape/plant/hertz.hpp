@@ -1,6 +1,6 @@
 #pragma once
 // Hertz contact stiffness from materials and geometry (thesis Eq. 2.5–2.6;
-// reference/clearance_sim.md §3.2), and conversion of a linear contact law to the torsional
+// docs/design.md §5), and conversion of a linear contact law to the torsional
 // play of a shaft (force at a radius r).
 namespace clearshape::plant {
 

@@ -1,6 +1,6 @@
 #pragma once
 // Discontinuous (impulse–momentum) impact with restitution (thesis Eq. 2.13–2.16;
-// reference/clearance_sim.md §3.6): at the contact instant the normal velocity w·u is reversed
+// docs/design.md §5): at the contact instant the normal velocity w·u is reversed
 // and scaled by e, with the impulse P_N = −(1+e)·wᵀu⁻/(wᵀM⁻¹w). Approaches slower than
 // `static_rate` do not bounce but enter persistent contact (no Zeno chattering).
 #include <Eigen/Dense>

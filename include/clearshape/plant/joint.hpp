@@ -1,6 +1,6 @@
 #pragma once
 // The plant: a drive (imposed motor motion) and a link joined to the motor shaft through a
-// joint with clearance (DESIGN.md §2, thesis §2.3). Two joint models behind one interface:
+// joint with clearance (docs/design.md §2, thesis §2.3). Two joint models behind one interface:
 //   TorsionalClearance: 1-D angular play ±β between shaft and link (the primary model).
 //     φ = θ_link − θ_motor, penetration δ = |φ| − β when |φ| > β, δ̇ = sign(φ)·φ̇;
 //     the contact torque −sign(φ)·F(δ, δ̇) acts on the link (its reaction on the motor is

@@ -1,6 +1,6 @@
 #pragma once
 // Simulation of the plant (drive + link + clearance joint) with SUNDIALS CVODE
-// (clearance_sim.md §6): BDF with a dense linear solver (or Adams for non-stiff checks),
+// (docs/design.md §1): BDF with a dense linear solver (or Adams for non-stiff checks),
 // analytic Jacobian for the torsional joint (difference quotients for the planar one),
 // CVodeRootInit for contact onset/separation, CVodeReInit after every mode change that makes
 // the right-hand side jump, output at a fixed sample rate from CVODE's dense output
@@ -198,7 +198,7 @@ class Simulator {
 };
 
 /// One impact of a body of effective mass (inertia) m against a fixed stop under `law`,
-/// starting at δ = 0 with approach rate v₀ > 0 (reference/clearance_sim.md B1/B2).
+/// starting at δ = 0 with approach rate v₀ > 0 (docs/design.md §5).
 struct SingleImpact {
   double restitution = 0.0;        ///< e_eff = −δ̇⁺/v₀ (0 if stuck)
   double contact_time_s = 0.0;     ///< until δ returns to 0 (or until rest if stuck)

@@ -1,6 +1,6 @@
 #pragma once
-// The contact-law choices of the simulated rig's torsional play (DESIGN.md §2; thesis Eq. 4.3;
-// reference/clearance_sim.md §3). Units: δ in rad, torque in N·m, so a Hertz-type stiffness K
+// The contact-law choices of the simulated rig's torsional play (docs/design.md §2; thesis Eq. 4.3;
+// docs/design.md §5). Units: δ in rad, torque in N·m, so a Hertz-type stiffness K
 // is in N·m/rad^n, a linear one in N·m/rad, and a dashpot D in N·m·s/rad.
 #include <cstdint>
 #include <optional>

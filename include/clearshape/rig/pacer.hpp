@@ -1,5 +1,5 @@
 #pragma once
-// Wall-clock pacing of a periodic loop (reference/aesthetics_ecosystem.md §3.4): absolute
+// Wall-clock pacing of a periodic loop (docs/design.md §3): absolute
 // deadlines next = start + k·T on std::chrono::steady_clock, std::this_thread::sleep_until;
 // a cycle that finds its deadline already passed is an overrun. When a cycle is late by whole
 // periods those periods are counted as missed and the schedule skips ahead (ros2_control's

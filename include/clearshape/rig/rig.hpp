@@ -1,6 +1,6 @@
 #pragma once
 // The hardware abstraction of a test rig, after ros2_control's hardware_interface
-// (reference/aesthetics_ecosystem.md §1.6): a lifecycle run outside the real-time loop, and
+// (docs/design.md §3): a lifecycle run outside the real-time loop, and
 // read()/write() inside it.
 //
 //            configure()           activate()

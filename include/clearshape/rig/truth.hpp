@@ -3,11 +3,11 @@
 //
 // Experiments use SimRig (sim_rig.hpp), which is built with the thesis rig below and never
 // exposes it: an experiment identifies the rig from its measurements as it would a real one.
-// Only calibration (fitting the truth to the thesis's unshaped measurements, DESIGN.md §2),
+// Only calibration (fitting the truth to the thesis's unshaped measurements, docs/design.md §2),
 // what-if simulation (`clearshape simulate`) and tests include this header.
 //
 // The built-in truth, thesis_rig_truth() — the thesis rig CALIBRATED by `clearshape
-// calibrate-rig` (DESIGN.md §2; study/rig_calibration.hpp; the values and the command that
+// calibrate-rig` (docs/design.md §2; study/rig_calibration.hpp; the values and the command that
 // reproduces them are in studies/sim-rig-truth.toml). It is the physical prior below with what
 // the calibration fitted replaced:
 //   speed drive     P3UZ Kp 25.47 (deg/s)/V, Tz 0.1306 s, ζ 0.4682, Tw 0.04164 s, Tp3 0.1540 s:

@@ -1,5 +1,5 @@
 #pragma once
-// Calibration of the simulated rig's truth to the thesis's measurements (DESIGN.md §2) — the
+// Calibration of the simulated rig's truth to the thesis's measurements (docs/design.md §2) — the
 // procedure behind `clearshape calibrate-rig`. It is the one place in the study module that sets
 // a truth (rig/truth.hpp); the study runner never reads one.
 //
