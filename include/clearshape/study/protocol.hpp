@@ -72,7 +72,7 @@ enum class MdSignal { link_angle_deg, link_rate_deg_s };
 std::string_view to_string(MdSignal signal) noexcept;
 
 struct MeasureSpec {
-  /// What Eq. 5.1 is computed on (the thesis does not say; see DESIGN.md §2 and the study's
+  /// What Eq. 5.1 is computed on (the thesis does not say; see docs/design.md §2 and the study's
   /// ambiguities): position mode the link angle (gyro integrated), speed mode the link rate.
   MdSignal md_signal = MdSignal::link_angle_deg;
   /// The gyro bias is estimated on [0, bias_window_s) (before any move) and removed.
