@@ -92,8 +92,8 @@ void setup(CLI::App& sub) {
   sub.add_flag("--quiet", st->quiet, "No progress lines on stderr");
   sub.footer(
       "Examples:\n"
-      "  clearshape sweep studies/sweep-play.toml --out out/sweep\n"
-      "  clearshape sweep studies/sweep-play.toml --out out/sweep --scheduler tcp://head:8786");
+      "  clearshape sweep studies/sweep-play.toml --out out/sweep-play\n"
+      "  clearshape sweep studies/sweep-play.toml --out out/sweep-play --scheduler tcp://head:8786");
   sub.callback([st] { run(*st); });
 }
 

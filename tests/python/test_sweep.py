@@ -196,6 +196,13 @@ def test_failed_points_are_kept_with_their_reason(tmp_path):
     assert sum(p["status"] == "ok" for p in doc["points"]) == 4
 
 
+def test_the_example_sweep_file_parses():
+    here = os.path.dirname(os.path.abspath(__file__))
+    sweep = Sweep.load(os.path.join(here, "..", "..", "studies", "sweep-play.toml"))
+    assert len(sweep.points()) == 5 * 5 * 3 * 4
+    assert sweep.axes() == ["clearance_deg", "frequency_error", "shaper", "contact_damping"]
+
+
 def test_bad_sweep_files():
     with pytest.raises(SweepError, match="x.toml: grid.shaper\\[0\\] = 'zq' is not known"):
         Sweep(SWEEP.replace('["zv", "ei3"]', '["zq"]'), "x.toml")

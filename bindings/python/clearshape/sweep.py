@@ -161,6 +161,14 @@ def main(argv=None):
     if a.scheduler is not None and not a.scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
         ap.error(f"--scheduler = {a.scheduler} must be an address such as tcp://HOST:8786")
     try:
+        import h5py  # noqa: F401 — results.h5
+        if a.scheduler is not None:
+            import distributed  # noqa: F401
+    except ImportError as e:
+        print(f"clearshape sweep: error: {e.name} is missing; install Debian's "
+              f"{'python3-h5py' if e.name == 'h5py' else 'python3-distributed'}", file=sys.stderr)
+        return 1
+    try:
         s = run_sweep(a.sweep, a.out, a.scheduler, a.workers, a.retries, a.fresh, a.quiet)
     except (SweepError, ValueError, FileNotFoundError, IsADirectoryError) as e:
         print(f"clearshape sweep: error: {e}", file=sys.stderr)
