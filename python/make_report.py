@@ -767,7 +767,7 @@ def rig_note(ctx: Context) -> str:
                 "ours for scale only and are not scored. The study never reads the truth, and every shaped result "
                 "is a prediction.")
     if kind == "simulated-large-play":
-        return ("The rig is the simulated large-play rig (a 1° play, contact from the materials and geometry)"
+        return ("The rig is the simulated large-play rig, a 1° play with its contact from the materials and geometry"
                 f"{desc}. It is not fitted to any measurement: the thesis's numbers are shown beside ours for scale "
                 "only and are not scored. The study never reads the truth, and every shaped result is a prediction.")
     if kind.startswith("simulated"):

@@ -7,11 +7,13 @@ Kinds:
   time-series    every series as a line, coloured by its role, which is read from the column name
                  (…_none = without shaping, …_zvdd@link-mode = ZVDD for the link mode, command_…,
                  measured/gyro, model/fitted, runNN_… = repeated trials). Trials draw thin in a
-                 sequential palette, with their mean. "mean_deviation" annotations (per column key:
+                 sequential palette, with their mean; a figure of repeated runs only gets a second
+                 panel with each run minus the mean and its Eq. 4.1 error. "mean_deviation" annotations (per column key:
                  steady_mean, start_time_s, mean_deviation, start_rule) mark where Eq. 5.1's
                  steady state starts (circle: first crossing of M, diamond: entry into the ±b band)
                  and add MD to the legend; a series with role "command" is the reference input.
-  sensitivity    residual vibration against frequency ratio, per shaper, in % with the 5 % line;
+  sensitivity    residual vibration against frequency ratio, per shaper, in % with the 5 % line,
+                 one small panel per shaper (its mode-source variants together) when several;
                  series with variant "designed" (the shaper before the update grid) thin and
                  dotted; "markers" [{x, label}] draw vertical lines (default: design frequency at 1).
   mean-deviation one response with its steady-state mean M, the start of the steady state, the
@@ -19,6 +21,7 @@ Kinds:
                  start when not given.
   md-summary     (drawn by the report, from results.json) Eq. 5.1 means and improvements of every
                  trial table beside the thesis's.
+Legends sit beside the axes (or under the panels), never on the data.
 Outputs: <id>.png (150 dpi) and <id>.pdf with fixed metadata: the same inputs give the same bytes.
 """
 from __future__ import annotations

@@ -118,6 +118,8 @@ def normalise(t: dict) -> Table:
                      thesis_mean=num(c.get("thesis_mean")), improvement=num(c.get("improvement_percent")),
                      thesis_improvement=num(c.get("thesis_improvement_percent")), note=str(c.get("note") or ""),
                      raw=c)
+        if not any(v is not None for v in col.thesis):  # a thesis column with no value is no thesis column
+            col.thesis = []
         col.extra = {k: nums(v) for k, v in c.items() if k not in _KNOWN and isinstance(v, list)
                      and v and all(isinstance(x, (int, float)) or x is None for x in v)}
         cols.append(col)
