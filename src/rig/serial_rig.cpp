@@ -308,14 +308,19 @@ void SerialRig::on_deactivate() noexcept {
   Impl& m = *impl_;
   m.stop_receiver.store(true, std::memory_order_release);
   if (m.receiver.joinable()) m.receiver.join();
-  try {
-    stop_problem_.clear();
-    Session s{options_, m};
-    s.request(CS_MSG_STOP, nullptr, 0);
-  } catch (const std::exception& e) {
+  // STOP twice at most: an ACK lost in the stream of samples still queued must not leave the
+  // servo on without saying so.
+  for (int attempt = 0; attempt < 2; ++attempt) {
     try {
-      stop_problem_ = e.what();
-    } catch (...) {
+      stop_problem_.clear();
+      Session s{options_, m};
+      s.request(CS_MSG_STOP, nullptr, 0);
+      return;
+    } catch (const std::exception& e) {
+      try {
+        stop_problem_ = e.what();
+      } catch (...) {
+      }
     }
   }
 }
