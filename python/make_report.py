@@ -717,8 +717,8 @@ def setup_html(ctx: Context, study_dir: Path, records: list[dict]) -> str:
     if ctx.synthetic:
         out.append('<p class="warn" role="note"><strong>Synthetic fixture.</strong> These numbers are made up by '
                    "python/clearshape_plot/fixture.py to exercise the report; they are not results.</p>")
-    else:
-        out.append(f'<p class="note" id="rig-kind" data-rig-kind="{esc(ctx.rig_kind)}">{rig_note(ctx)}</p>')
+    # What the rig is, also for the fixture (its results.json says which kind it stands for).
+    out.append(f'<p class="note" id="rig-kind" data-rig-kind="{esc(ctx.rig_kind)}">{rig_note(ctx)}</p>')
     if st.get("quick"):
         out.append('<p class="warn" role="note"><strong>Quick variant.</strong> Fewer repetitions and shorter '
                    "records than the thesis's programme, for tests; the thesis always lists its 10 trials.</p>")

@@ -158,10 +158,10 @@ def write_fixture(out: Path, trials: int = 3, seed: int = 7) -> Path:
     b1 = thesis.TABLE_B["B.1"]
     tables.append({"id": "B.1", "kind": "mean-deviation", "title": "Mean deviations, step input 20°", "unit": "deg",
                    "row_labels": [str(i + 1) for i in range(trials)],
-                   "columns": [{"key": "none", "label": "without is", "ours": u, "ours_mean": float(np.mean(u)),
+                   "columns": [{"key": "none", "label": "without IS", "ours": u, "ours_mean": float(np.mean(u)),
                                 "ours_std": float(np.std(u, ddof=1)), "thesis": b1["unshaped"],
                                 "thesis_mean": b1["mean"]["unshaped"]},
-                               {"key": "zvdd@link-mode", "label": "with is (ZVDD, link mode)", "ours": w,
+                               {"key": "zvdd@link-mode", "label": "with IS (ZVDD, link mode)", "ours": w,
                                 "ours_mean": float(np.mean(w)), "ours_std": float(np.std(w, ddof=1)),
                                 "thesis": b1["zvdd"], "thesis_mean": b1["mean"]["zvdd"],
                                 "improvement_percent": float(imp), "thesis_improvement_percent": 95.7}]})
@@ -173,14 +173,14 @@ def write_fixture(out: Path, trials: int = 3, seed: int = 7) -> Path:
     figures += [
         {"id": "rig-B.1", "thesis_figure": "5.19", "kind": "time-series", "title": "Rig trial 1, Step 20°: link angle",
          "file": "data/rig_B.1.csv", "x": xs, "y_label": "link angle (deg)",
-         "series": [{"column": "md_signal_none", "label": "without is"},
-                    {"column": "md_signal_zvdd@link-mode", "label": "with is (ZVDD, link mode)"}],
+         "series": [{"column": "md_signal_none", "label": "without IS"},
+                    {"column": "md_signal_zvdd@link-mode", "label": "with IS (ZVDD, link mode)"}],
          "mean_deviation": {key: {"steady_mean": v[0][1], "start_time_s": v[0][2], "mean_deviation": v[0][0]}
                             for key, v in cols.items()}},
         {"id": "rig-inputs-B.1", "thesis_figure": "5.18", "kind": "time-series",
          "title": "Unshaped and shaped commands, Step 20°", "file": "data/rig_B.1.csv", "x": xs,
-         "y_label": "command (deg)", "series": [{"column": "command_none", "label": "without is"},
-                                                {"column": "command_zvdd@link-mode", "label": "with is (ZVDD)"}]},
+         "y_label": "command (deg)", "series": [{"column": "command_none", "label": "without IS"},
+                                                {"column": "command_zvdd@link-mode", "label": "with IS (ZVDD)"}]},
         {"id": "mean-deviation-illustration", "thesis_figure": "5.9", "kind": "mean-deviation",
          "title": "Eq. 5.1 on trial 1 of the Step 20° without shaping", "file": "data/rig_B.1.csv", "x": xs,
          "y_label": "link angle (deg)", "series": [{"column": "md_signal_none", "label": "response"}],
