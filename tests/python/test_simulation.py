@@ -104,3 +104,23 @@ def test_large_play_truth_is_the_clis(cli, tmp_path):
     np.testing.assert_array_equal(r["contact_torque_n_m"], ref["contact_torque_n_m"])
     with pytest.raises(ValueError, match="large-play"):
         clearshape.truth("huge-play")
+
+
+@pytest.mark.parametrize("truth,mode,amplitude", [("thesis", "position", 20.0), ("large-play", "speed", 1.5)])
+def test_simulate_rig_is_the_cpp_run(tmp_path, truth, mode, amplitude):
+    """simulate_rig against a small C++ program running the same SimRig (reference_rig_run.cpp)."""
+    import os
+    import subprocess
+
+    exe = os.environ.get("CLEARSHAPE_RIG_REFERENCE")
+    if not exe:
+        pytest.fail("CLEARSHAPE_RIG_REFERENCE is not set (ctest sets it)")
+    r = subprocess.run([exe, truth, mode, str(amplitude), "0.1", "1.0", "42"], capture_output=True, text=True,
+                       check=True)
+    (tmp_path / "ref.csv").write_text(r.stdout)
+    ref = read_csv(tmp_path / "ref.csv")
+    _, u = clearshape.signal("step", amplitude=amplitude, start_s=0.1, duration_s=1.0)
+    py = clearshape.simulate_rig(u, 1e-3, mode, clearshape.truth(truth), duration_s=1.0, seed=42)
+    for name in ("time_s", "command_applied", "motor_angle_deg", "link_rate_deg_s"):
+        np.testing.assert_array_equal(py[name], ref[name], err_msg=name)
+    assert np.ptp(py["link_rate_deg_s"]) > 0
