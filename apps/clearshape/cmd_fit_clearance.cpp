@@ -149,6 +149,16 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
   doc["converged"] = fit.converged;
   doc["trusted"] = warnings.empty();
   doc["warnings"] = warnings;
+  // The rest of the identified nonlinear model, so that this document alone describes it
+  // (`clearshape shape --method clearance-aware --model`): the drive as `identify --json` writes
+  // it, the fixed link inertia, the mode.
+  json drive_parameters = json::object();
+  const auto names = fp.start.drive.structure().parameter_names();
+  const auto values = fp.start.drive.to_vector();
+  for (std::size_t i = 0; i < names.size(); ++i) drive_parameters[std::string(names[i])] = {{"value", values[i]}};
+  doc["mode"] = rig::to_string(fp.start.mode);
+  doc["link_inertia_kg_m2"] = fp.start.link_inertia_kg_m2;
+  doc["drive"] = {{"model", fp.start.drive.code()}, {"parameters", drive_parameters}};
   return doc;
 }
 

@@ -19,6 +19,7 @@
 #include "clearshape/shaping/apply.hpp"
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/shaping/residual.hpp"
+#include "cmd_shape_clearance_aware.hpp"
 #include "cmd_shape_options.hpp"
 #include "command.hpp"
 
@@ -391,8 +392,25 @@ const bool registered = register_command(
            "  clearshape shape --method custom --impulses \"0:0.5,0.05:0.5\"\n"
            "  clearshape shape --method zvd -f 3.3 -z 0.29 -i run.csv --column command_deg -o shaped.csv\n"
            "  clearshape shape --method zvd -f 10 -z 0.1 --export c-header --sample-time 0.001 -o zvd.h\n"
-           "  clearshape shape --method mzv -f 42.5 -z 0.1 --export klipper");
-       sub.callback([st] { run_shape(*st); });
+           "  clearshape shape --method mzv -f 42.5 -z 0.1 --export klipper\n"
+           "  clearshape shape --method clearance-aware --model fit.json --moves 5,10,20 --max-duration-s 0.3");
+       auto ca = std::make_shared<ClearanceAwareOptions>();
+       add_clearance_aware_options(sub, *ca);
+       sub.callback([st, ca] {
+         if (st->shaper.method == "clearance-aware") {
+           const ShaperOptions& o = st->shaper;
+           const double f_hz = given(o.frequency_option) ? o.frequency_hz
+                               : given(o.wn_option)     ? o.wn_rad_s / (2.0 * M_PI)
+                                                        : 0.0;
+           run_clearance_aware(*ca, f_hz, o.zeta, st->json);
+           return;
+         }
+         if (clearance_aware_options_given(*ca)) {
+           throw InvalidArgument("shape: --model, --moves, --max-duration-s, --max-evaluations and --threads apply "
+                                 "to --method clearance-aware");
+         }
+         run_shape(*st);
+       });
      }});
 
 }  // namespace

@@ -49,6 +49,10 @@ struct Context {
   ModeResult drive_mode;
   ModeResult link_mode;
   std::optional<ClearanceModel> model;
+  /// The clearance-aware shaper (designed once on `model`, ensure_clearance_aware), or why not.
+  std::optional<shaping::Shaper> clearance_aware;
+  std::string clearance_aware_note;
+  bool clearance_aware_tried = false;
 
   // Output assembly.
   json tables = json::array();
@@ -79,6 +83,12 @@ void stage_link_mode(Context& c);
 void stage_clearance(Context& c);
 void stage_simulation(Context& c);
 void stage_rig_tests(Context& c);
+
+/// Designs the clearance-aware shaper once, if a rig-test column or the simulation stage asks
+/// for it: on the fitted clearance model, for the amplitudes of the protocol's step and
+/// double-step inputs, at most as long as ZVDD for the link mode (results.json
+/// sections.clearance_aware).
+void ensure_clearance_aware(Context& c);
 
 /// Designs `method` for a mode source; nullopt + reason when it cannot be designed.
 std::optional<shaping::Shaper> design_for(const Context& c, const std::string& method,

@@ -33,7 +33,8 @@ UniformSeries on_grid(const UniformSeries& command, std::size_t n, double ts) {
 }  // namespace
 
 ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSeries& drive_command,
-                                     double duration_s) {
+                                     double duration_s, double initial_play_fraction) {
+  require_in_closed("initial_play_fraction", initial_play_fraction, -1.0, 1.0);
   require_positive("duration_s", duration_s);
   require_positive("drive_command.sample_time_s", drive_command.sample_time_s);
   const double ts = drive_command.sample_time_s;
@@ -57,6 +58,7 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
   options.output_rate_hz = 1.0 / ts;
   options.record_events = false;
   options.initial.drive_state = Eigen::VectorXd::Zero(model.drive.order());
+  if (!rigid) options.initial.relative_angle_rad = initial_play_fraction * 0.5 * m.play_rad;
   const plant::Command command(u, plant::Interpolation::zero_order_hold);
   const plant::Simulation sim = plant::simulate(model, command, options);
 
@@ -79,7 +81,8 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
   return r;
 }
 
-ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& command, double duration_s) {
+ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& command, double duration_s,
+                               double initial_play_fraction) {
   require_positive("duration_s", duration_s);
   const double ts = command.sample_time_s;
   const std::size_t n = sample_count(duration_s, ts);
@@ -103,7 +106,7 @@ ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& com
   }
   drive.start_s = 0.0;
   drive.sample_time_s = ts;
-  return simulate_drive_command(m, drive, duration_s);
+  return simulate_drive_command(m, drive, duration_s, initial_play_fraction);
 }
 
 }  // namespace clearshape::study

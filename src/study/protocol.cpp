@@ -172,11 +172,12 @@ void check_input(const Protocol& p, const TomlSection& t, std::string_view key, 
 
 void check_shaper(const TomlSection& t, std::string_view key, const std::string& name, bool allow_none) {
   if (allow_none && name == "none") return;
+  if (name == kClearanceAwareShaper) return;  // designed on the fitted model (clearance_aware.hpp)
   try {
     const auto method = shaping::method_from_string(name);
-    if (method == shaping::Method::custom || method == shaping::Method::si) {
+    if (method == shaping::Method::custom) {
       t.fail(key, fmt::format("shaper '{}' needs parameters a protocol cannot give; use zv, zvd, "
-                              "zvdd, zvddd, mzv, ei, ei2, ei3 or um-zv", name));
+                              "zvdd, zvddd, mzv, ei, ei2, ei3, si, um-zv or clearance-aware", name));
     }
   } catch (const InvalidArgument& e) {
     t.fail(key, e.what());
@@ -184,8 +185,16 @@ void check_shaper(const TomlSection& t, std::string_view key, const std::string&
 }
 
 void check_mode_source(const TomlSection& t, std::string_view key, const std::string& s) {
-  if (s != "drive-model" && s != "link-mode") {
-    t.fail(key, fmt::format("'{}' is not a mode source; allowed: drive-model, link-mode", s));
+  if (s != "drive-model" && s != "link-mode" && s != "clearance-model") {
+    t.fail(key, fmt::format("'{}' is not a mode source; allowed: drive-model, link-mode, clearance-model", s));
+  }
+}
+
+// clearance-aware is designed on the fitted clearance model, every other shaper on a mode.
+void check_pairing(const TomlSection& t, std::string_view key, const std::string& shaper, const std::string& source) {
+  if ((shaper == kClearanceAwareShaper) != (source == "clearance-model")) {
+    t.fail(key, fmt::format("shaper '{}' with mode source '{}': clearance-aware goes with clearance-model and "
+                            "the linear shapers with drive-model or link-mode", shaper, source));
   }
 }
 
@@ -376,6 +385,7 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
         if (col.shaper != "none") {
           col.mode_source = c.text("mode_source");
           check_mode_source(c, "mode_source", col.mode_source);
+          check_pairing(c, "mode_source", col.shaper, col.mode_source);
         }
         col.label = c.text("label", col.key());
         col.thesis = parse_column(c, "thesis", "thesis_mean", col.label);

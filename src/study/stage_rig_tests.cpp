@@ -257,6 +257,7 @@ void tabulate_rig_table(Context& c, const RigTable& table, const RigTestPlan& pl
 
 void stage_rig_tests(Context& c) {
   if (c.p.rig_tests.tables.empty()) return;
+  ensure_clearance_aware(c);
   const RigTestPlan plan = plan_rig_tests(c);
   const std::vector<Record> records = c.run_all(plan.requests, "rig-tests");
   RigTestTables tables;

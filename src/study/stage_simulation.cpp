@@ -22,6 +22,14 @@ namespace {
 // The shaper as designed for a mode source, before the update grid (nullopt with a reason).
 std::optional<shaping::Shaper> design_off_grid(const Context& c, const std::string& method,
                                                const std::string& mode_source, std::string& reason) {
+  if ((method == kClearanceAwareShaper) != (mode_source == "clearance-model")) {
+    reason = "clearance-aware is designed on the clearance model, the linear shapers on a mode";
+    return std::nullopt;
+  }
+  if (method == kClearanceAwareShaper) {
+    if (!c.clearance_aware) reason = c.clearance_aware_note;
+    return c.clearance_aware;
+  }
   const ModeResult& m = mode_source == "drive-model" ? c.drive_mode : c.link_mode;
   if (!m.available) {
     reason = m.note.empty() ? fmt::format("no {} mode", mode_source) : m.note;
@@ -31,6 +39,12 @@ std::optional<shaping::Shaper> design_off_grid(const Context& c, const std::stri
     shaping::DesignRequest request;
     request.method = shaping::method_from_string(method);
     request.mode = m.mode;
+    if (request.method == shaping::Method::si) {  // a protocol's SI: V <= 5 % over ±20 % of the mode
+      shaping::SiOptions si;
+      si.frequency_low_rad_s = 0.8 * m.mode.natural_frequency_rad_s;
+      si.frequency_high_rad_s = 1.2 * m.mode.natural_frequency_rad_s;
+      request.si = si;
+    }
     return shaping::design(request);
   } catch (const std::exception& e) {
     reason = e.what();
@@ -113,6 +127,7 @@ void stage_simulation(Context& c) {
     c.log("simulation: skipped (no inputs or no calibrated model)");
     return;
   }
+  ensure_clearance_aware(c);
   const bool position = c.p.mode == rig::CommandMode::position;
   const std::string md_unit = c.p.measure.md_signal == MdSignal::link_angle_deg ? "deg" : "deg/s";
   const std::string md_name = c.p.measure.md_signal == MdSignal::link_angle_deg ? "link_angle_deg" : "link_rate_deg_s";

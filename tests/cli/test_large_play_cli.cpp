@@ -84,3 +84,37 @@ TEST(LargePlayCli, UnknownRigNamesAreErrors) {
   EXPECT_NE(p.err.find("large-play"), std::string::npos) << p.err;
   std::filesystem::remove_all(dir);
 }
+
+TEST(LargePlayCli, ShapeClearanceAwareFromAFitClearanceDocument) {
+  const auto dir = temp("clearshape_cli_clearance_aware");
+  std::filesystem::create_directories(dir);
+  {
+    // What `fit-clearance --json` writes (parameters, drive, link inertia, mode).
+    std::ofstream f(dir / "fit.json");
+    f << R"({"command": "fit-clearance", "mode": "position", "link_inertia_kg_m2": 0.005,
+      "parameters": {"stiffness": {"value": 1e5}, "damping": {"value": 2.0}, "play": {"value": 1.0},
+                     "exponent": {"value": 1.5}},
+      "drive": {"model": "P3UZ", "parameters": {"Kp": {"value": 0.9959}, "Tz": {"value": 0.0042},
+                "Zeta": {"value": 0.9968}, "Tw": {"value": 0.0102}, "Tp3": {"value": 0.0034}}}})";
+  }
+  const auto r = run_cli("shape --method clearance-aware --model " + (dir / "fit.json").string() +
+                         " --moves 10 --max-duration-s 0.07 --max-evaluations 10 --threads 1 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["method"], "clearance-aware");
+  EXPECT_LE(j["duration_s"].get<double>(), 0.07);
+  EXPECT_TRUE(j["positive"].get<bool>());
+  EXPECT_EQ(j["cases"].size(), 3u);  // one move × three uncertainty points
+  EXPECT_LE(j["worst_md_deg"].get<double>(), j["worst_unshaped_md_deg"].get<double>() * 1.1 + 1e-9);
+  // The impulses as `shape --method custom --impulses` takes them.
+  const auto custom = run_cli("shape --method custom --impulses \"" + j["custom_impulses"].get<std::string>() + "\" --json");
+  ASSERT_EQ(custom.exit_code, 0) << custom.err;
+  EXPECT_EQ(nlohmann::json::parse(custom.out)["impulses"].size(), j["impulses"].size());
+
+  const auto missing = run_cli("shape --method clearance-aware --moves 10 --max-duration-s 0.1");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("--model"), std::string::npos) << missing.err;
+  const auto stray = run_cli("shape --method zvd -f 3 -z 0.1 --moves 10");
+  EXPECT_EQ(stray.exit_code, 2);
+  std::filesystem::remove_all(dir);
+}

@@ -203,6 +203,14 @@ def test_the_example_sweep_file_parses():
     assert sweep.axes() == ["clearance_deg", "frequency_error", "shaper", "contact_damping"]
 
 
+def test_the_sweep_file_is_never_an_output(tmp_path):
+    f = tmp_path / "results.csv"
+    f.write_text(SWEEP)
+    with pytest.raises(ValueError, match="also the output"):
+        run_sweep(f, str(tmp_path), workers=1, quiet=True)
+    assert f.read_text() == SWEEP
+
+
 def test_bad_sweep_files():
     with pytest.raises(SweepError, match="x.toml: grid.shaper\\[0\\] = 'zq' is not known"):
         Sweep(SWEEP.replace('["zv", "ei3"]', '["zq"]'), "x.toml")

@@ -93,6 +93,7 @@ def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, 
     """
     if not isinstance(sweep, Sweep):
         sweep = Sweep.load(sweep)
+    store.refuse_input_as_output(sweep.path, out)
     os.makedirs(os.path.join(out, store.STATE), exist_ok=True)
     if fresh:
         store.remove_own_files(out)

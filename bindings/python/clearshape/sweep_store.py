@@ -35,6 +35,19 @@ def write_atomic(path, data):
         raise
 
 
+OUTPUTS = ("results.h5", "results.csv", "results.json", "improvement_map.png")
+
+
+def refuse_input_as_output(input_path, out):
+    """Inputs are never outputs: raises ValueError when the sweep file is one of the results."""
+    if not os.path.exists(input_path):
+        return
+    for name in OUTPUTS:
+        target = os.path.join(out, name)
+        if os.path.exists(target) and os.path.samefile(input_path, target):
+            raise ValueError(f"{input_path}: the sweep file is also the output {target}; choose another --out")
+
+
 def batch_path(out, batch_id):
     return os.path.join(out, STATE, f"batch-{batch_id:06d}.json")
 
@@ -74,7 +87,7 @@ def remove_own_files(out):
             if name.startswith(("batch-", ".tmp-")):
                 os.unlink(os.path.join(folder, name))
         os.rmdir(folder)
-    for name in ("results.h5", "results.csv", "results.json", "improvement_map.png"):
+    for name in OUTPUTS:
         if os.path.exists(os.path.join(out, name)):
             os.unlink(os.path.join(out, name))
 

@@ -143,9 +143,14 @@ struct SimulationStage {
   double record_s = 5.0;
 };
 
+/// The shaper name of clearance-aware design (study/clearance_aware.hpp): designed on the study's
+/// fitted clearance model (mode source "clearance-model") for the amplitudes of the protocol's
+/// rig-test steps, at most as long as ZVDD for the link mode.
+inline constexpr std::string_view kClearanceAwareShaper = "clearance-aware";
+
 struct RigColumn {
-  std::string shaper = "none";  ///< "none" or a shaping method name
-  std::string mode_source;      ///< "drive-model" | "link-mode" (empty for none)
+  std::string shaper = "none";  ///< "none", a shaping method name or "clearance-aware"
+  std::string mode_source;      ///< "drive-model" | "link-mode" | "clearance-model" (empty for none)
   std::string label;
   ThesisColumn thesis;          ///< empty values when the thesis has no such column
   /// "none", or "<shaper>@<mode_source>" (e.g. "zvdd@link-mode").

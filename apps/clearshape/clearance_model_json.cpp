@@ -1,0 +1,90 @@
+#include "clearance_model_json.hpp"
+
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/io/atomic_file.hpp"
+#include "clearshape/rig/types.hpp"
+
+namespace clearshape::cli {
+namespace {
+
+using json = nlohmann::json;
+
+const json& at(const json& j, const std::string& key, const std::string& file, const std::string& path) {
+  if (!j.is_object() || !j.contains(key)) throw InputError(file, 0, path + key, "missing");
+  return j.at(key);
+}
+
+double number(const json& j, const std::string& key, const std::string& file, const std::string& path) {
+  const json& v = at(j, key, file, path);
+  if (!v.is_number()) throw InputError(file, 0, path + key, "is not a number");
+  return v.get<double>();
+}
+
+lti::ProcessModel drive_of(const json& d, const std::string& file, const std::string& path) {
+  lti::ProcessParameters p;
+  for (const auto& [name, v] : at(d, "parameters", file, path).items()) {
+    p.set(name, v.is_object() ? number(v, "value", file, path + "parameters." + name + ".") : v.get<double>());
+  }
+  const json& code = d.contains("model") ? d.at("model") : at(d, "structure", file, path);
+  return lti::ProcessModel(code.get<std::string>(), p);
+}
+
+}  // namespace
+
+IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  json doc;
+  try {
+    doc = json::parse(io::read_text_file(path));
+  } catch (const json::parse_error& e) {
+    throw InputError(file, 0, "", fmt::format("not JSON: {}", e.what()));
+  }
+  IdentifiedClearanceModel out;
+  study::ClearanceModel& m = out.model;
+  if (doc.value("command", "") == "fit-clearance") {
+    const json& p = at(doc, "parameters", file, "");
+    m.stiffness = number(at(p, "stiffness", file, "parameters."), "value", file, "parameters.stiffness.");
+    m.damping = number(at(p, "damping", file, "parameters."), "value", file, "parameters.damping.");
+    m.exponent = number(at(p, "exponent", file, "parameters."), "value", file, "parameters.exponent.");
+    m.play_rad = deg_to_rad(number(at(p, "play", file, "parameters."), "value", file, "parameters.play."));
+    m.link_inertia_kg_m2 = number(doc, "link_inertia_kg_m2", file, "");
+    m.mode = rig::command_mode_from_string(at(doc, "mode", file, "").get<std::string>());
+    m.drive = drive_of(at(doc, "drive", file, ""), file, "drive.");
+    return out;
+  }
+  if (doc.contains("sections") && doc["sections"].contains("clearance")) {
+    const json& s = doc["sections"];
+    const json& c = s["clearance"];
+    m.stiffness = number(c, "stiffness_n_m_per_rad_pow_n", file, "sections.clearance.");
+    m.damping = number(c, "damping_n_m_s_per_rad", file, "sections.clearance.");
+    m.exponent = number(c, "exponent", file, "sections.clearance.");
+    m.play_rad = deg_to_rad(number(c, "play_deg", file, "sections.clearance."));
+    m.link_inertia_kg_m2 = number(c, "link_inertia_kg_m2", file, "sections.clearance.");
+    m.mode = rig::command_mode_from_string(at(at(doc, "protocol", file, ""), "mode", file, "protocol.").get<std::string>());
+    const json& ident = at(s, "identification", file, "sections.");
+    const std::string selected = at(ident, "selected_input", file, "sections.identification.").get<std::string>();
+    bool found = false;
+    for (const auto& model : at(ident, "models", file, "sections.identification.")) {
+      if (model.value("input", "") == selected) {
+        m.drive = drive_of(model, file, "sections.identification.models[" + selected + "].");
+        found = true;
+      }
+    }
+    if (!found) throw InputError(file, 0, "sections.identification.models", "has no model for the selected input " + selected);
+    if (s.contains("link_mode") && s["link_mode"].value("available", false)) {
+      out.link_frequency_hz = number(s["link_mode"], "natural_frequency_hz", file, "sections.link_mode.");
+      out.link_damping_ratio = number(s["link_mode"], "damping_ratio", file, "sections.link_mode.");
+    }
+    return out;
+  }
+  throw InputError(file, 0, "command",
+                   "expected the JSON of `clearshape fit-clearance --json` or a study's results.json (sections.clearance)");
+}
+
+}  // namespace clearshape::cli

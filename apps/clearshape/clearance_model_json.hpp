@@ -1,0 +1,25 @@
+#pragma once
+// Reads an identified nonlinear model (drive + play + contact law) for clearance-aware design
+// (`clearshape shape --method clearance-aware --model FILE`) from either
+//   - the JSON of `clearshape fit-clearance --json` (parameters, drive, link_inertia_kg_m2,
+//     mode), or
+//   - a study's results.json (sections.clearance, the identification's selected drive model,
+//     sections.link_mode).
+// Errors name the file and the missing key (InputError).
+#include <filesystem>
+#include <optional>
+
+#include "clearshape/study/model.hpp"
+
+namespace clearshape::cli {
+
+struct IdentifiedClearanceModel {
+  study::ClearanceModel model;
+  /// The link's identified residual mode, when the file has one (a study's link-mode stage).
+  std::optional<double> link_frequency_hz;
+  std::optional<double> link_damping_ratio;
+};
+
+IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& path);
+
+}  // namespace clearshape::cli

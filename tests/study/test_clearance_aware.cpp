@@ -1,0 +1,133 @@
+// Clearance-aware design (study/clearance_aware.hpp): the result is a positive shaper on the
+// command path's grid within the bound, never worse on the model than the unshaped step it
+// starts from, independent of the thread count, and its reported cases are re-simulations.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/study/clearance_aware.hpp"
+#include "clearshape/study/protocol.hpp"
+
+namespace cs = clearshape;
+namespace st = clearshape::study;
+
+namespace {
+
+st::ClearanceAwareRequest small_request() {
+  st::ClearanceAwareRequest r;
+  r.model.mode = cs::rig::CommandMode::position;
+  cs::lti::ProcessParameters p;  // the thesis's position drive (Eq. 4.2)
+  p.kp = 0.9959;
+  p.tz = 0.0042;
+  p.zeta = 0.9968;
+  p.tw = 0.0102;
+  p.tp3 = 0.0034;
+  r.model.drive = cs::lti::ProcessModel("P3UZ", p);
+  r.model.link_inertia_kg_m2 = 5e-3;
+  r.model.play_rad = cs::deg_to_rad(1.0);
+  r.model.stiffness = 1e5;
+  r.model.exponent = 1.5;
+  r.model.damping = 2.0;
+  r.moves = {5.0, 20.0};
+  r.uncertainty = {{1.0, 1.0, 0.0}, {1.2, 2.0, 1.0}};
+  r.max_duration_s = 0.1;  // slots 0, 1/30, 2/30, 3/30 s
+  r.settle_s = 0.6;
+  r.max_evaluations = 16;
+  r.threads = 1;
+  return r;
+}
+
+}  // namespace
+
+TEST(ClearanceAware, PositiveOnTheGridWithinTheBoundAndNoWorseThanUnshaped) {
+  const auto r = small_request();
+  const auto d = st::design_clearance_aware(r);
+  EXPECT_EQ(d.shaper.method(), "clearance-aware");
+  EXPECT_TRUE(d.shaper.is_positive());
+  EXPECT_NEAR(d.shaper.amplitude_sum(), 1.0, 1e-12);
+  EXPECT_LE(d.shaper.duration_s(), r.max_duration_s + 1e-12);
+  for (const auto& i : d.shaper.impulses()) {
+    EXPECT_NEAR(i.time_s / r.grid_s, std::round(i.time_s / r.grid_s), 1e-9) << i.time_s;
+  }
+  ASSERT_EQ(d.cases.size(), 4u);
+  // The unshaped step is the first start of the search: the result's objective cannot exceed it.
+  double worst_unshaped = 0.0, mean_unshaped = 0.0;
+  for (const auto& c : d.cases) {
+    worst_unshaped = std::max(worst_unshaped, c.md_unshaped_deg);
+    mean_unshaped += c.md_unshaped_deg / 4.0;
+  }
+  EXPECT_LE(d.objective, worst_unshaped + 0.1 * mean_unshaped + 1e-12);
+  EXPECT_EQ(d.worst_unshaped_md_deg, worst_unshaped);
+  EXPECT_GT(d.evaluations, 2);
+  EXPECT_LE(d.evaluations, r.max_evaluations + 1);
+  // A reported case is the model re-simulated with the result.
+  const auto& c = d.cases[3];
+  cs::study::ClearanceModel varied = r.model;
+  varied.play_rad *= c.point.play_factor;
+  varied.stiffness *= c.point.stiffness_factor;
+  EXPECT_DOUBLE_EQ(c.md_shaped_deg, st::clearance_aware_case_md(r, varied, c.move, c.point.initial_play_fraction, d.shaper));
+}
+
+TEST(ClearanceAware, SameResultOnOneAndTwoThreads) {
+  auto r = small_request();
+  r.max_evaluations = 10;
+  const auto one = st::design_clearance_aware(r);
+  r.threads = 2;
+  const auto two = st::design_clearance_aware(r);
+  ASSERT_EQ(one.shaper.size(), two.shaper.size());
+  for (std::size_t k = 0; k < one.shaper.size(); ++k) {
+    EXPECT_EQ(one.shaper.impulses()[k].time_s, two.shaper.impulses()[k].time_s);
+    EXPECT_EQ(one.shaper.impulses()[k].amplitude, two.shaper.impulses()[k].amplitude);
+  }
+  EXPECT_EQ(one.objective, two.objective);
+}
+
+TEST(ClearanceAware, RejectsBadRequests) {
+  auto r = small_request();
+  r.moves.clear();
+  EXPECT_THROW(st::design_clearance_aware(r), cs::InvalidArgument);
+  r = small_request();
+  r.max_duration_s = 0.0;
+  EXPECT_THROW(st::design_clearance_aware(r), cs::InvalidArgument);
+  r = small_request();
+  r.model.play_rad = 0.0;
+  EXPECT_THROW(st::design_clearance_aware(r), cs::InvalidArgument);
+  r = small_request();
+  r.uncertainty = {{1.0, 1.0, 2.0}};
+  EXPECT_THROW(st::design_clearance_aware(r), cs::InvalidArgument);
+}
+
+TEST(ClearanceAware, ProtocolPairsItWithTheClearanceModel) {
+  const std::string head = R"(format = "clearshape-study-protocol/1"
+[study]
+name = "mini"
+mode = "position"
+rig = "large-play"
+[[input]]
+name = "step"
+type = "step"
+amplitude_deg = 10.0
+start_s = 0.5
+[[rig_tests.table]]
+id = "T"
+input = "step"
+[[rig_tests.table.column]]
+shaper = "none"
+[[rig_tests.table.column]]
+)";
+  const auto p = st::parse_protocol(head + "shaper = \"clearance-aware\"\nmode_source = \"clearance-model\"\n", "mini.toml");
+  EXPECT_EQ(p.rig, "large-play");
+  EXPECT_EQ(p.rig_tests.tables.at(0).columns.at(1).key(), "clearance-aware@clearance-model");
+  for (const std::string bad : {"shaper = \"clearance-aware\"\nmode_source = \"link-mode\"\n",
+                                "shaper = \"zvdd\"\nmode_source = \"clearance-model\"\n"}) {
+    try {
+      (void)st::parse_protocol(head + bad, "mini.toml");
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const cs::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("mini.toml"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("mode_source"), std::string::npos) << e.what();
+    }
+  }
+}
