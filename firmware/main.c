@@ -88,34 +88,9 @@ static void tick_stop(void) {
 }
 
 /* ---- frames out ---- */
-/* CRC-16/CCITT-FALSE four bits at a time: the same CRC as cs_crc16 (the host checks every
- * frame with it) in about a quarter of the cycles of the bitwise form. */
-static const uint16_t kCrcNibble[16] = {0x0000u, 0x1021u, 0x2042u, 0x3063u, 0x4084u, 0x50A5u,
-                                        0x60C6u, 0x70E7u, 0x8108u, 0x9129u, 0xA14Au, 0xB16Bu,
-                                        0xC18Cu, 0xD1ADu, 0xE1CEu, 0xF1EFu};
-
-static uint16_t crc_byte(uint16_t crc, uint8_t byte) {
-  crc = (uint16_t)((crc << 4) ^ kCrcNibble[(uint8_t)((crc >> 12) ^ (byte >> 4))]);
-  return (uint16_t)((crc << 4) ^ kCrcNibble[(uint8_t)((crc >> 12) ^ (byte & 0x0Fu))]);
-}
-
-/* cs_frame_encode's layout (wire_protocol.h) with the fast CRC. */
-static uint8_t frame_encode(uint8_t* out, uint8_t type, const uint8_t* payload, uint8_t length) {
-  uint16_t crc = 0xFFFFu;
-  uint8_t i;
-  out[0] = (uint8_t)CS_WIRE_SYNC;
-  out[1] = type;
-  out[2] = tx_seq;
-  out[3] = length;
-  for (i = 0; i < length; ++i) out[CS_WIRE_HEADER_BYTES + i] = payload[i];
-  for (i = 1; i < CS_WIRE_HEADER_BYTES + length; ++i) crc = crc_byte(crc, out[i]);
-  cs_put_u16(out + CS_WIRE_HEADER_BYTES + length, crc);
-  return (uint8_t)(CS_WIRE_HEADER_BYTES + length + CS_WIRE_CRC_BYTES);
-}
-
 static uint8_t send_frame(uint8_t type, const uint8_t* payload, uint8_t length, uint8_t droppable) {
   uint8_t out[CS_WIRE_MAX_FRAME];
-  const uint8_t size = frame_encode(out, type, payload, length);
+  const uint8_t size = (uint8_t)cs_frame_encode(out, type, tx_seq, payload, length);
   if (droppable) {
     if (uart_tx_free() < size) return 0;
   } else {

@@ -3,8 +3,8 @@
 #define CLEARSHAPE_FW_UART_H
 #include <stdint.h>
 
-#define UART_RX_RING 128u /* power of two */
-#define UART_TX_RING 256u /* power of two */
+#define UART_RX_RING 256u /* power of two, at most 256 (8-bit indices) */
+#define UART_TX_RING 256u /* 256: the 8-bit indices wrap by themselves */
 
 void uart_init(void);
 /* Next received byte in *byte: 1, or 0 when none is waiting. */
