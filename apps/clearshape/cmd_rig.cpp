@@ -200,7 +200,7 @@ void execute(const RunState& st, const std::string& name, bool is_run) {
     }
   } else {
     o.servo_on = st.servo_on;
-    if (st.serial.watchdog_ms == 100) o.watchdog_ms = 0;  // nothing is commanded: no watchdog by default
+    if (st.serial.watchdog_option->count() == 0) o.watchdog_ms = 0;  // nothing is commanded: no watchdog by default
   }
   rig::SerialRig r(o);
   rig::CommandSource source(values, o.mode);

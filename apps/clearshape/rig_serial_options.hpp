@@ -21,6 +21,7 @@ struct SerialCliOptions {
   double handshake_timeout_s = 3.0;
   int counts_per_rev = 12'000;
   int pulses_per_rev = 12'000;
+  CLI::Option* watchdog_option = nullptr;  ///< whether --watchdog-ms was given
 
   /// Adds --port (required), --baud, --rate, --update-hz, --max-pulse-hz, --gyro-dlpf,
   /// --watchdog-ms, --handshake-timeout-s, --counts-per-rev, --pulses-per-rev and, with
