@@ -55,4 +55,28 @@ TEST(WireDecoderResync, CleanStreamDecodesEveryFrame) {
   EXPECT_EQ(d.skipped_bytes, 0u);
 }
 
+// The table CRC against the CRC catalogue's check value for CRC-16/CCITT-FALSE ("123456789" →
+// 0x29B1) and against the bitwise definition (poly 0x1021, init 0xFFFF, MSB first) on seeded data.
+TEST(WireCrc, TableCrcEqualsTheBitwiseDefinition) {
+  const char* check = "123456789";
+  EXPECT_EQ(cs_crc16(reinterpret_cast<const std::uint8_t*>(check), 9), 0x29B1u);
+  std::uint32_t state = 12345;
+  std::vector<std::uint8_t> data(300);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const std::size_t n = static_cast<std::size_t>(trial) % data.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      state = state * 1664525u + 1013904223u;  // Numerical Recipes LCG
+      data[i] = static_cast<std::uint8_t>(state >> 24);
+    }
+    std::uint16_t bitwise = 0xFFFF;
+    for (std::size_t i = 0; i < n; ++i) {
+      bitwise = static_cast<std::uint16_t>(bitwise ^ (data[i] << 8));
+      for (int bit = 0; bit < 8; ++bit) {
+        bitwise = static_cast<std::uint16_t>((bitwise & 0x8000u) ? ((bitwise << 1) ^ 0x1021u) : (bitwise << 1));
+      }
+    }
+    ASSERT_EQ(cs_crc16(data.data(), n), bitwise) << "length " << n;
+  }
+}
+
 }  // namespace
