@@ -94,7 +94,9 @@ ModeEstimate from_fit(const MeasuredSpectrum& s, const PeakStart& start, const d
   const double window = kWindowHalfPowerBins * resolution;
   const double f0 = fit.converged ? fit.frequency_hz : start.frequency_hz;
   const double measured = 2.0 * (fit.converged ? fit.damping_ratio : start.damping_ratio) * f0;
-  const double width = lorentzian_width(measured, window);
+  // A line no wider than the window is unresolved: its width is known only to lie below the
+  // window's; take half of it (the σ below covers the rest).
+  const double width = std::max(lorentzian_width(measured, window), 0.5 * window);
   // Half-power bandwidth of a mode: Δf = 2ζ fn (exact for a rate sensor's |jωH|², e.g. a gyro).
   m.frequency_hz = f0;
   m.damping_ratio = width / (2.0 * f0);
@@ -104,7 +106,7 @@ ModeEstimate from_fit(const MeasuredSpectrum& s, const PeakStart& start, const d
   // between a rate sensor's peak (the model's) and a displacement or acceleration sensor's
   // (~ζ² f); a quarter of the window correction.
   const double bias = 0.5 * f0 * m.damping_ratio * m.damping_ratio;
-  const double correction_sd = 0.25 * (measured - width) / (2.0 * f0);
+  const double correction_sd = std::max(0.25 * std::abs(measured - width), measured <= window ? 0.5 * window : 0.0) / (2.0 * f0);
   if (fit.converged) {
     m.frequency_std_hz = std::sqrt(fit.frequency_var + bias * bias);
     m.damping_ratio_std = std::sqrt(m.damping_ratio * m.damping_ratio * fit.log_damping_var + correction_sd * correction_sd);
@@ -166,7 +168,44 @@ std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEs
   const PeakStart p1 = start_at(s, top, lowest);
   const detail::LineFit fit1 = fit_one(s, p1, line_region(s, top, lowest, end));
   const ModeEstimate single = from_fit(s, p1, fit1);
-  std::optional<std::size_t> second;
+  // A second mode: the highest candidate peak that passes every test below.
+  const auto try_second = [&](std::size_t cand) -> std::optional<std::vector<ModeEstimate>> {
+    // Each line's own band ends at the valley between the two; both are then fitted together.
+    const std::size_t a = std::min(top, cand), b = std::max(top, cand);
+    std::size_t valley = a;
+    for (std::size_t k = a; k <= b; ++k) {
+      if (s.power[k] < s.power[valley]) valley = k;
+    }
+    const auto r1 = top < cand ? line_region(s, top, lowest, valley) : line_region(s, top, valley, end);
+    const auto r2 = cand < top ? line_region(s, cand, lowest, valley) : line_region(s, cand, valley, end);
+    const PeakStart p2 = start_at(s, cand, lowest);
+    const detail::LineFit one = fit_one(s, p1, r1), two = fit_one(s, p2, r2);
+    // Both lines together: their powers adding (independent excitation) or their responses adding
+    // with residues of either relative sign (one input drives both); the best fit wins.
+    const std::vector<detail::LineStart> starts{
+        {one.converged ? one.frequency_hz : p1.frequency_hz, one.converged ? one.damping_ratio : p1.damping_ratio},
+        {two.converged ? two.frequency_hz : p2.frequency_hz, two.converged ? two.damping_ratio : p2.damping_ratio}};
+    const std::size_t from = std::min(r1.first, r2.first), to = std::max(r1.second, r2.second);
+    detail::LinesFit best;
+    for (const auto& [coherent, sign] : {std::pair{false, 1.0}, std::pair{true, 1.0}, std::pair{true, -1.0}}) {
+      detail::LinesFit fit = detail::fit_lines(s.frequency_hz, s.power, from, to, starts, coherent, {1.0, sign}, bin_correlation(s));
+      if (fit.converged && (!best.converged || fit.cost < best.cost)) best = std::move(fit);
+    }
+    // The second line must explain the band: one line fitted over the same band leaves a cost
+    // larger by more than chance allows for three more parameters (Δcost / (c·s²) > 16.3, the
+    // χ²(3) 0.1 % point; c the bin correlation, s² the two-line fit's residual variance).
+    const detail::LinesFit alone =
+        detail::fit_lines(s.frequency_hz, s.power, from, to, {{p1.frequency_hz, p1.damping_ratio}}, false, {}, bin_correlation(s));
+    const double bins = static_cast<double>(to - from + 1);
+    if (best.converged && alone.converged) {
+      const double s2 = best.cost / std::max(1.0, bins - 6.0);
+      if ((alone.cost - best.cost) / (bin_correlation(s) * s2) < 16.3) return std::nullopt;
+    }
+    const bool joint = best.converged;
+    const auto& both = best.lines;
+    std::vector<ModeEstimate> out{from_fit(s, p1, joint ? both[0] : one), from_fit(s, p2, joint ? both[1] : two)};
+    return out;
+  };
   if (options.max_modes > 1) {
     for (std::size_t i = 1; i < peaks.size(); ++i) {
       const auto& pk = peaks[i];
@@ -175,39 +214,13 @@ std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEs
       if (pk.height < options.second_peak_min_ratio * s.power[top]) break;  // sorted: no later one qualifies
       // Ripples of Welch's scatter on a line have little prominence; a mode stands out ...
       if (pk.prominence < options.second_peak_min_prominence * pk.height) continue;
-      if (f >= single.half_power_low_hz - 2.0 * s.resolution_hz && f <= single.half_power_high_hz + 2.0 * s.resolution_hz) continue;
-      // ... and at least doubles the power the first mode's line puts there.
-      if (fit1.converged && pk.height < 2.0 * detail::line_power(fit1, f)) continue;
-      second = bin;
-      break;
+      // (outside the first peak's own half-power crossings and a resolution bin: a broad one-line
+      // fit over two merged lines would hide the second)
+      if (std::abs(f - p1.frequency_hz) <= p1.damping_ratio * p1.frequency_hz + s.resolution_hz) continue;
+      if (auto two = try_second(bin)) return *two;
     }
   }
-  if (!second) return {single};
-  // Each line's own band ends at the valley between the two; both are then fitted together.
-  const std::size_t a = std::min(top, *second), b = std::max(top, *second);
-  std::size_t valley = a;
-  for (std::size_t k = a; k <= b; ++k) {
-    if (s.power[k] < s.power[valley]) valley = k;
-  }
-  const auto r1 = top < *second ? line_region(s, top, lowest, valley) : line_region(s, top, valley, end);
-  const auto r2 = *second < top ? line_region(s, *second, lowest, valley) : line_region(s, *second, valley, end);
-  const PeakStart p2 = start_at(s, *second, lowest);
-  const detail::LineFit one = fit_one(s, p1, r1), two = fit_one(s, p2, r2);
-  // Both lines together: their powers adding (independent excitation) or their responses adding
-  // with residues of either relative sign (one input drives both); the best fit wins.
-  const std::vector<detail::LineStart> starts{
-      {one.converged ? one.frequency_hz : p1.frequency_hz, one.converged ? one.damping_ratio : p1.damping_ratio},
-      {two.converged ? two.frequency_hz : p2.frequency_hz, two.converged ? two.damping_ratio : p2.damping_ratio}};
-  const std::size_t from = std::min(r1.first, r2.first), to = std::max(r1.second, r2.second);
-  detail::LinesFit best;
-  for (const auto& [coherent, sign] : {std::pair{false, 1.0}, std::pair{true, 1.0}, std::pair{true, -1.0}}) {
-    detail::LinesFit fit = detail::fit_lines(s.frequency_hz, s.power, from, to, starts, coherent, {1.0, sign}, bin_correlation(s));
-    if (fit.converged && (!best.converged || fit.cost < best.cost)) best = std::move(fit);
-  }
-  const bool joint = best.converged;
-  const auto& both = best.lines;
-  std::vector<ModeEstimate> out{from_fit(s, p1, joint ? both[0] : one), from_fit(s, p2, joint ? both[1] : two)};
-  return out;
+  return {single};
 }
 
 ModeEstimation estimate_modes(const std::vector<MeasuredSpectrum>& spectra, const ModeEstimateOptions& options) {
@@ -252,7 +265,9 @@ ModeEstimation estimate_modes(const std::vector<MeasuredSpectrum>& spectra, cons
     for (const auto& fm : fit.modes) {
       if (!best || std::abs(fm.natural_frequency_hz() - sm.frequency_hz) < std::abs(best->natural_frequency_hz() - sm.frequency_hz)) best = &fm;
     }
-    const double tol = std::max(0.5 * (sm.half_power_high_hz - sm.half_power_low_hz), 3.0 * sm.frequency_std_hz);
+    // (A decay starts under the Welch window's rising edge, which pulls the spectral peak: the
+    // fitted mode need only lie within the peak's half-power half-width plus 3σ of it.)
+    const double tol = 0.5 * (sm.half_power_high_hz - sm.half_power_low_hz) + 3.0 * sm.frequency_std_hz;
     if (!best || std::abs(best->natural_frequency_hz() - sm.frequency_hz) > tol || !std::isfinite(best->natural_frequency_std_rad_s) ||
         !std::isfinite(best->damping_ratio_std)) {
       r.note = fmt::format("the free-decay fit ({:.1f} %) does not confirm the spectral peak at {:.4g} Hz: spectral estimates only",

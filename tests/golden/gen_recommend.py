@@ -17,8 +17,9 @@ first family with 10 % less vibration. The shapers are the classic closed forms 
 defaults (accel 5000, scv 5); it only orders shapers by length here.
 
 Cases (seeded NumPy): one mode (14.955 Hz, zeta 0.13, rate response to white noise), two modes
-(plus 38 Hz, zeta 0.04), a free decay of the one mode, and a Klipper raw accelerometer file with
-two axes' modes (42 Hz / 55 Hz). Writes:
+(plus 38 Hz, zeta 0.04, one input driving both), a free decay of the one mode, a Klipper raw
+accelerometer file with two axes' modes (42 Hz / 55 Hz); and a simulated clearshape run
+(recommend_sim_run.csv, committed: `clearshape simulate` of a 20 deg position step). Writes:
   recommend_<case>.csv            the recording (time_s,gyro_deg_s or Klipper's raw format)
   recommend_<case>_psd.csv        SciPy's Welch PSD of it (clearshape's settings: Hann, segment
                                   the largest power of two <= N/4, 50 % overlap, nfft 4x, density),
@@ -252,6 +253,19 @@ def main():
     c = run_case("klipper_raw", fk, pk, (20.0, 120.0), "Klipper raw: x 42 Hz zeta 0.08, y 55 Hz zeta 0.1, psd_xyz")
     c["welch"] = dict(w, sample_rate_hz=fs_read)
     c["truth"] = [{"frequency_hz": 42.0, "damping_ratio": 0.08}, {"frequency_hz": 55.0, "damping_ratio": 0.1}]
+    out["cases"].append(c)
+
+    # A simulated clearshape run (committed input, see its first line): the link's gyro after a
+    # 20 deg position step on the built-in rig, from 0.2 s (the free decay and sensor noise).
+    sim = np.genfromtxt(os.path.join(HERE, "recommend_sim_run.csv"), delimiter=",", names=True, skip_header=1)
+    ts, ys = sim["time_s"], sim["gyro_deg_s"]
+    fs_s = 1.0 / np.mean(np.diff(ts))
+    f, p, w = welch_like_clearshape(ys, fs_s)
+    fk, pk = write_psd("recommend_sim_run_psd.csv", f, [p, 0 * p, 0 * p, p])
+    c = run_case("sim_run", fk, pk, (5.0, 60.0), "clearshape simulate: 20 deg position step, built-in rig, gyro")
+    c["welch"] = w
+    c["truth"] = [{"frequency_hz": math.sqrt(45.2 / 5e-3) / (2 * math.pi), "damping_ratio": 0.124 / (2 * math.sqrt(45.2 * 5e-3)),
+                   "note": "linear contact stiffness K and damping D on the link inertia J (the rig's truth); the play softens it"}]
     out["cases"].append(c)
 
     with open(os.path.join(HERE, "recommend_klipper.json"), "w") as fh:

@@ -29,7 +29,7 @@ struct ModeEstimateOptions {
   std::size_t max_modes = 2;             ///< 1 or 2
   std::optional<double> min_frequency_hz;  ///< ignore bins below; default 2 × the resolution
   double second_peak_min_ratio = 0.2;    ///< a second peak stands out: power ≥ this × the highest
-  double second_peak_min_prominence = 0.5;  ///< … and prominence ≥ this × its own power
+  double second_peak_min_prominence = 0.25;  ///< … and prominence ≥ this × its own power
   bool free_decay_fit = true;            ///< try the ident::modes free-decay fit on the record
   std::size_t free_decay_max_samples = 20000;  ///< skip the fit on longer records (cost)
 };
