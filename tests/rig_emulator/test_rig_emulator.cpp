@@ -411,6 +411,38 @@ TEST(RigEmulator, WatchdogTripsWhenTheHostGoesSilent) {
   EXPECT_GE(cs_get_u32(stats->payload + 12), 1u);  // watchdog_trips
 }
 
+TEST(RigEmulator, WatchdogStopsThePulseTrainWhereItIs) {
+  REQUIRE_EMULATOR();
+  EmulatorSession s({"--duration-s", "30", "--no-noise", "--speed", "0.1"});
+  Configure c;
+  c.watchdog_ms = 20;
+  c.max_pulse_rate_hz = 3000;  // 100 edges per 30 Hz update: the train is still running
+  ASSERT_TRUE(s.start_run(c));
+  constexpr std::int32_t kTarget = 100000;
+  Sample smp{};
+  for (int k = 0; k < 40; ++k) {
+    smp = *s.sample();
+    s.send(CS_MSG_COMMAND, i32_command(smp.tick, kTarget));
+  }
+  std::uint32_t tripped = 0;
+  std::int32_t pulses_at_trip = 0;
+  for (int k = 0; k < 2000 && tripped == 0; ++k) {
+    smp = *s.sample();
+    if (smp.flags & CS_SAMPLE_WATCHDOG) {
+      tripped = smp.tick;
+      pulses_at_trip = smp.pulses_emitted;
+    }
+  }
+  ASSERT_GT(tripped, 0u);
+  EXPECT_GT(pulses_at_trip, 0);
+  EXPECT_LT(pulses_at_trip, kTarget);
+  for (int k = 0; k < 40; ++k) {
+    smp = *s.sample();
+    EXPECT_NE(smp.flags & CS_SAMPLE_WATCHDOG, 0u);
+    EXPECT_EQ(smp.pulses_emitted, pulses_at_trip) << "tick " << smp.tick;
+  }
+}
+
 TEST(RigEmulator, DamagedStreamIsCountedNeverMisread) {
   REQUIRE_EMULATOR();
   EmulatorSession s({"--duration-s", "30", "--no-noise", "--corrupt-every", "97", "--drop-every", "331"});
