@@ -81,5 +81,20 @@ TEST(CalibrateRigCli, ShortSearchWritesTheTruthAndTheResiduals) {
   const auto q = run_cli("study " + (studies() / "thesis-speed.toml").string() + " --quick --json --out " +
                          (out / "study").string() + " --rig-config " + (out / "rig-truth.toml").string());
   EXPECT_EQ(q.exit_code, 0) << q.err;
+  // Such a rig is not the thesis's: results.json says so, and its settled "what is the rig" does
+  // not claim a calibration to the thesis (issue 13: 11).
+  std::ifstream in(out / "study" / "results.json");
+  const auto results = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_FALSE(results.is_discarded());
+  EXPECT_EQ(results.at("rig").at("kind"), "simulated-config");
+  bool rig_truth = false;
+  for (const auto& a : results.at("ambiguities")) {
+    if (a.at("id") != "rig-truth") continue;
+    rig_truth = true;
+    const std::string settled = a.at("settled").get<std::string>();
+    EXPECT_NE(settled.find("not calibrated to the thesis"), std::string::npos) << settled;
+    EXPECT_EQ(settled.find("calibrated once"), std::string::npos) << settled;
+  }
+  EXPECT_TRUE(rig_truth);
   EXPECT_EQ(run_cli("calibrate-rig --trials 1").exit_code, 2);
 }
