@@ -480,6 +480,10 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
         ax.set_ylim(lo - pad, hi + pad)
         t_lo = max(float(t[0]), float(start_s) - 0.25 * (float(t[-1]) - float(start_s)))
         ax.set_xlim(t_lo, float(t[-1]))
+    else:  # the whole move in view, in time only where the response still moves
+        window = _active_window([(t, y)])
+        if window:
+            ax.set_xlim(window[0], max(window[1], float(start_s) + 0.1 * (float(t[-1]) - float(t[0]))))
 
 
 # "Without shaping" bars: a neutral dark grey that no shaper uses, so no shaped bar can be
