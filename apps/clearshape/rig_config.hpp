@@ -2,7 +2,7 @@
 // The rig configuration file of `clearshape simulate` (TOML, read with toml++). Every key is
 // optional; what is absent keeps the built-in (calibrated) thesis rig (rig/truth.hpp). Unknown tables or
 // keys, values of the wrong type and values out of range are InputErrors naming the file, the
-// line and the key. Schema (units in the key names; see README "clearshape simulate"):
+// line and the key. Schema (units in the key names; see docs/cli.md "clearshape simulate"):
 //   [run]            duration_s, output_rate_hz, initial_play_fraction, seed, sensor_noise
 //   [joint]          clearance_deg, friction_viscous_n_m_s_per_rad, friction_coulomb_n_m
 //   [contact]        model, stiffness, exponent, damping, restitution, static_rate_rad_s
