@@ -43,6 +43,8 @@ struct State {
   cs::cli::SignalOptions signal_options;  // command units: deg (position) or V (speed)
 
   std::string shaper;
+  std::string shaper_impulses;
+  CLI::Option* shaper_impulses_option = nullptr;
   double shaper_frequency_hz = 0.0;
   double shaper_zeta = 0.0;
   CLI::Option* shaper_frequency_option = nullptr;
@@ -211,7 +213,18 @@ void run(const State& st) {
   const sig::Signal signal = st.signal_options.build(st.type);
   cs::UniformSeries command = sig::sample(signal, options.output_rate_hz, options.duration_s);
   std::optional<cs::shaping::Shaper> shaper;
-  if (!st.shaper.empty()) {
+  if (st.shaper == "custom") {  // e.g. the impulses of `shape --method clearance-aware`
+    if (st.shaper_impulses_option->count() == 0) {
+      throw cs::InvalidArgument("--shaper custom needs --shaper-impulses \"t1:a1,t2:a2,...\"");
+    }
+    cs::shaping::DesignRequest request;
+    request.method = cs::shaping::Method::custom;
+    request.impulses = cs::shaping::parse_impulses(st.shaper_impulses);
+    shaper = cs::shaping::design(request);
+    command = cs::shaping::shape_offline(*shaper, command, false);
+  } else if (st.shaper_impulses_option->count() > 0) {
+    throw cs::InvalidArgument("--shaper-impulses applies to --shaper custom");
+  } else if (!st.shaper.empty()) {
     if (st.shaper_frequency_option->count() == 0 || st.shaper_zeta_option->count() == 0) {
       throw cs::InvalidArgument("--shaper needs --shaper-frequency-hz and --shaper-zeta (the mode to cancel)");
     }
@@ -388,7 +401,9 @@ void setup(CLI::App& sub) {
       ->capture_default_str();
   st->signal_options.add_to(sub, "--signal");
 
-  sub.add_option("--shaper", st->shaper, "Input shaper method (zv, zvd, zvdd, zvddd, mzv, ei, ei2, ei3, um-zv)");
+  sub.add_option("--shaper", st->shaper, "Input shaper method (zv, zvd, zvdd, zvddd, mzv, ei, ei2, ei3, um-zv, custom)");
+  st->shaper_impulses_option = sub.add_option("--shaper-impulses", st->shaper_impulses,
+                                              "--shaper custom: impulses \"t1:a1,t2:a2,...\" (t in s; normalised to sum 1)");
   st->shaper_frequency_option =
       sub.add_option("--shaper-frequency-hz", st->shaper_frequency_hz, "Natural frequency of the mode to cancel (Hz)");
   st->shaper_zeta_option = sub.add_option("--shaper-zeta", st->shaper_zeta, "Damping ratio of that mode, [0, 1)");

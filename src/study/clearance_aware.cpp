@@ -141,7 +141,7 @@ double clearance_aware_case_md(const ClearanceAwareRequest& r, const ClearanceMo
                                double initial_play_fraction, const shaping::Shaper& shaper) {
   const double duration_s = record_s(r);
   const UniformSeries command = shaping::shape_offline(shaper, step_command(r, move, duration_s), false);
-  const ModelResponse response = simulate_command(model, command, duration_s, initial_play_fraction);
+  const ModelResponse response = simulate_command(model, command, duration_s, initial_play_fraction, true);
   metrics::MeanDeviationOptions options;
   options.search_from_s = r.move_start_s;
   return metrics::mean_deviation(UniformSeries{0.0, response.sample_time_s, response.link_angle_deg}, options)

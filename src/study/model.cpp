@@ -33,7 +33,7 @@ UniformSeries on_grid(const UniformSeries& command, std::size_t n, double ts) {
 }  // namespace
 
 ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSeries& drive_command,
-                                     double duration_s, double initial_play_fraction) {
+                                     double duration_s, double initial_play_fraction, bool design_accuracy) {
   require_in_closed("initial_play_fraction", initial_play_fraction, -1.0, 1.0);
   require_positive("duration_s", duration_s);
   require_positive("drive_command.sample_time_s", drive_command.sample_time_s);
@@ -57,6 +57,12 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
   options.duration_s = static_cast<double>(n - 1) * ts;
   options.output_rate_hz = 1.0 / ts;
   options.record_events = false;
+  if (design_accuracy) {  // a design loop compares MDs to ~1e-4 deg: looser tolerances, no energy
+    options.record_energy = false;
+    options.solver.relative_tolerance = 1e-6;
+    options.solver.angle_tolerance_rad = 1e-9;
+    options.solver.rate_tolerance_rad_s = 1e-7;
+  }
   options.initial.drive_state = Eigen::VectorXd::Zero(model.drive.order());
   if (!rigid) options.initial.relative_angle_rad = initial_play_fraction * 0.5 * m.play_rad;
   const plant::Command command(u, plant::Interpolation::zero_order_hold);
@@ -82,7 +88,7 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
 }
 
 ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& command, double duration_s,
-                               double initial_play_fraction) {
+                               double initial_play_fraction, bool design_accuracy) {
   require_positive("duration_s", duration_s);
   const double ts = command.sample_time_s;
   const std::size_t n = sample_count(duration_s, ts);
@@ -106,7 +112,7 @@ ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& com
   }
   drive.start_s = 0.0;
   drive.sample_time_s = ts;
-  return simulate_drive_command(m, drive, duration_s, initial_play_fraction);
+  return simulate_drive_command(m, drive, duration_s, initial_play_fraction, design_accuracy);
 }
 
 }  // namespace clearshape::study

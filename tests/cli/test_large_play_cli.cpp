@@ -43,6 +43,15 @@ TEST(LargePlayCli, SimulateSelectsTheTruthByName) {
   ASSERT_EQ(wide.exit_code, 0) << wide.err;
   EXPECT_NEAR(nlohmann::json::parse(wide.out)["clearance_deg"].get<double>(), 2.0, 1e-12);
 
+  // Custom impulses (what `shape --method clearance-aware` designs): two halves 1/30 s apart
+  // shape the command exactly as the same shaper given to `shape`.
+  const auto custom = run_cli("simulate --rig large-play --duration 1 --no-noise --shaper custom "
+                              "--shaper-impulses \"0:0.5,0.0333333333333:0.5\" --json");
+  ASSERT_EQ(custom.exit_code, 0) << custom.err;
+  EXPECT_EQ(nlohmann::json::parse(custom.out)["shaper"], "custom");
+  EXPECT_EQ(run_cli("simulate --shaper custom").exit_code, 2);
+  EXPECT_EQ(run_cli("simulate --shaper-impulses \"0:1\"").exit_code, 2);
+
   const auto bad = run_cli("simulate --rig big-play");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--rig"), std::string::npos) << bad.err;

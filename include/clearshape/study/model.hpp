@@ -41,15 +41,18 @@ struct ModelResponse {
 
 /// Simulates the model under the command the drive received (sampled at sample_time_s, held
 /// between samples: e.g. a record's command_applied). The link starts at rest at
-/// `initial_play_fraction` × β in the play (0: the centre). Throws RuntimeError on integration
-/// failure.
+/// `initial_play_fraction` × β in the play (0: the centre). `design_accuracy`: tolerances of a
+/// design loop (rtol 1e-6, no energy integrals) instead of the fit's (rtol 1e-7). Throws
+/// RuntimeError on integration failure.
 ModelResponse simulate_drive_command(const ClearanceModel& model, const UniformSeries& drive_command,
-                                     double duration_s, double initial_play_fraction = 0.0);
+                                     double duration_s, double initial_play_fraction = 0.0,
+                                     bool design_accuracy = false);
 
 /// Simulates the model under a requested command (command units), through the mode's command
 /// path (position: 30 Hz pulse train with one update of latency; speed: 12-bit D/A).
 ModelResponse simulate_command(const ClearanceModel& model, const UniformSeries& command,
-                               double duration_s, double initial_play_fraction = 0.0);
+                               double duration_s, double initial_play_fraction = 0.0,
+                               bool design_accuracy = false);
 
 /// The clearance fit (thesis §4.2, Fig. 4.19–4.20): the Eq. 4.3 parameters for which the model's
 /// link rate under `drive_command` matches a measured link rate in the least-squares sense.
