@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,10 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/json.hpp"
 #include "command.hpp"
+#include "clearance_model_json.hpp"
+#include "recommend_model.hpp"
 #include "recommend_plot.hpp"
+#include "signal_options.hpp"
 
 namespace clearshape::cli {
 
@@ -39,6 +43,14 @@ struct RecommendState {
   std::size_t modes = 2;
   double frequency_sigmas = 2.0, vibration_tolerance = 0.01, threshold = 0.05, scan_step_hz = 0.1;
   bool no_fit = false, json = false;
+  // --model: the predicted Eq. 5.1 mean deviation of each candidate for the user's move.
+  std::string model, move = "step";
+  SignalOptions move_options;
+  CLI::Option* move_option = nullptr;
+  double move_duration_s = 4.0, move_rate_hz = 1000.0, initial_play = 0.0;
+  CLI::Option* move_duration_option = nullptr;
+  CLI::Option* move_rate_option = nullptr;
+  CLI::Option* initial_play_option = nullptr;
 };
 
 std::vector<std::string> split(const std::string& text) {
@@ -136,7 +148,8 @@ std::string shape_command(const advise::CandidateResult& c, const advise::Recomm
 nlohmann::ordered_json number_or_null(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); }
 
 void print_json_result(const RecommendState& st, const std::vector<advise::MeasuredSpectrum>& spectra,
-                       const advise::ModeEstimation& est, const advise::Recommendation& r, const advise::RecommendOptions& o) {
+                       const advise::ModeEstimation& est, const advise::Recommendation& r, const advise::RecommendOptions& o,
+                       const std::optional<MovePrediction>& pred) {
   auto doc = io::make_document();
   doc["command"] = "recommend";
   nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
@@ -181,9 +194,22 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
       j["within_budget"] = c.within_budget;
       j["impulses"] = impulses;
     }
+    if (pred) j["predicted_md"] = pred->md[&c - r.candidates.data()] ? nlohmann::ordered_json(*pred->md[&c - r.candidates.data()])
+                                                                      : nlohmann::ordered_json(nullptr);
     cands.push_back(j);
   }
   doc["candidates"] = cands;
+  if (pred) {
+    doc["model"] = {{"file", st.model},
+                    {"move", st.move},
+                    {"md_signal", pred->signal_name},
+                    {"duration_s", pred->duration_s},
+                    {"sample_time_s", pred->sample_time_s},
+                    {"initial_play_fraction", pred->initial_play_fraction},
+                    {"unshaped_md", pred->unshaped_md}};
+  } else {
+    doc["model"] = nullptr;
+  }
   if (r.chosen) {
     const auto& c = r.candidates[*r.chosen];
     doc["recommendation"] = {{"name", c.name},
@@ -191,6 +217,7 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
                              {"design_damping", c.design_damping},
                              {"duration_s", c.duration_s},
                              {"remaining_worst", c.remaining_worst},
+                             {"predicted_md", pred ? nlohmann::ordered_json(*pred->md[*r.chosen]) : nlohmann::ordered_json(nullptr)},
                              {"shape_command", shape_command(c, r)}};
   } else {
     doc["recommendation"] = nullptr;
@@ -201,7 +228,7 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
 }
 
 void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const advise::ModeEstimation& est,
-                 const advise::Recommendation& r) {
+                 const advise::Recommendation& r, const std::optional<MovePrediction>& pred) {
   for (const auto& s : spectra) {
     fmt::print("input  {} ({}, {}): {} bins, resolution {:.3g} Hz{}\n", s.source, advise::to_string(s.format), s.column,
                s.frequency_hz.size(), s.resolution_hz, s.segments > 0 ? fmt::format(", {} Welch segments", s.segments) : "");
@@ -214,7 +241,12 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
   fmt::print("       {}\n", est.note);
   fmt::print("worst case over ζ {:.4g} and frequency × {:.4g}\n\n", fmt::join(r.test_damping_ratios, ", "),
              fmt::join(r.frequency_scales, ", "));
-  fmt::print("{:<10} {:>18} {:>10} {:>12} {:>12} {:>10}\n", "shaper", "design_hz", "delay_ms", "remaining_%", "nominal_%", "budget");
+  if (pred) {
+    fmt::print("predicted Eq. 5.1 MD of the {} on the model, {:.4g} s at {:.4g} Hz: unshaped {:.4g}\n\n", pred->signal_name,
+               pred->duration_s, 1.0 / pred->sample_time_s, pred->unshaped_md);
+  }
+  fmt::print("{:<10} {:>18} {:>10} {:>12} {:>12} {:>10}{}\n", "shaper", "design_hz", "delay_ms", "remaining_%", "nominal_%", "budget",
+             pred ? fmt::format(" {:>13}", "predicted_md") : std::string());
   for (std::size_t k = 0; k < r.candidates.size(); ++k) {
     const auto& c = r.candidates[k];
     const std::string mark = r.chosen && *r.chosen == k ? " <" : "";
@@ -224,8 +256,9 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     }
     std::string f = fmt::format("{:.3f}", c.design_frequency_hz[0]);
     if (c.design_frequency_hz.size() > 1) f += fmt::format("+{:.3f}", c.design_frequency_hz[1]);
-    fmt::print("{:<10} {:>18} {:>10.2f} {:>12.2f} {:>12.2f} {:>10}{}\n", c.name, f, 1000.0 * c.duration_s, 100.0 * c.remaining_worst,
-               100.0 * c.remaining_nominal, c.within_budget ? "ok" : "over", mark);
+    fmt::print("{:<10} {:>18} {:>10.2f} {:>12.2f} {:>12.2f} {:>10}{}{}\n", c.name, f, 1000.0 * c.duration_s, 100.0 * c.remaining_worst,
+               100.0 * c.remaining_nominal, c.within_budget ? "ok" : "over", pred ? fmt::format(" {:>13.5g}", *pred->md[k]) : std::string(),
+               mark);
   }
   fmt::print("\nrecommended: {}\n", r.chosen ? r.candidates[*r.chosen].name : std::string("none"));
   fmt::print("reason: {}\n", r.reason);
@@ -239,6 +272,16 @@ void run_recommend(const RecommendState& st) {
   if (!(st.segment_s >= 0.0)) throw_invalid("--segment-s", st.segment_s, ">= 0 s (0: automatic)");
   if (st.modes < 1 || st.modes > 2) throw_invalid("--modes", static_cast<double>(st.modes), "1 or 2");
   const advise::RecommendOptions o = options(st);
+  const bool move_given = st.move_option->count() > 0 || st.move_duration_option->count() > 0 || st.move_rate_option->count() > 0 ||
+                          st.initial_play_option->count() > 0;
+  if (st.model.empty() && move_given) {
+    throw InvalidArgument("--move, --move-duration-s, --move-rate-hz and --initial-play need --model FIT.json");
+  }
+  if (!st.model.empty()) {
+    if (!(st.move_duration_s > 0.0 && st.move_duration_s <= 60.0)) throw_invalid("--move-duration-s", st.move_duration_s, "(0, 60] s");
+    if (!(st.move_rate_hz >= 10.0 && st.move_rate_hz <= 1e5)) throw_invalid("--move-rate-hz", st.move_rate_hz, "[10, 1e5] Hz");
+    if (!(st.initial_play >= -1.0 && st.initial_play <= 1.0)) throw_invalid("--initial-play", st.initial_play, "[-1, 1] (φ(0)/β)");
+  }
   std::vector<advise::MeasuredSpectrum> spectra;
   for (const auto& path : st.data) {
     advise::SpectrumRequest req;
@@ -255,13 +298,20 @@ void run_recommend(const RecommendState& st) {
   mo.free_decay_fit = !st.no_fit;
   mo.min_frequency_hz = o.min_frequency_hz;
   const advise::ModeEstimation est = advise::estimate_modes(spectra, mo);
-  const advise::Recommendation r = advise::recommend(spectra, est.modes, o);
+  advise::Recommendation r = advise::recommend(spectra, est.modes, o);
+  std::optional<MovePrediction> pred;
+  if (!st.model.empty()) {
+    const IdentifiedClearanceModel m = read_clearance_model_json(st.model);
+    const signal::Signal move = st.move_options.build(st.move);
+    pred = predict_mean_deviations(m.model, move, st.move_duration_s, 1.0 / st.move_rate_hz, st.initial_play, r);
+    apply_predicted_md(r, *pred, o.vibration_tolerance);
+  }
   if (!r.chosen) fmt::print(stderr, "clearshape recommend: warning: no recommendation: {}\n", r.reason);
   if (!st.plot.empty()) write_recommend_plot(st.plot, spectra, r);
   if (st.json) {
-    print_json_result(st, spectra, est, r, o);
+    print_json_result(st, spectra, est, r, o, pred);
   } else {
-    print_table(spectra, est, r);
+    print_table(spectra, est, r, pred);
     if (!st.plot.empty()) fmt::print("plot: {}\n", st.plot);
   }
 }
@@ -299,6 +349,18 @@ void setup(CLI::App& sub) {
   sub.add_flag("--no-free-decay-fit", st->no_fit, "Use the spectral mode estimate only");
   sub.add_option("--plot", st->plot, "Write the spectrum and every candidate's remaining-vibration curve to this PNG");
   sub.add_flag("--json", st->json, "Print the result as JSON");
+  sub.add_option("--model", st->model,
+                 "Identified nonlinear model (`fit-clearance --json` or a study's results.json): add each candidate's predicted "
+                 "Eq. 5.1 mean deviation for --move; less predicted MD wins ties");
+  st->move_option = sub.add_option("--move", st->move, "The move, with the signal options below (e.g. --amplitude 20 --rise-s 0.05): " +
+                                                           SignalOptions::type_list())
+                        ->check(SignalOptions::type_check())
+                        ->capture_default_str();
+  st->move_options.add_to(sub, "--move");
+  st->move_duration_option = sub.add_option("--move-duration-s", st->move_duration_s, "Simulated length of the move, s")->capture_default_str();
+  st->move_rate_option = sub.add_option("--move-rate-hz", st->move_rate_hz, "Sample rate of the move's simulation, Hz")->capture_default_str();
+  st->initial_play_option = sub.add_option("--initial-play", st->initial_play, "Where the link rests in the play at the start, φ(0)/β in [-1, 1]")
+                                ->capture_default_str();
   sub.callback([st] { run_recommend(*st); });
 }
 
