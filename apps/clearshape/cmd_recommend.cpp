@@ -265,6 +265,34 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
   if (r.chosen) fmt::print("shaper: {}\n", shape_command(r.candidates[*r.chosen], r));
 }
 
+// A record of a whole move (rest, move, free decay) read without --from-s: its spectrum is the
+// move's, not the mode's (a 20° step's gyro gives 10.7 ± 1.4 Hz for a 14.9 Hz mode). Names the
+// largest swing, when it stands out as a move does, and the window that starts after it.
+void print_window_hints(const std::vector<advise::MeasuredSpectrum>& spectra) {
+  for (const auto& s : spectra) {
+    if (s.format != advise::InputFormat::table || !s.series || s.series->size() < 16) continue;
+    const auto& v = s.series->values;
+    double mean = 0.0;
+    for (const double x : v) mean += x / static_cast<double>(v.size());
+    std::size_t peak = 0;
+    for (std::size_t k = 1; k < v.size(); ++k) {
+      if (std::abs(v[k] - mean) > std::abs(v[peak] - mean)) peak = k;
+    }
+    double ms = 0.0;
+    for (const double x : v) ms += (x - mean) * (x - mean) / static_cast<double>(v.size());
+    // An isolated swing: noise or a sweep peaks at about 4 RMS over 10^4 samples (Gaussian), a move at 7–10.
+    if (!(std::abs(v[peak] - mean) > 6.0 * std::sqrt(ms))) continue;
+    const double t_peak_s = static_cast<double>(peak) * s.series->sample_time_s;
+    const double length_s = static_cast<double>(v.size() - 1) * s.series->sample_time_s;
+    if (t_peak_s > 0.7 * length_s) continue;
+    const double from_s = std::ceil((t_peak_s + 0.05) * 10.0) / 10.0;
+    fmt::print(stderr,
+               "clearshape recommend: hint: {}: the largest swing of {} is at {:.3g} s and this is not a free decay; if the record "
+               "holds a move, analyse the decay after it: --from-s {:.3g}\n",
+               s.source, s.column, t_peak_s, from_s);
+  }
+}
+
 void run_recommend(const RecommendState& st) {
   if (!st.plot.empty() && std::filesystem::path(st.plot).extension() != ".png") {
     throw InvalidArgument(fmt::format("--plot {}: the figure is a PNG; give a path ending in .png", st.plot));
@@ -298,6 +326,7 @@ void run_recommend(const RecommendState& st) {
   mo.free_decay_fit = !st.no_fit;
   mo.min_frequency_hz = o.min_frequency_hz;
   const advise::ModeEstimation est = advise::estimate_modes(spectra, mo);
+  if (st.from_option->count() == 0 && !est.free_decay_used) print_window_hints(spectra);
   advise::Recommendation r = advise::recommend(spectra, est.modes, o);
   std::optional<MovePrediction> pred;
   if (!st.model.empty()) {

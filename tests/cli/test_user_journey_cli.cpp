@@ -131,6 +131,11 @@ TEST(UserJourneyCli, TenRecordedCsvsToAReportARecommendationAndACompiledHeader) 
   EXPECT_NEAR(results["sections"]["link_mode"]["natural_frequency_hz"].get<double>(), 14.955, 0.3);
 
   // 4. The recommendation: the free decays after the 20° steps, scored with the study's model.
+  // Forgetting the window (the spectrum of the whole move) is answered by a hint naming it.
+  const auto whole = run_cli("recommend --data " + (dir / "my-axis" / "step20_1.csv").string() + " --column gyro_rad_s");
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  EXPECT_NE(whole.err.find("hint:"), std::string::npos) << whole.err;
+  EXPECT_NE(whole.err.find("--from-s 0.6"), std::string::npos) << whole.err;
   std::string data;
   for (int r = 1; r <= 3; ++r) data += " --data " + (dir / "my-axis" / ("step20_" + std::to_string(r) + ".csv")).string();
   const auto rec = run_cli("recommend" + data + " --column gyro_rad_s --from-s 0.6 --max-delay-s 0.1 --model " + (out / "results.json").string() +
