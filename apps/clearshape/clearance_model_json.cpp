@@ -83,6 +83,19 @@ IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& 
     }
     return out;
   }
+  if (doc.contains("skipped_stages") && doc["skipped_stages"].is_array()) {  // a study whose clearance stage did not run
+    for (const auto& s : doc["skipped_stages"]) {
+      if (s.value("stage", "") != "clearance") continue;
+      std::string missing;
+      if (s.contains("missing_runs") && s["missing_runs"].is_array()) {
+        for (const auto& id : s["missing_runs"]) missing += (missing.empty() ? "" : ", ") + id.get<std::string>();
+      }
+      throw InputError(file, 0, "sections.clearance",
+                       fmt::format("this study has no clearance model: its clearance stage was skipped ({}{}); record those runs and "
+                                   "run the study again",
+                                   s.value("reason", "no reason given"), missing.empty() ? "" : ": " + missing));
+    }
+  }
   throw InputError(file, 0, "command",
                    "expected the JSON of `clearshape fit-clearance --json` or a study's results.json (sections.clearance)");
 }

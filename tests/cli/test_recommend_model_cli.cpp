@@ -167,5 +167,13 @@ TEST(RecommendModelCli, MoveOptionsNeedAModelAndBadModelsNameTheKey) {
   r = run_cli(spectrum_args() + " --model " + bad.string() + " --move-duration-s -1");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--move-duration-s"), std::string::npos) << r.err;
+  // A study whose clearance stage was skipped says so, with the runs it lacked.
+  write(bad, R"({"skipped_stages": [{"stage": "clearance", "reason": "3 run(s) missing from the source",
+                  "missing_runs": ["unshaped/step-20/r01"]}], "sections": {}})");
+  r = run_cli(spectrum_args() + " --model " + bad.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("sections.clearance"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("clearance stage was skipped"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("unshaped/step-20/r01"), std::string::npos) << r.err;
   std::filesystem::remove(bad);
 }
