@@ -143,7 +143,7 @@ void clear_inputs() {
   r.inputs.clear();
 }
 
-std::string read_text_file(const fs::path& path) {
+std::string read_own_output_file(const fs::path& path) {
   std::error_code ec;
   const auto status = fs::status(path, ec);
   if (ec || !fs::exists(status)) throw InputError(path.string(), 0, "", "no such file");
@@ -159,8 +159,13 @@ std::string read_text_file(const fs::path& path) {
   const bool failed = std::ferror(f) != 0;
   std::fclose(f);
   if (failed) throw InputError(path.string(), 0, "", "read error");
-  note_input(path);
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // UTF-8 byte-order mark
+  return text;
+}
+
+std::string read_text_file(const fs::path& path) {
+  std::string text = read_own_output_file(path);
+  note_input(path);
   return text;
 }
 

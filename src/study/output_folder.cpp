@@ -22,7 +22,7 @@ constexpr const char* kTopLevel[] = {"results.json", "tables.md", "figures.json"
 // A run sidecar the study wrote: JSON with the keys its writer always sets.
 bool is_own_sidecar(const fs::path& path) {
   try {
-    const json doc = json::parse(io::read_text_file(path));
+    const json doc = json::parse(io::read_own_output_file(path));
     return doc.is_object() && doc.contains("clearshape_version") && doc.contains("protocol_hash") &&
            doc.contains("id");
   } catch (const std::exception&) {
@@ -53,7 +53,7 @@ std::size_t remove_manifest_files(const fs::path& out) {
   if (!fs::is_regular_file(manifest, ec)) return 0;
   json doc;
   try {
-    doc = json::parse(io::read_text_file(manifest));
+    doc = json::parse(io::read_own_output_file(manifest));
   } catch (const std::exception&) {
     return 0;  // not ours, or damaged: remove nothing
   }

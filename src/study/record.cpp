@@ -160,10 +160,12 @@ std::optional<Record> read_record(const std::filesystem::path& runs_dir, const R
   std::error_code ec;
   if (!std::filesystem::exists(sidecar, ec) || !std::filesystem::exists(csv, ec)) return std::nullopt;
   try {
-    const json doc = json::parse(io::read_text_file(sidecar));
+    // The study's own files: read back without registering them as inputs, so a stale run can be
+    // replaced by the rerun.
+    const json doc = json::parse(io::read_own_output_file(sidecar));
     if (doc.value("protocol_hash", std::string()) != protocol_hash) return std::nullopt;
     if (doc.value("id", std::string()) != request.id) return std::nullopt;
-    const io::Table t = io::read_table(csv);
+    const io::Table t = io::parse_table(io::read_own_output_file(csv), csv.string());
     const auto names = record_columns(mode);
     Record r;
     r.id = request.id;

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/rig/loopback_rig.hpp"
 #include "clearshape/study/record.hpp"
 
@@ -80,5 +81,26 @@ TEST(Record, RoundTripIsBitExactAndKeyedByTheProtocolHash) {
   // A damaged CSV means the run is run again, not an error.
   std::ofstream(dir / "unshaped__step__r01.csv") << "time_s,garbage\n1,2\n";
   EXPECT_FALSE(st::read_record(dir, req, cs::rig::CommandMode::position, "hash-a").has_value());
+  std::filesystem::remove_all(dir);
+}
+
+// A resumed study reads its own runs back; when the protocol changed (another hash), the rerun
+// must be able to replace them. Reading them must not make them "inputs" the safe-file layer
+// then refuses to overwrite (a rerun into the same folder failed with "output … is the input").
+TEST(Record, AStaleRunReadBackCanBeReplacedByTheRerun) {
+  cs::rig::LoopbackRig rig(cs::rig::LoopbackConfig{});
+  const st::RunRequest req = step_request();
+  const st::Record r = st::execute_run(rig, req);
+  const auto dir = temp_dir("clearshape_test_record_stale");
+  st::write_record(dir, r, req, "hash-a", "loopback", {{"reads", 101}});
+  ASSERT_FALSE(st::read_record(dir, req, cs::rig::CommandMode::position, "hash-b").has_value());
+  EXPECT_NO_THROW(st::write_record(dir, r, req, "hash-b", "loopback", {{"reads", 101}}));
+  EXPECT_TRUE(st::read_record(dir, req, cs::rig::CommandMode::position, "hash-b").has_value());
+  // A user's file read as an input stays protected.
+  const auto user_file = dir / "user.csv";
+  std::ofstream(user_file) << "time_s,x\n0,1\n";
+  (void)cs::io::read_text_file(user_file);
+  EXPECT_THROW(cs::io::write_text_atomic(user_file, "overwritten"), cs::InvalidArgument);
+  cs::io::clear_inputs();
   std::filesystem::remove_all(dir);
 }

@@ -26,6 +26,10 @@ namespace clearshape::io {
 /// UTF-8 byte-order mark (the one BOM rule of every reader). Throws InputError naming the path
 /// when it does not exist, is a folder or cannot be read.
 std::string read_text_file(const std::filesystem::path& path);
+/// The same for a file this process's job wrote itself and may write again (a resumable study
+/// reading back its own runs, sidecars and manifest): read, BOM dropped, NOT registered as an
+/// input — otherwise a rerun after a protocol change could not replace its own stale run.
+std::string read_own_output_file(const std::filesystem::path& path);
 
 /// Registers `path` as an input of this process: no output may resolve to it afterwards.
 void note_input(const std::filesystem::path& path);
