@@ -3,7 +3,8 @@
 // seed per run) and exported as plain CSVs with the user's own column names and units (time "t",
 // commands in rad, the encoder in counts, the gyro in rad/s): nothing of clearshape's own layout
 // is assumed. study --print-manifest → fill the manifest → study --recordings → recommend (with
-// the study's model) → shape --export c-header → compile the header with cc and run it on a step.
+// the study's model) → shape --export c-header → compile the header with cc and run it on a step
+// → the shaped trials' command from the study's shaper.
 // Checked against the rig's truth (link mode 14.955 Hz, play 0.032°, K 45.16 N·m/rad) and the
 // exported taps (the compiled shaper's output is their convolution with the command).
 #include <gtest/gtest.h>
@@ -182,5 +183,26 @@ TEST(UserJourneyCli, TenRecordedCsvsToAReportARecommendationAndACompiledHeader) 
     ASSERT_NEAR(y, expected, 1e-12) << "sample " << k;
   }
   EXPECT_NEAR(y, 20.0, 1e-12);  // the move arrives, delayed by the shaper
+
+  // 7. The shaped trials' command: the study's zvdd@link-mode impulses through `shape --input`.
+  std::string impulses;
+  for (const auto& sh : results["sections"]["shapers"]) {
+    if (sh["key"] != "zvdd@link-mode") continue;
+    for (const auto& i : sh["impulses"]) {
+      impulses += (impulses.empty() ? "" : ",") + json(i["time_s"]).dump() + ":" + json(i["amplitude"]).dump();
+    }
+  }
+  ASSERT_FALSE(impulses.empty()) << results["sections"]["shapers"].dump();
+  const fs::path command = dir / "step20-command.csv", shaped = dir / "step20-zvdd-command.csv";
+  ASSERT_EQ(run_cli("signal --type step --amplitude 20 --start-s 0.5 --duration 3 -o " + command.string()).exit_code, 0);
+  const auto sc = run_cli("shape --method custom --impulses \"" + impulses + "\" -i " + command.string() + " --column command -o " +
+                          shaped.string());
+  ASSERT_EQ(sc.exit_code, 0) << sc.err;
+  std::ifstream shaped_in(shaped);
+  std::string line, last;
+  std::getline(shaped_in, line);
+  EXPECT_EQ(line, "time_s,command,command_shaped");
+  while (std::getline(shaped_in, line)) last = line;
+  EXPECT_NEAR(std::stod(split(last).back()), 20.0, 1e-9) << last;
   fs::remove_all(dir);
 }
