@@ -4,6 +4,9 @@
  * Timing: Timer1 (CTC, /8) interrupts at the sample rate and snapshots the encoder count and
  * the emitted pulse count at the tick instant; the main loop then reads the gyro (polled TWI),
  * re-plans the pulse train or writes the DAC, runs the watchdog and queues the tick's SAMPLE.
+ * The ISR queues each tick's snapshot (TICK_QUEUE deep), so a main loop held up by a burst of
+ * received frames catches up tick by tick instead of skipping ticks; only a tick that finds the
+ * queue full, or a SAMPLE that finds the TX ring full, is dropped — counted and flagged.
  * Everything that must be exact in time (tick, encoder edges, pulse edges) is in short ISRs. */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -35,12 +38,22 @@ static uint8_t tx_seq;
 static cs_decoder decoder;
 static cs_frame frame;
 
-/* Tick ISR -> main loop. */
-static volatile uint32_t tick_count;    /* ticks since START */
-static volatile uint8_t tick_pending;   /* ticks not yet handled by the main loop */
-static volatile int32_t tick_encoder;   /* snapshots at the tick instant */
-static volatile int32_t tick_pulses;
-static volatile uint16_t tick_illegal;
+/* Tick ISR -> main loop: a queue of the ticks' snapshots, so that every tick's SAMPLE is sent
+ * even when the main loop falls behind (a COMMAND burst, a slow TWI read); a tick that finds
+ * the queue full is not lost silently: the next sample's tick jumps, it is counted in
+ * STATS.samples_dropped and flagged CS_SAMPLE_TX_OVERFLOW. */
+#define TICK_QUEUE 8u /* power of two; 8 ms of catch-up at 1 kHz */
+typedef struct tick_snapshot {
+  uint32_t tick;
+  int32_t encoder;
+  int32_t pulses;
+  uint16_t illegal;
+} tick_snapshot;
+static volatile tick_snapshot tick_queue[TICK_QUEUE];
+static volatile uint8_t tick_head;    /* written by the ISR */
+static volatile uint8_t tick_tail;    /* written by the main loop */
+static volatile uint32_t tick_isr;    /* ticks since START, counted by the ISR */
+static uint32_t tick_next;            /* the tick the main loop expects next */
 
 /* Commands. */
 static int32_t position_target;
@@ -64,15 +77,28 @@ static uint32_t watchdog_trips;
 static uint32_t late_ticks;
 
 ISR(TIMER1_COMPA_vect) {
+  const uint8_t head = tick_head;
+  const uint32_t tick = tick_isr;
   quad_fold_counts();
-  tick_encoder = quad_encoder_folded;
-  tick_pulses = quad_pulses_folded;
-  tick_illegal = quad_illegal_transitions;
-  if (tick_pending < 255u) ++tick_pending;
+  tick_isr = tick + 1u;
+  if ((uint8_t)(head - tick_tail) < TICK_QUEUE) {
+    volatile tick_snapshot* s = &tick_queue[head & (TICK_QUEUE - 1u)];
+    s->tick = tick;
+    s->encoder = quad_encoder_folded;
+    s->pulses = quad_pulses_folded;
+    s->illegal = quad_illegal_transitions;
+    tick_head = (uint8_t)(head + 1u);
+  }
 }
+
+static uint8_t tick_waiting(void) { return (uint8_t)(tick_head != tick_tail); }
 
 static void tick_start(uint16_t rate_hz) {
   TCCR1B = 0;
+  tick_head = 0;
+  tick_tail = 0;
+  tick_isr = 0;
+  tick_next = 0;
   TCCR1A = 0;
   TCNT1 = 0;
   OCR1A = (uint16_t)(2000000UL / rate_hz - 1u); /* F_CPU / 8 = 2 MHz timer clock */
@@ -84,7 +110,7 @@ static void tick_start(uint16_t rate_hz) {
 static void tick_stop(void) {
   TCCR1B = 0;
   TIMSK1 = 0;
-  tick_pending = 0;
+  tick_tail = tick_head;
 }
 
 /* ---- frames out ---- */
@@ -247,7 +273,6 @@ static void on_start(void) {
   ticks_since_command = 0;
   watchdog_active = 0;
   pending_flags = 0;
-  tick_count = 0;
   started = 1;
   send_ack(frame.type, CS_OK, 0);
   tick_start(cfg.sample_rate_hz);
@@ -370,35 +395,8 @@ static void plan_pulses(void) {
                                  (F_CPU + cfg.max_pulse_rate_hz - 1u) / cfg.max_pulse_rate_hz);
 }
 
-static void run_tick(void) {
-  uint8_t p[CS_SAMPLE_BYTES];
-  uint8_t flags = pending_flags;
-  uint32_t tick;
-  int32_t encoder;
-  int32_t pulses;
-  uint16_t illegal;
-  uint8_t late;
-  int16_t gyro;
-  ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-    tick = tick_count;
-    encoder = tick_encoder;
-    pulses = tick_pulses;
-    illegal = tick_illegal;
-    late = (uint8_t)(tick_pending > 1u);
-    tick_count += tick_pending; /* a late main loop skips the ticks it missed */
-    tick_pending = 0;
-  }
-  if (late) {
-    ++late_ticks;
-    flags |= CS_SAMPLE_LATE;
-  }
-  pending_flags = 0;
-  if (gyro_read_z(&gyro)) {
-    gyro_last = gyro;
-  } else {
-    flags |= CS_SAMPLE_TWI_ERROR;
-  }
-  if (gyro_last == 32767 || gyro_last == -32768 || gyro_last == -32767) flags |= CS_SAMPLE_GYRO_SATURATED;
+/* Advances the watchdog and the pulse-train update clock by one tick. */
+static void step_tick_clocks(void) {
   /* Watchdog: ticks since the last COMMAND (which arrived within the tick before the first of
    * them); beyond watchdog_ticks at least watchdog_ms have passed: the command goes safe. */
   if (cfg.watchdog_ms != 0u && !watchdog_active && ++ticks_since_command > watchdog_ticks) {
@@ -406,15 +404,51 @@ static void run_tick(void) {
     ++watchdog_trips;
     command_safe();
   }
-  if (cfg.mode == CS_MODE_POSITION) {
-    if (!watchdog_active) {
-      update_accumulator = (uint16_t)(update_accumulator + cfg.update_rate_hz);
-      if (update_accumulator >= cfg.sample_rate_hz) {
-        update_accumulator = (uint16_t)(update_accumulator - cfg.sample_rate_hz);
-        plan_pulses();
-      }
+  if (cfg.mode == CS_MODE_POSITION && !watchdog_active) {
+    update_accumulator = (uint16_t)(update_accumulator + cfg.update_rate_hz);
+    if (update_accumulator >= cfg.sample_rate_hz) {
+      update_accumulator = (uint16_t)(update_accumulator - cfg.sample_rate_hz);
+      plan_pulses();
     }
-  } else if (dac_dirty) {
+  }
+}
+
+/* The oldest queued tick: its SAMPLE, built from the snapshot taken at the tick instant. */
+static void run_tick(void) {
+  uint8_t p[CS_SAMPLE_BYTES];
+  uint8_t flags = pending_flags;
+  tick_snapshot snap;
+  uint32_t missed;
+  uint8_t tail;
+  int16_t gyro;
+  ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+    tail = tick_tail;
+    snap.tick = tick_queue[tail & (TICK_QUEUE - 1u)].tick;
+    snap.encoder = tick_queue[tail & (TICK_QUEUE - 1u)].encoder;
+    snap.pulses = tick_queue[tail & (TICK_QUEUE - 1u)].pulses;
+    snap.illegal = tick_queue[tail & (TICK_QUEUE - 1u)].illegal;
+    tick_tail = (uint8_t)(tail + 1u);
+    /* Late: the next tick came before this one's work was done. */
+    if (tick_head != tick_tail) flags |= CS_SAMPLE_LATE;
+  }
+  if (flags & CS_SAMPLE_LATE) ++late_ticks;
+  /* Ticks that found the queue full: counted and flagged, their clocks still advance. */
+  missed = snap.tick - tick_next;
+  tick_next = snap.tick + 1u;
+  if (missed != 0u) {
+    samples_dropped += missed;
+    flags |= CS_SAMPLE_TX_OVERFLOW;
+    while (missed-- != 0u) step_tick_clocks();
+  }
+  pending_flags = 0;
+  if (gyro_read_z(&gyro)) {
+    gyro_last = gyro;
+  } else {
+    flags |= CS_SAMPLE_TWI_ERROR;
+  }
+  step_tick_clocks();
+  if (gyro_last == 32767 || gyro_last == -32768 || gyro_last == -32767) flags |= CS_SAMPLE_GYRO_SATURATED;
+  if (cfg.mode == CS_MODE_SPEED && dac_dirty) {
     if (twi_dac_write(dac_code)) {
       dac_dirty = 0;
     } else {
@@ -424,14 +458,14 @@ static void run_tick(void) {
   if (watchdog_active) flags |= CS_SAMPLE_WATCHDOG;
   if (command_limited) flags |= CS_SAMPLE_COMMAND_LIMITED;
   if (servo_on) flags |= CS_SAMPLE_SERVO_ON;
-  cs_put_u32(p + 0, tick);
-  cs_put_i32(p + 4, encoder);
+  cs_put_u32(p + 0, snap.tick);
+  cs_put_i32(p + 4, snap.encoder);
   cs_put_i16(p + 8, gyro_last);
   p[10] = flags;
   p[11] = command_seq;
-  cs_put_i32(p + 12, pulses);
+  cs_put_i32(p + 12, snap.pulses);
   cs_put_u16(p + 16, dac_code);
-  cs_put_u16(p + 18, illegal);
+  cs_put_u16(p + 18, snap.illegal);
   if (send_frame(CS_MSG_SAMPLE, p, CS_SAMPLE_BYTES, 1)) {
     ++samples_sent;
   } else {
@@ -450,12 +484,11 @@ int main(void) {
   quad_init();
   sei();
   for (;;) {
-    if (tick_pending) run_tick();
-    while (uart_read(&byte)) {
-      if (cs_decoder_push(&decoder, byte, &frame)) {
-        dispatch();
-        break; /* back to the tick check between frames */
-      }
+    if (tick_waiting()) run_tick();
+    /* Received bytes until the next tick is due: the tick's work always comes first, so a
+     * burst of COMMANDs delays it by at most one frame's dispatch. */
+    while (!tick_waiting() && uart_read(&byte)) {
+      if (cs_decoder_push(&decoder, byte, &frame)) dispatch();
     }
   }
 }

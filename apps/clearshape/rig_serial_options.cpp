@@ -21,7 +21,7 @@ void SerialCliOptions::add_to(CLI::App& sub, bool with_mode) {
   sub.add_option("--rate", rate_hz, "Sample rate of the board (whole Hz, 100 … 2000)")->capture_default_str();
   sub.add_option("--update-hz", update_hz, "Position mode: pulse-train updates per second (whole Hz)")
       ->capture_default_str();
-  sub.add_option("--max-pulse-hz", max_pulse_hz, "Position mode: pulse-rate cap (Hz)")->capture_default_str();
+  sub.add_option("--max-pulse-hz", max_pulse_hz, "Position mode: pulse-rate cap (A/B edges/s, 1 … 45000: the board's limit at 1 kHz)")->capture_default_str();
   sub.add_option("--gyro-dlpf", gyro_dlpf, "ITG-3205 DLPF_CFG, 0 … 6 (0 = 256 Hz)")->capture_default_str();
   watchdog_option = sub.add_option("--watchdog-ms", watchdog_ms, "Command watchdog (ms; 0 = off, else 5 … 60000)")->capture_default_str();
   sub.add_option("--handshake-timeout-s", handshake_timeout_s, "Wait for each handshake answer (s)")

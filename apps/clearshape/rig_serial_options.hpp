@@ -15,7 +15,7 @@ struct SerialCliOptions {
   std::string mode = "position";
   double rate_hz = 1000.0;
   double update_hz = 30.0;
-  unsigned max_pulse_hz = 100'000;
+  unsigned max_pulse_hz = 45'000;  // CS_MAX_PULSE_RATE_HZ
   int gyro_dlpf = 0;
   int watchdog_ms = 100;
   double handshake_timeout_s = 3.0;

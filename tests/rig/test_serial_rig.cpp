@@ -63,12 +63,26 @@ TEST(SerialRigOptions, ValidateNamesTheFieldAndRange) {
   bad = o;
   bad.max_pulse_rate_hz = CS_MAX_PULSE_RATE_HZ + 1;
   EXPECT_NE(message(bad).find("max_pulse_rate_hz"), std::string::npos);
+  EXPECT_NE(message(bad).find("1 … 45000"), std::string::npos);
   bad = o;
   bad.port.clear();
   EXPECT_NE(message(bad).find("port"), std::string::npos);
   bad = o;
   bad.gyro_dlpf_cfg = 7;
   EXPECT_NE(message(bad).find("gyro_dlpf_cfg"), std::string::npos);
+}
+
+// The pulse-rate cap is the edge rate the board sustains at 1 kHz with a COMMAND per tick
+// (docs/hardware.md: 46 000 edges/s computed, 45 000 measured clean in the emulator); the
+// default is that limit and one edge/s more is refused before anything reaches the board.
+TEST(SerialRigOptions, PulseRateDefaultIsTheBoardsMeasuredLimit) {
+  EXPECT_EQ(CS_MAX_PULSE_RATE_HZ, 45000u);
+  rig::SerialRigOptions o;
+  o.port = "/dev/null";
+  EXPECT_EQ(o.max_pulse_rate_hz, CS_MAX_PULSE_RATE_HZ);
+  EXPECT_NO_THROW(o.validate());
+  o.max_pulse_rate_hz = 45001;
+  EXPECT_THROW(o.validate(), cs::InvalidArgument);
 }
 
 TEST(SerialRigConversions, MatchTheirDefinitions) {
@@ -188,7 +202,7 @@ TEST(SerialRig, HandshakeSendsTheConfigurationAndReadsTheBoard) {
   EXPECT_EQ(c[2], 2);
   EXPECT_EQ(cs_get_u16(c.data() + 4), 500);
   EXPECT_EQ(cs_get_u16(c.data() + 6), 25);
-  EXPECT_EQ(cs_get_u32(c.data() + 8), 100000u);
+  EXPECT_EQ(cs_get_u32(c.data() + 8), 45000u);  // the default, CS_MAX_PULSE_RATE_HZ
   EXPECT_EQ(cs_get_u16(c.data() + 12), 250);
   EXPECT_EQ(cs_get_u16(c.data() + 14), 2048);  // 0 V: round(10/20 · 4095) = round(2047.5)
 }

@@ -38,7 +38,7 @@ struct SerialRigOptions {
   CommandMode mode = CommandMode::position;
   double sample_rate_hz = 1000.0;           ///< whole Hz in [100, 2000] (board tick)
   double update_rate_hz = 30.0;             ///< position-mode pulse updates, whole Hz in [1, sample rate]
-  std::uint32_t max_pulse_rate_hz = 100'000;  ///< [1, CS_MAX_PULSE_RATE_HZ]
+  std::uint32_t max_pulse_rate_hz = 45'000;  ///< A/B edges/s, [1, CS_MAX_PULSE_RATE_HZ = 45 000]
   int gyro_fs_sel = 3;                      ///< ITG-3205 FS_SEL, 3 = ±2000 °/s (the only documented one)
   int gyro_dlpf_cfg = 0;                    ///< ITG-3205 DLPF_CFG 0…6 (0 = 256 Hz)
   int watchdog_ms = 100;                    ///< 0 = off, else [5, 60000]
