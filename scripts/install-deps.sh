@@ -15,6 +15,7 @@ packages=(
   pybind11-dev python3-dev python3-pytest python3-h5py python3-distributed
   chromium fonts-dejavu-core
   gcc-avr avr-libc simavr libsimavr-dev libserialport-dev
+  rt-tests
 )
 
 if [[ "${1:-}" == "--fuzz" ]]; then
