@@ -607,7 +607,9 @@ ClearanceFitResult fit_clearance(const ClearanceFitProblem& p) {
     q.std_error = std::numeric_limits<double>::quiet_NaN();
     if (q.free) {
       const double tol = 1e-6 * (s.upper[i] - s.lower[i]);
-      q.at_bound = best.u[i] <= s.lower[i] + tol || best.u[i] >= s.upper[i] - tol;
+      // n >= 1 is Eq. 4.3's own domain: n on 1 means the linear law fits best, not a search cut short.
+      const bool domain_limit = i == kExponent && s.lower[i] <= 1.0;
+      q.at_bound = (best.u[i] <= s.lower[i] + tol && !domain_limit) || best.u[i] >= s.upper[i] - tol;
       const auto it = std::find(final_active.begin(), final_active.end(), i);
       if (it != final_active.end()) q.std_error = se[static_cast<std::size_t>(it - final_active.begin())];
       q.identifiable = std::isfinite(q.std_error) && q.std_error < 0.1;

@@ -87,7 +87,8 @@ struct ClearanceParameter {
   double value = 0.0;      ///< SI (K N·m/rad^n, D N·m·s/rad, play rad, n)
   double start = 0.0;
   bool free = false;
-  bool at_bound = false;   ///< ended on a bound of the search
+  bool at_bound = false;   ///< ended on a bound of the search (n = 1, the linear law, is the
+                           ///< law's own limit, not a search bound: a fit there is a finding)
   /// 1σ of log(value) (i.e. relative) for K, D, play; of n itself for the exponent; NaN if fixed
   /// or singular. From σ²(JᵀJ)⁻¹ with σ² over the residual's effective sample count.
   double std_error = 0.0;
