@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -20,6 +21,7 @@
 #include "clearshape/advise/spectrum_input.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/json.hpp"
+#include "clearshape/signal/parameters.hpp"
 #include "command.hpp"
 #include "clearance_model_json.hpp"
 #include "recommend_model.hpp"
@@ -202,6 +204,7 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
   if (pred) {
     doc["model"] = {{"file", st.model},
                     {"move", st.move},
+                    {"move_parameters", nlohmann::ordered_json::parse(pred->move_parameters)},
                     {"md_signal", pred->signal_name},
                     {"duration_s", pred->duration_s},
                     {"sample_time_s", pred->sample_time_s},
@@ -242,8 +245,8 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
   fmt::print("worst case over ζ {:.4g} and frequency × {:.4g}\n\n", fmt::join(r.test_damping_ratios, ", "),
              fmt::join(r.frequency_scales, ", "));
   if (pred) {
-    fmt::print("predicted Eq. 5.1 MD of the {} on the model, {:.4g} s at {:.4g} Hz: unshaped {:.4g}\n\n", pred->signal_name,
-               pred->duration_s, 1.0 / pred->sample_time_s, pred->unshaped_md);
+    fmt::print("predicted Eq. 5.1 MD of the {} on the model for the move {} {}, {:.4g} s at {:.4g} Hz: unshaped {:.4g}\n\n",
+               pred->signal_name, pred->move, pred->move_parameters, pred->duration_s, 1.0 / pred->sample_time_s, pred->unshaped_md);
   }
   fmt::print("{:<10} {:>18} {:>10} {:>12} {:>12} {:>10}{}\n", "shaper", "design_hz", "delay_ms", "remaining_%", "nominal_%", "budget",
              pred ? fmt::format(" {:>13}", "predicted_md") : std::string());
@@ -333,6 +336,12 @@ void run_recommend(const RecommendState& st) {
     const IdentifiedClearanceModel m = read_clearance_model_json(st.model);
     const signal::Signal move = st.move_options.build(st.move);
     pred = predict_mean_deviations(m.model, move, st.move_duration_s, 1.0 / st.move_rate_hz, st.initial_play, r);
+    pred->move = st.move;
+    nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : signal::parameters_of(move)) {
+      parameters[key] = std::visit([](const auto& x) { return nlohmann::ordered_json(x); }, value);
+    }
+    pred->move_parameters = parameters.dump();
     apply_predicted_md(r, *pred, o.vibration_tolerance);
   }
   if (!r.chosen) fmt::print(stderr, "clearshape recommend: warning: no recommendation: {}\n", r.reason);

@@ -38,6 +38,14 @@ MovePrediction predict_mean_deviations(const study::ClearanceModel& model, const
   p.sample_time_s = sample_time_s;
   p.initial_play_fraction = initial_play_fraction;
   const UniformSeries command = signal::sample(move, 1.0 / sample_time_s, duration_s);
+  // The model starts at rest at the command's first value: a move at t = 0 would not be simulated.
+  if (command.values.empty() || command.values.front() != 0.0) {
+    throw InvalidArgument(fmt::format("--move: the command is {} at t = 0, where the model starts at rest; start the move later "
+                                      "(--start-s > 0, e.g. 0.2)", command.values.empty() ? 0.0 : command.values.front()));
+  }
+  if (std::all_of(command.values.begin(), command.values.end(), [](double v) { return v == 0.0; })) {
+    throw InvalidArgument("--move: the command never leaves 0 within --move-duration-s; give --amplitude and a --start-s inside it");
+  }
   p.unshaped_md = md_of(model, command, duration_s, initial_play_fraction);
   for (const auto& c : recommendation.candidates) {
     if (!c.available || !c.shaper) {

@@ -14,6 +14,7 @@ namespace clearshape::cli {
 
 struct MovePrediction {
   std::string signal_name;            ///< link_angle_deg (position) or link_rate_deg_s (speed)
+  std::string move, move_parameters;  ///< the signal type and its parameters (JSON text), for the output
   double duration_s = 0.0;
   double sample_time_s = 1e-3;
   double initial_play_fraction = 0.0;
@@ -26,7 +27,8 @@ struct MovePrediction {
 /// through each available candidate (shaping::shape_offline, the record's length kept), with
 /// study::simulate_command (the mode's command path), and computes Eq. 5.1
 /// (metrics::mean_deviation, default options — as `clearshape simulate` reports it) on the link
-/// angle in position mode, the link rate in speed mode. Throws RuntimeError if a simulation fails.
+/// angle in position mode, the link rate in speed mode. Throws InvalidArgument for a move that does
+/// not start from rest at 0 after t = 0 or never moves, RuntimeError if a simulation fails.
 MovePrediction predict_mean_deviations(const study::ClearanceModel& model, const signal::Signal& move,
                                        double duration_s, double sample_time_s, double initial_play_fraction,
                                        const advise::Recommendation& recommendation);

@@ -167,6 +167,13 @@ TEST(RecommendModelCli, MoveOptionsNeedAModelAndBadModelsNameTheKey) {
   r = run_cli(spectrum_args() + " --model " + bad.string() + " --move-duration-s -1");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--move-duration-s"), std::string::npos) << r.err;
+  // A move at t = 0 would not be simulated (the model starts at rest at the first command).
+  const auto fit = temp("fit0.json");
+  write(fit, fit_json("position", R"({"model": "P1", "parameters": {"Kp": {"value": 1.0}, "Tp1": {"value": 0.01}}})", 0.032));
+  r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step --amplitude 20");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--start-s > 0"), std::string::npos) << r.err;
+  std::filesystem::remove(fit);
   // A study whose clearance stage was skipped says so, with the runs it lacked.
   write(bad, R"({"skipped_stages": [{"stage": "clearance", "reason": "3 run(s) missing from the source",
                   "missing_runs": ["unshaped/step-20/r01"]}], "sections": {}})");
