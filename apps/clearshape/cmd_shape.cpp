@@ -398,6 +398,10 @@ const bool registered = register_command(
        add_clearance_aware_options(sub, *ca);
        sub.callback([st, ca] {
          if (st->shaper.method == "clearance-aware") {
+           if (given(st->export_option) || !st->input.empty()) {  // never silently ignored
+             throw InvalidArgument("shape: --method clearance-aware designs and prints impulses; export or apply them "
+                                   "with --method custom --impulses T:A,… (the impulses it printed)");
+           }
            const ShaperOptions& o = st->shaper;
            const double f_hz = given(o.frequency_option) ? o.frequency_hz
                                : given(o.wn_option)     ? o.wn_rad_s / (2.0 * M_PI)

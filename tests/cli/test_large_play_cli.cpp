@@ -127,3 +127,13 @@ TEST(LargePlayCli, ShapeClearanceAwareFromAFitClearanceDocument) {
   EXPECT_EQ(stray.exit_code, 2);
   std::filesystem::remove_all(dir);
 }
+
+// The clearance-aware design prints impulses; --export and --input with it are refused, never
+// silently ignored (before any model is read).
+TEST(LargePlayCli, ClearanceAwareWithExportOrInputIsRefused) {
+  for (const std::string extra : {" --export json --sample-time 0.001", " --input run.csv"}) {
+    const auto r = run_cli("shape --method clearance-aware --model missing.json --moves 5" + extra);
+    EXPECT_EQ(r.exit_code, 2) << extra;
+    EXPECT_NE(r.err.find("--method custom --impulses"), std::string::npos) << r.err;
+  }
+}
