@@ -57,6 +57,19 @@ static uint32_t tick_next;            /* the tick the main loop expects next */
 
 /* Commands. */
 static int32_t position_target;
+/* The latest position COMMANDs with the tick they answer (the host's last sample, so they are
+ * meant from the next tick on): the update at tick U plans to the newest one whose tick is
+ * before U − COMMAND_LATENCY_TICKS. The host's round trip (sample out, COMMAND back: ~0.8 ms
+ * through the emulator's pty, 1–3 ms through a USB bridge) thus never decides which update a
+ * COMMAND makes, and a shaper's impulses, which sit on the update grid, land on the same
+ * update in every run — one update after rig::SimRig applies them, whose pulse train takes a
+ * command at the next sample. */
+#define COMMAND_LATENCY_TICKS 4u
+#define TARGET_HISTORY 16u /* power of two; > the tick queue's 8 ticks of lateness */
+static int32_t target_value[TARGET_HISTORY];
+static uint32_t target_tick[TARGET_HISTORY];
+static uint8_t target_count; /* COMMANDs stored since START (saturates at TARGET_HISTORY) */
+static uint8_t target_head;  /* next slot */
 static uint16_t dac_code;
 static uint8_t dac_dirty;
 static uint8_t command_seq;
@@ -263,6 +276,8 @@ static void on_start(void) {
   }
   quad_zero();
   position_target = 0;
+  target_count = 0;
+  target_head = 0;
   dac_code = cfg.dac_safe_code;
   dac_dirty = (uint8_t)(cfg.mode == CS_MODE_SPEED);
   command_seq = 0;
@@ -313,7 +328,15 @@ static void on_command(void) {
   ticks_since_command = 0;
   watchdog_active = 0;
   if (cfg.mode == CS_MODE_POSITION) {
-    position_target = value;
+    uint32_t tick = cs_get_u32(frame.payload);
+    uint32_t now;
+    ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { now = tick_isr; }
+    /* A tick the board has not reached yet cannot be the host's last sample: taken as now. */
+    if ((int32_t)(tick - now) >= 0) tick = now - 1u;
+    target_value[target_head] = value;
+    target_tick[target_head] = tick;
+    target_head = (uint8_t)((target_head + 1u) & (TARGET_HISTORY - 1u));
+    if (target_count < TARGET_HISTORY) ++target_count;
   } else {
     command_limited = (uint8_t)(value < 0 || value > 4095);
     dac_code = (uint16_t)(value < 0 ? 0 : (value > 4095 ? 4095 : value));
@@ -386,6 +409,18 @@ static void dispatch(void) {
 }
 
 /* ---- the tick's work ---- */
+/* The newest COMMAND whose tick is before `tick` becomes the target (none: it stays). */
+static void select_target(uint32_t tick) {
+  uint8_t i;
+  for (i = 0; i < target_count; ++i) {
+    const uint8_t k = (uint8_t)((target_head - 1u - i) & (TARGET_HISTORY - 1u));
+    if ((int32_t)(target_tick[k] + COMMAND_LATENCY_TICKS - tick) < 0) {
+      position_target = target_value[k];
+      return;
+    }
+  }
+}
+
 static void plan_pulses(void) {
   /* Spread the edges over the ticks until the next update (33 or 34 at 1 kHz / 30 Hz), so
    * they are all out before it and no edge trails into the next period. */
@@ -395,8 +430,8 @@ static void plan_pulses(void) {
                                  (F_CPU + cfg.max_pulse_rate_hz - 1u) / cfg.max_pulse_rate_hz);
 }
 
-/* Advances the watchdog and the pulse-train update clock by one tick. */
-static void step_tick_clocks(void) {
+/* Advances the watchdog and the pulse-train update clock by one tick, `tick`. */
+static void step_tick_clocks(uint32_t tick) {
   /* Watchdog: ticks since the last COMMAND (which arrived within the tick before the first of
    * them); beyond watchdog_ticks at least watchdog_ms have passed: the command goes safe. */
   if (cfg.watchdog_ms != 0u && !watchdog_active && ++ticks_since_command > watchdog_ticks) {
@@ -408,6 +443,7 @@ static void step_tick_clocks(void) {
     update_accumulator = (uint16_t)(update_accumulator + cfg.update_rate_hz);
     if (update_accumulator >= cfg.sample_rate_hz) {
       update_accumulator = (uint16_t)(update_accumulator - cfg.sample_rate_hz);
+      select_target(tick);
       plan_pulses();
     }
   }
@@ -438,7 +474,7 @@ static void run_tick(void) {
   if (missed != 0u) {
     samples_dropped += missed;
     flags |= CS_SAMPLE_TX_OVERFLOW;
-    while (missed-- != 0u) step_tick_clocks();
+    while (missed != 0u) step_tick_clocks(snap.tick - missed--);
   }
   pending_flags = 0;
   if (gyro_read_z(&gyro)) {
@@ -446,7 +482,7 @@ static void run_tick(void) {
   } else {
     flags |= CS_SAMPLE_TWI_ERROR;
   }
-  step_tick_clocks();
+  step_tick_clocks(snap.tick);
   if (gyro_last == 32767 || gyro_last == -32768 || gyro_last == -32767) flags |= CS_SAMPLE_GYRO_SATURATED;
   if (cfg.mode == CS_MODE_SPEED && dac_dirty) {
     if (twi_dac_write(dac_code)) {

@@ -158,6 +158,11 @@ Status SerialRig::on_read(Measurement& out) noexcept {
     flags |= bit(MeasurementFlag::samples_lost);
     if (options_.lost_samples == LostSamples::fail) return Status::device_error;
   }
+  // A run that must be complete must also be the commanded one: a sample taken while the
+  // board's watchdog held the command at its safe value ends it as well.
+  if (options_.lost_samples == LostSamples::fail && (flags & bit(MeasurementFlag::watchdog)) != 0) {
+    return Status::device_error;
+  }
   m.have_tick = true;
   m.last_tick = s.tick;
   m.next_tick = tick + 1;

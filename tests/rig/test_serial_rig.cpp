@@ -311,6 +311,33 @@ TEST(SerialRig, LostSamplesFailTheRunWhenAsked) {
   EXPECT_EQ(r.deactivate(), Status::ok);
 }
 
+TEST(SerialRig, WatchdogFailsTheRunWhenLostSamplesFail) {
+  // The command of a study run must be the one written: a sample flagged CS_SAMPLE_WATCHDOG
+  // (the board held the command safe) ends a run that must be complete; flagged otherwise.
+  for (const auto policy : {rig::LostSamples::flag, rig::LostSamples::fail}) {
+    BoardDouble board;
+    board.on_sample = [](BoardDouble::Sample& s) {
+      if (s.tick >= 20) s.flags |= CS_SAMPLE_WATCHDOG;
+      return true;
+    };
+    board.start();
+    auto o = options_for(board);
+    o.lost_samples = policy;
+    rig::SerialRig r(o);
+    ASSERT_EQ(r.configure(), Status::ok);
+    ASSERT_EQ(r.activate(), Status::ok);
+    rig::Measurement m;
+    for (int k = 0; k < 20; ++k) ASSERT_EQ(r.read(m), Status::ok);
+    if (policy == rig::LostSamples::fail) {
+      EXPECT_EQ(r.read(m), Status::device_error);
+    } else {
+      ASSERT_EQ(r.read(m), Status::ok);
+      EXPECT_TRUE(m.has(rig::MeasurementFlag::watchdog));
+    }
+    EXPECT_EQ(r.deactivate(), Status::ok);
+  }
+}
+
 TEST(SerialRig, CorruptedFramesAreCountedApartFromLostSamples) {
   BoardDouble board;
   board.on_frame = [](std::uint32_t tick, std::uint8_t* frame, std::size_t) {

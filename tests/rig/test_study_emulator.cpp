@@ -49,7 +49,10 @@ TEST(StudyOnTheEmulator, MatchesTheSimulatedRigWithinTheTrialsSpread) {
   fs::create_directories(dir);
   // Gyro noise on (seeded), as on the simulated rig. Paced at real time, as a board runs: a
   // free-running board gets ahead of the host by more than the study's 100 ms command
-  // watchdog, which then stops the move mid-trial.
+  // watchdog. (Before the board applied COMMANDs by their tick, COMMAND_LATENCY_TICKS in
+  // firmware/main.c, a shaper impulse on the 30 Hz update grid made its update or the next one
+  // depending on the host's sub-millisecond round trip: Eq. 5.1 with ZVDD 0.1–0.2° instead of
+  // 0.02° in some trials.)
   clearshape::test::EmulatorProcess emulator({"--speed", "1", "--seed", "7"});
   ASSERT_FALSE(emulator.path().empty());
   const auto physical = clearshape::testing::run_cli("study '" + protocol_path().string() + "' --rig 'serial:" +

@@ -235,7 +235,10 @@ TEST(RigEmulator, PositionPulsesReachTheTargetAndTheEncoderFollowsThePlant) {
   // The same command on rig::SimRig (same truth: its pulse train is 3000 pulses/rev x4 edges).
   rig::RigTruth truth = rig::thesis_rig_truth();
   const double target_rad = kTarget / (4.0 * truth.pulse_train.counts_per_rad());
-  const std::vector<rig::Measurement> ref = sim_rig_position_run(target_rad, applied, kTicks);
+  // The board plans to a COMMAND at the first pulse-train update at least 4 ticks after the
+  // COMMAND's tick (firmware/main.c, COMMAND_LATENCY_TICKS: the host's round trip never decides
+  // the update); SimRig's train takes a write at its next update, so write it 4 ticks later.
+  const std::vector<rig::Measurement> ref = sim_rig_position_run(target_rad, applied + 4, kTicks);
   // The calibrated position drive's DC gain is not exactly 1: both settle on gain × target.
   const double gain = truth.position_drive.dc_gain() / deg_to_rad(1.0);  // model: deg in, rad out
   EXPECT_NEAR(static_cast<double>(ref.back().encoder_counts), kTarget * gain, 2.0);

@@ -29,7 +29,8 @@ namespace clearshape::rig {
 /// What to do when the board's tick skips (samples lost on the link or on the board).
 enum class LostSamples : std::uint8_t {
   flag,  ///< return the next sample, flagged MeasurementFlag::samples_lost, and count the gap
-  fail,  ///< read() returns Status::device_error (a study run must be complete)
+  fail,  ///< read() returns Status::device_error (a study run must be complete); so does a
+         ///< sample taken while the board's watchdog held the command safe
 };
 
 struct SerialRigOptions {
