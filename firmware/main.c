@@ -452,6 +452,7 @@ static void step_tick_clocks(uint32_t tick) {
 /* The oldest queued tick: its SAMPLE, built from the snapshot taken at the tick instant. */
 static void run_tick(void) {
   uint8_t p[CS_SAMPLE_BYTES];
+  cs_sample sample;
   uint8_t flags = pending_flags;
   tick_snapshot snap;
   uint32_t missed;
@@ -494,14 +495,15 @@ static void run_tick(void) {
   if (watchdog_active) flags |= CS_SAMPLE_WATCHDOG;
   if (command_limited) flags |= CS_SAMPLE_COMMAND_LIMITED;
   if (servo_on) flags |= CS_SAMPLE_SERVO_ON;
-  cs_put_u32(p + 0, snap.tick);
-  cs_put_i32(p + 4, snap.encoder);
-  cs_put_i16(p + 8, gyro_last);
-  p[10] = flags;
-  p[11] = command_seq;
-  cs_put_i32(p + 12, snap.pulses);
-  cs_put_u16(p + 16, dac_code);
-  cs_put_u16(p + 18, snap.illegal);
+  sample.tick = snap.tick;
+  sample.encoder_count = snap.encoder;
+  sample.gyro_raw = gyro_last;
+  sample.flags = flags;
+  sample.command_seq = command_seq;
+  sample.pulses_emitted = snap.pulses;
+  sample.dac_code = dac_code;
+  sample.illegal_transitions = snap.illegal;
+  cs_sample_encode(p, &sample);
   if (send_frame(CS_MSG_SAMPLE, p, CS_SAMPLE_BYTES, 1)) {
     ++samples_sent;
   } else {

@@ -13,20 +13,8 @@
 
 namespace clearshape::rig {
 
-/// One SAMPLE frame as received, with its host arrival time.
-struct ReceivedSample {
-  std::uint32_t tick = 0;
-  std::int32_t encoder_count = 0;
-  std::int16_t gyro_raw = 0;
-  std::uint8_t flags = 0;
-  std::uint8_t command_seq = 0;
-  std::int32_t pulses_emitted = 0;
-  std::uint16_t dac_code = 0;
-  std::uint16_t illegal_transitions = 0;
-};
-
-/// Decodes a SAMPLE payload (CS_SAMPLE_BYTES long).
-ReceivedSample decode_sample(const std::uint8_t* payload) noexcept;
+/// One SAMPLE frame as received (the protocol's own decoded layout).
+using ReceivedSample = cs_sample;
 
 struct SerialRig::Impl {
   using Clock = std::chrono::steady_clock;

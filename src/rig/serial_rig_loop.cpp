@@ -52,18 +52,6 @@ std::uint32_t measurement_flags_of_sample(std::uint8_t f) noexcept {
   return out;
 }
 
-ReceivedSample decode_sample(const std::uint8_t* p) noexcept {
-  ReceivedSample s;
-  s.tick = cs_get_u32(p + 0);
-  s.encoder_count = cs_get_i32(p + 4);
-  s.gyro_raw = cs_get_i16(p + 8);
-  s.flags = p[10];
-  s.command_seq = p[11];
-  s.pulses_emitted = cs_get_i32(p + 12);
-  s.dac_code = cs_get_u16(p + 16);
-  s.illegal_transitions = cs_get_u16(p + 18);
-  return s;
-}
 
 void SerialRig::Impl::handle_sample(const cs_frame& frame, std::int64_t arrival_ns, std::int64_t period_ns,
                                     std::int64_t tolerance_ns) noexcept {
@@ -71,7 +59,7 @@ void SerialRig::Impl::handle_sample(const cs_frame& frame, std::int64_t arrival_
     corrupted.fetch_add(1, std::memory_order_relaxed);  // a well-formed frame of the wrong size
     return;
   }
-  const ReceivedSample s = decode_sample(frame.payload);
+  const ReceivedSample s = cs_sample_decode(frame.payload);
   samples.fetch_add(1, std::memory_order_relaxed);
   if (s.flags & CS_SAMPLE_TX_OVERFLOW) board_tx_overflows.fetch_add(1, std::memory_order_relaxed);
   // Deadline of tick k: anchor + k·T, the anchor being the earliest (arrival − k·T) seen, so a
@@ -135,7 +123,7 @@ SerialRigStats SerialRig::stats() const noexcept {
 
 Status SerialRig::on_read(Measurement& out) noexcept {
   Impl& m = *impl_;
-  ReceivedSample s;
+  ReceivedSample s{};
   const auto deadline = Impl::Clock::now() + std::chrono::duration_cast<Impl::Clock::duration>(
                                                   std::chrono::duration<double>(options_.read_timeout_s));
   while (!m.ring.pop(s)) {

@@ -38,16 +38,7 @@ namespace clearshape::test {
 
 inline bool emulator_available() { return CLEARSHAPE_RIG_EMULATOR[0] != '\0'; }
 
-struct Sample {
-  std::uint32_t tick = 0;
-  std::int32_t encoder_count = 0;
-  std::int16_t gyro_raw = 0;
-  std::uint8_t flags = 0;
-  std::uint8_t command_seq = 0;
-  std::int32_t pulses_emitted = 0;
-  std::uint16_t dac_code = 0;
-  std::uint16_t illegal_transitions = 0;
-};
+using Sample = cs_sample;  // the protocol's decoded SAMPLE
 Sample parse_sample(const cs_frame& frame);
 
 struct Configure {
@@ -106,18 +97,7 @@ class EmulatorSession {
 // ---- implementation ----
 
 
-inline Sample parse_sample(const cs_frame& f) {
-  Sample s;
-  s.tick = cs_get_u32(f.payload + 0);
-  s.encoder_count = cs_get_i32(f.payload + 4);
-  s.gyro_raw = cs_get_i16(f.payload + 8);
-  s.flags = f.payload[10];
-  s.command_seq = f.payload[11];
-  s.pulses_emitted = cs_get_i32(f.payload + 12);
-  s.dac_code = cs_get_u16(f.payload + 16);
-  s.illegal_transitions = cs_get_u16(f.payload + 18);
-  return s;
-}
+inline Sample parse_sample(const cs_frame& f) { return cs_sample_decode(f.payload); }
 
 inline std::vector<std::uint8_t> Configure::payload() const {
   std::vector<std::uint8_t> p(CS_CONFIGURE_BYTES);

@@ -178,12 +178,8 @@ class BoardDouble {
                CS_SAMPLE_SERVO_ON, last_command_, static_cast<std::uint16_t>(last_command_)};
       if (on_sample && !on_sample(s)) continue;
       std::uint8_t p[CS_SAMPLE_BYTES] = {};
-      cs_put_u32(p, s.tick);
-      cs_put_i32(p + 4, s.encoder);
-      cs_put_i16(p + 8, s.gyro);
-      p[10] = s.flags;
-      cs_put_i32(p + 12, s.pulses);
-      cs_put_u16(p + 16, s.dac);
+      const cs_sample wire{s.tick, s.encoder, s.gyro, s.flags, 0, s.pulses, s.dac, 0};
+      cs_sample_encode(p, &wire);
       std::uint8_t frame[CS_WIRE_MAX_FRAME];
       const std::size_t size = cs_frame_encode(frame, CS_MSG_SAMPLE, seq_++, p, CS_SAMPLE_BYTES);
       if (on_frame) on_frame(tick, frame, size);

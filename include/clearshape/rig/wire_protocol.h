@@ -145,6 +145,42 @@ static inline void cs_put_i32(uint8_t* p, int32_t v) { cs_put_u32(p, (uint32_t)v
 static inline int16_t cs_get_i16(const uint8_t* p) { return (int16_t)cs_get_u16(p); }
 static inline int32_t cs_get_i32(const uint8_t* p) { return (int32_t)cs_get_u32(p); }
 
+/* A SAMPLE payload, field by field (layout: CS_SAMPLE_BYTES above). The one encoder and decoder
+ * of that layout, used by the firmware, the host and the tests. */
+typedef struct cs_sample {
+  uint32_t tick;
+  int32_t encoder_count;
+  int16_t gyro_raw;
+  uint8_t flags;
+  uint8_t command_seq;
+  int32_t pulses_emitted;
+  uint16_t dac_code;
+  uint16_t illegal_transitions;
+} cs_sample;
+
+static inline void cs_sample_encode(uint8_t* p, const cs_sample* s) {
+  cs_put_u32(p + 0, s->tick);
+  cs_put_i32(p + 4, s->encoder_count);
+  cs_put_i16(p + 8, s->gyro_raw);
+  p[10] = s->flags;
+  p[11] = s->command_seq;
+  cs_put_i32(p + 12, s->pulses_emitted);
+  cs_put_u16(p + 16, s->dac_code);
+  cs_put_u16(p + 18, s->illegal_transitions);
+}
+static inline cs_sample cs_sample_decode(const uint8_t* p) {
+  cs_sample s;
+  s.tick = cs_get_u32(p + 0);
+  s.encoder_count = cs_get_i32(p + 4);
+  s.gyro_raw = cs_get_i16(p + 8);
+  s.flags = p[10];
+  s.command_seq = p[11];
+  s.pulses_emitted = cs_get_i32(p + 12);
+  s.dac_code = cs_get_u16(p + 16);
+  s.illegal_transitions = cs_get_u16(p + 18);
+  return s;
+}
+
 /* CRC-16/CCITT-FALSE, one byte at a time, four bits per step from a 16-entry table (entry n =
  * the CRC register after shifting nibble n through the polynomial): the bitwise CRC's result
  * in about a quarter of its cycles, which the board needs to decode back-to-back COMMANDs at
