@@ -234,11 +234,13 @@ void stage_identification(Context& c) {
     cols.push_back(col);
   }
   const auto& t = id.thesis;
-  json thesis_col;
-  thesis_col["key"] = "thesis";
-  thesis_col["label"] = fmt::format("thesis ({} model)", t.selected_input.empty() ? "selected" : t.selected_input);
-  thesis_col["thesis"] = {t.kp, t.tz_s, t.zeta, t.tw_s, t.tp3_s, t.tw_s > 0 ? 1.0 / t.tw_s : 0.0, nullptr, nullptr};
-  cols.push_back(thesis_col);
+  if (t.kp != 0.0 || t.tw_s > 0.0) {  // a protocol without the thesis's model (another rig) gets no column of zeros
+    json thesis_col;
+    thesis_col["key"] = "thesis";
+    thesis_col["label"] = fmt::format("thesis ({} model)", t.selected_input.empty() ? "selected" : t.selected_input);
+    thesis_col["thesis"] = {t.kp, t.tz_s, t.zeta, t.tw_s, t.tp3_s, t.tw_s > 0 ? 1.0 / t.tw_s : 0.0, nullptr, nullptr};
+    cols.push_back(thesis_col);
+  }
   table["columns"] = cols;
   table["headline"] = {{"selected_input", c.drive_input},
                        {"ours", {{"kp", c.drive->model.parameters().kp},
