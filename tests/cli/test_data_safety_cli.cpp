@@ -14,21 +14,14 @@
 #include <nlohmann/json.hpp>
 
 #include "support/cli.hpp"
+#include "support/paths.hpp"
 
 namespace fs = std::filesystem;
 using clearshape::testing::run_cli;
 
 namespace {
-fs::path temp_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("clearshape_safety_" + name + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+fs::path temp_dir(const std::string& name) { return clearshape::testing::fresh_temp_dir("clearshape_safety_" + name); }
+std::string read(const fs::path& p) { return clearshape::testing::read_bytes(p); }
 fs::path studies() { return fs::path(CLEARSHAPE_GOLDEN_DIR).parent_path().parent_path() / "studies"; }
 }  // namespace
 

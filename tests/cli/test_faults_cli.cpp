@@ -18,22 +18,15 @@
 #include <vector>
 
 #include "support/cli.hpp"
+#include "support/paths.hpp"
 
 namespace fs = std::filesystem;
 using clearshape::testing::run_cli;
 
 namespace {
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("clearshape_faults_" + name + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+fs::path temp_dir(const std::string& name) { return clearshape::testing::fresh_temp_dir("clearshape_faults_" + name); }
+std::string read(const fs::path& p) { return clearshape::testing::read_bytes(p); }
 void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 fs::path studies() { return fs::path(CLEARSHAPE_GOLDEN_DIR).parent_path().parent_path() / "studies"; }
 

@@ -17,14 +17,8 @@ using clearshape::testing::run_cli;
 
 namespace {
 
-// Per-process folders: several test processes (and build trees) may run at once.
-std::filesystem::path temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-}
-
-std::filesystem::path studies() {
-  return clearshape::testing::golden_path("").parent_path().parent_path().parent_path() / "studies";
-}
+std::filesystem::path temp(const std::string& name) { return clearshape::testing::process_temp_path(name); }
+std::filesystem::path studies() { return clearshape::testing::studies_path(""); }
 
 }  // namespace
 

@@ -1,7 +1,12 @@
 #pragma once
-// Where tests find their data: committed golden files and ../shared (third-party data).
+// Where tests find their data (committed golden files, the protocols in studies/, third-party
+// data in the shared folder) and where they write (per-process temporary folders).
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+
+#include <unistd.h>
 
 namespace clearshape::testing {
 
@@ -10,6 +15,26 @@ inline std::filesystem::path golden_path(const std::string& name) {
 }
 inline std::filesystem::path shared_path(const std::string& name) {
   return std::filesystem::path(CLEARSHAPE_SHARED_DIR) / name;
+}
+/// The committed study protocols (studies/ at the repository root).
+inline std::filesystem::path studies_path(const std::string& name) {
+  return golden_path("").parent_path().parent_path().parent_path() / "studies" / name;
+}
+/// `<tmp>/<name>_<pid>`: per process, so several test processes (and build trees) may run at once.
+inline std::filesystem::path process_temp_path(const std::string& name) {
+  return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+}
+/// process_temp_path(name), emptied and created.
+inline std::filesystem::path fresh_temp_dir(const std::string& name) {
+  const auto dir = process_temp_path(name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+/// A file's bytes ("" when it cannot be read).
+inline std::string read_bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 }  // namespace clearshape::testing
