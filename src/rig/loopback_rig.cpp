@@ -59,13 +59,9 @@ Status LoopbackRig::on_read(Measurement& m) noexcept {
 }
 
 Status LoopbackRig::on_write(const Command& command) noexcept {
-  if (command.mode != config_.mode) {
+  if (const Status rejected = check_command(command, config_.mode); rejected != Status::ok) {
     pending_flags_ |= bit(MeasurementFlag::command_rejected);
-    return Status::out_of_range;
-  }
-  if (!std::isfinite(command.value)) {
-    pending_flags_ |= bit(MeasurementFlag::command_rejected);
-    return Status::not_finite;
+    return rejected;
   }
   command_ = command.value;
   return Status::ok;

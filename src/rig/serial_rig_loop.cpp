@@ -169,13 +169,9 @@ Status SerialRig::on_read(Measurement& out) noexcept {
 
 Status SerialRig::on_write(const Command& command) noexcept {
   Impl& m = *impl_;
-  if (command.mode != options_.mode) {
+  if (const Status rejected = check_command(command, options_.mode); rejected != Status::ok) {
     m.pending_flags |= bit(MeasurementFlag::command_rejected);
-    return Status::out_of_range;
-  }
-  if (!std::isfinite(command.value)) {
-    m.pending_flags |= bit(MeasurementFlag::command_rejected);
-    return Status::not_finite;
+    return rejected;
   }
   Status status = Status::ok;
   std::int32_t value = 0;

@@ -45,13 +45,13 @@ def _batches(points, size):
     return [points[i:i + size] for i in range(0, len(points), size)]
 
 
-def _run_local(todo, settings, workers, on_done, fn):
+def _run_local(pending, settings, workers, on_done, fn):
     if workers == 1:
-        for bid, batch in todo:
+        for bid, batch in pending:
             on_done(bid, fn(batch, settings))
         return []
     with concurrent.futures.ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(fn, batch, settings): bid for bid, batch in todo}
+        futures = {pool.submit(fn, batch, settings): bid for bid, batch in pending}
         lost = []
         for f in concurrent.futures.as_completed(futures):
             try:
@@ -61,13 +61,13 @@ def _run_local(todo, settings, workers, on_done, fn):
         return lost
 
 
-def _run_dask(todo, settings, scheduler, retries, digest, on_done, fn):
+def _run_dask(pending, settings, scheduler, retries, digest, on_done, fn):
     from distributed import Client, as_completed
 
     client = scheduler if isinstance(scheduler, Client) else Client(scheduler, set_as_default=False)
     try:
         futures = {client.submit(fn, batch, settings, retries=retries, pure=False,
-                                 key=f"clearshape-sweep-{digest[:12]}-{bid}"): bid for bid, batch in todo}
+                                 key=f"clearshape-sweep-{digest[:12]}-{bid}"): bid for bid, batch in pending}
         lost = []
         for f in as_completed(futures):
             try:
@@ -103,7 +103,7 @@ def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, 
     points = sweep.points()
     batches = _batches(points, settings["batch"])
     done = store.load_batches(out, digest)
-    todo = [(bid, b) for bid, b in enumerate(batches) if bid not in done]
+    pending = [(bid, b) for bid, b in enumerate(batches) if bid not in done]
     progress = Progress(len(points), sum(len(batches[b]) for b in done if b < len(batches)), quiet)
     t0 = time.monotonic()
 
@@ -113,9 +113,9 @@ def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, 
         progress.add(results)
 
     if scheduler is None:
-        lost = _run_local(todo, settings, workers or os.cpu_count() or 1, on_done, batch_function)
+        lost = _run_local(pending, settings, workers or os.cpu_count() or 1, on_done, batch_function)
     else:
-        lost = _run_dask(todo, settings, scheduler, retries, digest, on_done, batch_function)
+        lost = _run_dask(pending, settings, scheduler, retries, digest, on_done, batch_function)
     wall_s = time.monotonic() - t0
     if lost:
         first = lost[0]

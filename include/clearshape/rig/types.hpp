@@ -1,9 +1,11 @@
 #pragma once
 // Value types exchanged with a rig in its real-time loop (after ros2_control's command and
 // state interfaces). Plain data: copying them never allocates.
+#include <cmath>
 #include <cstdint>
 #include <string_view>
 
+#include "clearshape/core/status.hpp"
 #include "clearshape/core/units.hpp"
 
 namespace clearshape::rig {
@@ -32,6 +34,14 @@ struct Command {
   }
   static constexpr Command speed_v(double volts) noexcept { return {CommandMode::speed, volts}; }
 };
+
+/// The check every rig makes on a write: the configured mode (else Status::out_of_range) and a
+/// finite value (else Status::not_finite). Real-time safe.
+inline Status check_command(const Command& command, CommandMode configured) noexcept {
+  if (command.mode != configured) return Status::out_of_range;
+  if (!std::isfinite(command.value)) return Status::not_finite;
+  return Status::ok;
+}
 
 /// Bits of Measurement::flags.
 enum class MeasurementFlag : std::uint32_t {
