@@ -28,8 +28,9 @@
 #include "clearshape/signal/parameters.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "command.hpp"
-#include "signal_options.hpp"
 #include "rig_config.hpp"
+#include "run_json.hpp"
+#include "signal_options.hpp"
 
 namespace cs = clearshape;
 namespace sig = clearshape::signal;
@@ -70,12 +71,6 @@ struct State {
   std::string output;
   bool json = false;
 };
-
-std::filesystem::path sidecar_path(const std::string& output) {
-  std::filesystem::path p(output);
-  p.replace_extension(".json");
-  return p;
-}
 
 nlohmann::ordered_json contact_json(const rig::ContactSpec& c) {
   nlohmann::ordered_json j = {{"model", std::string(rig::to_string(c.model))}};
@@ -167,11 +162,17 @@ nlohmann::ordered_json md_json(const cs::metrics::MeanDeviationResult& r) {
           {"converged", r.converged}};
 }
 
-void run(const State& st) {
-  const rig::CommandMode mode = rig::command_mode_from_string(st.mode);
-  const bool position = mode == rig::CommandMode::position;
+// --- plan: the rig, the run options and the command the flags ask for ---------------------------
 
-  // Truth: built-in rig (--rig, default the calibrated thesis rig) < config file < flags.
+struct Plan {
+  rig::CommandMode mode = rig::CommandMode::position;
+  rig::RigTruth truth;
+  rig::RunOptions options;
+  rig::ContactSpec contact;  ///< the commanded mode's contact law (also in truth)
+};
+
+// The truth starts from the built-in rig (--rig, default the calibrated thesis rig) or a config file.
+cs::cli::RigConfig rig_config(const State& st, rig::CommandMode mode) {
   if (st.rig_option->count() > 0 && !st.config.empty()) {
     throw cs::InvalidArgument("--rig and --config: give one (a config file starts from the thesis rig)");
   }
@@ -180,17 +181,21 @@ void run(const State& st) {
     config.truth = rig::builtin_truth(st.rig_name, "--rig");
     config.contact_model = config.truth.contact(mode).model;
   }
-  rig::RigTruth truth = config.truth;
-  rig::RunOptions options = config.run;
+  return config;
+}
+
+// The config's run options with the flags given over them.
+rig::RunOptions run_options(const State& st, rig::RunOptions options) {
   if (st.duration_option->count() > 0) options.duration_s = st.duration_s;
   if (st.rate_option->count() > 0) options.output_rate_hz = st.rate_hz;
   if (st.initial_play_option->count() > 0) options.initial_play_fraction = st.initial_play;
   if (st.noise_seed_option->count() > 0) options.seed = st.noise_seed;
   if (st.no_noise) options.sensor_noise = false;
-  if (st.clearance_option->count() > 0) {
-    cs::require_non_negative("--clearance-deg", st.clearance_deg, "0 means a rigid joint");
-    truth.clearance_rad = cs::deg_to_rad(st.clearance_deg);
-  }
+  return options;
+}
+
+// --contact (else the config's law, else the thesis law) with --restitution over it.
+rig::ContactSpec contact_of(const State& st, const cs::cli::RigConfig& config, rig::CommandMode mode) {
   const rig::ContactModel model = !st.contact.empty()
                                       ? rig::contact_model_from_string(st.contact)
                                       : config.contact_model.value_or(rig::ContactModel::thesis);
@@ -202,193 +207,276 @@ void run(const State& st) {
     }
     contact.restitution = st.restitution;
   }
-  (position ? truth.position_contact : truth.speed_contact) = contact;
-  options.validate();
-  if (options.output_rate_hz * options.duration_s > 1e7) {
-    cs::throw_invalid("--rate x --duration", options.output_rate_hz * options.duration_s,
+  return contact;
+}
+
+// Truth: built-in rig < config file < flags.
+Plan plan(const State& st) {
+  Plan p;
+  p.mode = rig::command_mode_from_string(st.mode);
+  const cs::cli::RigConfig config = rig_config(st, p.mode);
+  p.truth = config.truth;
+  p.options = run_options(st, config.run);
+  if (st.clearance_option->count() > 0) {
+    cs::require_non_negative("--clearance-deg", st.clearance_deg, "0 means a rigid joint");
+    p.truth.clearance_rad = cs::deg_to_rad(st.clearance_deg);
+  }
+  p.contact = contact_of(st, config, p.mode);
+  (p.mode == rig::CommandMode::position ? p.truth.position_contact : p.truth.speed_contact) = p.contact;
+  p.options.validate();
+  if (p.options.output_rate_hz * p.options.duration_s > 1e7) {
+    cs::throw_invalid("--rate x --duration", p.options.output_rate_hz * p.options.duration_s,
                       "<= 1e7 samples", "Lower the rate or shorten the duration");
   }
+  return p;
+}
 
-  // Command: signal (deg or V) → optional shaper → rig units (rad or V).
-  const sig::Signal signal = st.signal_options.build(st.type);
-  cs::UniformSeries command = sig::sample(signal, options.output_rate_hz, options.duration_s);
-  std::optional<cs::shaping::Shaper> shaper;
+// The shaper of --shaper (a method and the mode to cancel, or `custom` impulses), if any.
+std::optional<cs::shaping::Shaper> shaper_of(const State& st) {
+  cs::shaping::DesignRequest request;
   if (st.shaper == "custom") {  // e.g. the impulses of `shape --method clearance-aware`
     if (st.shaper_impulses_option->count() == 0) {
       throw cs::InvalidArgument("--shaper custom needs --shaper-impulses \"t1:a1,t2:a2,...\"");
     }
-    cs::shaping::DesignRequest request;
     request.method = cs::shaping::Method::custom;
     request.impulses = cs::shaping::parse_impulses(st.shaper_impulses);
-    shaper = cs::shaping::design(request);
-    command = cs::shaping::shape_offline(*shaper, command, false);
-  } else if (st.shaper_impulses_option->count() > 0) {
+    return cs::shaping::design(request);
+  }
+  if (st.shaper_impulses_option->count() > 0) {
     throw cs::InvalidArgument("--shaper-impulses applies to --shaper custom");
-  } else if (!st.shaper.empty()) {
-    if (st.shaper_frequency_option->count() == 0 || st.shaper_zeta_option->count() == 0) {
-      throw cs::InvalidArgument("--shaper needs --shaper-frequency-hz and --shaper-zeta (the mode to cancel)");
+  }
+  if (st.shaper.empty()) {
+    if (st.shaper_frequency_option->count() > 0 || st.shaper_zeta_option->count() > 0) {
+      throw cs::InvalidArgument("--shaper-frequency-hz and --shaper-zeta need --shaper METHOD");
     }
-    cs::require_positive("--shaper-frequency-hz", st.shaper_frequency_hz);
-    cs::shaping::DesignRequest request;
-    request.method = cs::shaping::method_from_string(st.shaper);
-    request.mode = cs::shaping::Mode::from_hz(st.shaper_frequency_hz, st.shaper_zeta);
-    shaper = cs::shaping::design(request);
-    command = cs::shaping::shape_offline(*shaper, command, false);
-  } else if (st.shaper_frequency_option->count() > 0 || st.shaper_zeta_option->count() > 0) {
-    throw cs::InvalidArgument("--shaper-frequency-hz and --shaper-zeta need --shaper METHOD");
+    return std::nullopt;
   }
-  cs::UniformSeries rig_command = command;
-  if (position) {
-    for (double& v : rig_command.values) v = cs::deg_to_rad(v);
+  if (st.shaper_frequency_option->count() == 0 || st.shaper_zeta_option->count() == 0) {
+    throw cs::InvalidArgument("--shaper needs --shaper-frequency-hz and --shaper-zeta (the mode to cancel)");
   }
+  cs::require_positive("--shaper-frequency-hz", st.shaper_frequency_hz);
+  request.method = cs::shaping::method_from_string(st.shaper);
+  request.mode = cs::shaping::Mode::from_hz(st.shaper_frequency_hz, st.shaper_zeta);
+  return cs::shaping::design(request);
+}
 
-  const auto begin = std::chrono::steady_clock::now();
-  const rig::RunRecord run = rig::simulate_run(truth, mode, rig_command, options);
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+// The requested command in deg (position) or V (speed): the signal, shaped offline.
+struct Command {
+  sig::Signal signal;
+  std::optional<cs::shaping::Shaper> shaper;
+  cs::UniformSeries values;
+};
 
+Command command_of(const State& st, const rig::RunOptions& options) {
+  sig::Signal signal = st.signal_options.build(st.type);
+  cs::UniformSeries values = sig::sample(signal, options.output_rate_hz, options.duration_s);
+  std::optional<cs::shaping::Shaper> shaper = shaper_of(st);
+  if (shaper) values = cs::shaping::shape_offline(*shaper, values, false);
+  return {std::move(signal), std::move(shaper), std::move(values)};
+}
+
+// The command in rig units: rad (position) or V (speed).
+cs::UniformSeries rig_units(const cs::UniformSeries& command, rig::CommandMode mode) {
+  cs::UniformSeries out = command;
+  if (mode == rig::CommandMode::position) {
+    for (double& v : out.values) v = cs::deg_to_rad(v);
+  }
+  return out;
+}
+
+// --- tabulate: the run's columns in deg and its Eq. 5.1 summary ----------------------------------
+
+struct DegreeColumns {
+  std::vector<double> requested, motor_deg, motor_deg_s, link_deg, link_deg_s, penetration_deg, encoder_deg,
+      gyro_deg_s;
+};
+
+DegreeColumns degree_columns(const rig::RunRecord& run, const cs::UniformSeries& command) {
   const auto& s = run.simulation;
-  const std::size_t n = s.size();
   const auto deg = [](const std::vector<double>& v) {
     std::vector<double> out(v.size());
     std::transform(v.begin(), v.end(), out.begin(), [](double x) { return cs::rad_to_deg(x); });
     return out;
   };
-  std::vector<double> requested(command.values.begin(), command.values.end());
-  requested.resize(n, requested.empty() ? 0.0 : requested.back());
-  const std::vector<double> motor_deg = deg(s.motor_angle_rad), motor_deg_s = deg(s.motor_rate_rad_s),
-                            link_deg = deg(s.link_angle_rad), link_deg_s = deg(s.link_rate_rad_s),
-                            penetration_deg = deg(s.penetration), encoder_deg = deg(run.encoder_angle_rad),
-                            gyro_deg_s = deg(run.gyro_rate_rad_s);
-  const std::string unit = position ? "deg" : "v";
-  const std::vector<std::string> names = {
-      "time_s", "command_" + unit, "drive_command_" + unit, "motor_deg", "motor_deg_s", "link_deg",
-      "link_deg_s", "contact_torque_n_m", "penetration_deg", "encoder_deg", "gyro_deg_s"};
-  const std::vector<const std::vector<double>*> columns = {
-      &s.time_s, &requested, &run.command_drive, &motor_deg, &motor_deg_s, &link_deg, &link_deg_s,
-      &s.contact_torque_n_m, &penetration_deg, &encoder_deg, &gyro_deg_s};
+  DegreeColumns d;
+  d.requested.assign(command.values.begin(), command.values.end());
+  d.requested.resize(s.size(), d.requested.empty() ? 0.0 : d.requested.back());
+  d.motor_deg = deg(s.motor_angle_rad);
+  d.motor_deg_s = deg(s.motor_rate_rad_s);
+  d.link_deg = deg(s.link_angle_rad);
+  d.link_deg_s = deg(s.link_rate_rad_s);
+  d.penetration_deg = deg(s.penetration);
+  d.encoder_deg = deg(run.encoder_angle_rad);
+  d.gyro_deg_s = deg(run.gyro_rate_rad_s);
+  return d;
+}
 
-  // Summary.
-  const double ts = 1.0 / options.output_rate_hz;
+std::vector<std::string> column_names(rig::CommandMode mode) {
+  const std::string unit = mode == rig::CommandMode::position ? "deg" : "v";
+  return {"time_s",    "command_" + unit,     "drive_command_" + unit, "motor_deg",   "motor_deg_s", "link_deg",
+          "link_deg_s", "contact_torque_n_m", "penetration_deg",       "encoder_deg", "gyro_deg_s"};
+}
+
+std::vector<const std::vector<double>*> column_data(const rig::RunRecord& run, const DegreeColumns& d) {
+  const auto& s = run.simulation;
+  return {&s.time_s,     &d.requested,          &run.command_drive,   &d.motor_deg,   &d.motor_deg_s, &d.link_deg,
+          &d.link_deg_s, &s.contact_torque_n_m, &d.penetration_deg,   &d.encoder_deg, &d.gyro_deg_s};
+}
+
+struct Summary {
+  cs::metrics::MeanDeviationResult md_link_rate, md_gyro, md_link_angle;  // Eq. 5.1
+  double peak_torque_n_m = 0.0;
+  double wall_s = 0.0;
+  nlohmann::ordered_json json;
+};
+
+Summary summarize(const rig::RunRecord& run, const DegreeColumns& d, double rate_hz, double wall_s) {
+  const auto& s = run.simulation;
+  const double ts = 1.0 / rate_hz;
   const auto series = [&](const std::vector<double>& v) { return cs::UniformSeries{0.0, ts, v}; };
-  const auto md_link_rate = cs::metrics::mean_deviation(series(link_deg_s));
-  const auto md_gyro = cs::metrics::mean_deviation(series(gyro_deg_s));
-  const auto md_link_angle = cs::metrics::mean_deviation(series(link_deg));
-  double peak_torque = 0.0;
+  Summary out;
+  out.md_link_rate = cs::metrics::mean_deviation(series(d.link_deg_s));
+  out.md_gyro = cs::metrics::mean_deviation(series(d.gyro_deg_s));
+  out.md_link_angle = cs::metrics::mean_deviation(series(d.link_deg));
+  out.wall_s = wall_s;
   double max_penetration_deg = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    peak_torque = std::max(peak_torque, std::abs(s.contact_torque_n_m[k]));
-    max_penetration_deg = std::max(max_penetration_deg, penetration_deg[k]);
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    out.peak_torque_n_m = std::max(out.peak_torque_n_m, std::abs(s.contact_torque_n_m[k]));
+    max_penetration_deg = std::max(max_penetration_deg, d.penetration_deg[k]);
   }
-  auto summary = nlohmann::ordered_json{
-      {"samples", n},
-      {"duration_s", s.time_s.empty() ? 0.0 : s.time_s.back()},
-      {"events", s.stats.events},
-      {"mean_deviation_eq_5_1", {{"link_rate_deg_s", md_json(md_link_rate)},
-                                 {"gyro_deg_s", md_json(md_gyro)},
-                                 {"link_angle_deg", md_json(md_link_angle)}}},
-      {"peak_contact_torque_n_m", peak_torque},
-      {"max_penetration_deg", max_penetration_deg},
-      {"limited_commands", run.limited_commands},
-      {"rigid", run.rigid},
-      {"wall_time_s", wall_s},
-      {"real_time_factor", wall_s > 0.0 ? (s.time_s.empty() ? 0.0 : s.time_s.back()) / wall_s : 0.0},
-      {"solver", {{"steps", s.stats.steps},
-                  {"rhs_evaluations", s.stats.rhs_evaluations},
-                  {"jacobian_evaluations", s.stats.jacobian_evaluations},
-                  {"restarts", s.stats.restarts},
-                  {"command_stops", s.stats.command_stops}}}};
+  const double duration_s = s.time_s.empty() ? 0.0 : s.time_s.back();
+  out.json = {{"samples", s.size()},
+              {"duration_s", duration_s},
+              {"events", s.stats.events},
+              {"mean_deviation_eq_5_1", {{"link_rate_deg_s", md_json(out.md_link_rate)},
+                                         {"gyro_deg_s", md_json(out.md_gyro)},
+                                         {"link_angle_deg", md_json(out.md_link_angle)}}},
+              {"peak_contact_torque_n_m", out.peak_torque_n_m},
+              {"max_penetration_deg", max_penetration_deg},
+              {"limited_commands", run.limited_commands},
+              {"rigid", run.rigid},
+              {"wall_time_s", wall_s},
+              {"real_time_factor", wall_s > 0.0 ? duration_s / wall_s : 0.0},
+              {"solver", {{"steps", s.stats.steps},
+                          {"rhs_evaluations", s.stats.rhs_evaluations},
+                          {"jacobian_evaluations", s.stats.jacobian_evaluations},
+                          {"restarts", s.stats.restarts},
+                          {"command_stops", s.stats.command_stops}}}};
+  return out;
+}
 
-  nlohmann::ordered_json signal_json = nlohmann::ordered_json::object();
-  for (const auto& [key, value] : sig::parameters_of(signal)) {
-    signal_json[key] = std::visit([](const auto& x) { return nlohmann::ordered_json(x); }, value);
-  }
-  nlohmann::ordered_json shaper_json = nullptr;
-  if (shaper) {
-    nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
-    for (const auto& i : shaper->impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
-    shaper_json = {{"method", shaper->method()},
-                   {"frequency_hz", st.shaper_frequency_hz},
-                   {"damping_ratio", st.shaper_zeta},
-                   {"duration_s", shaper->duration_s()},
-                   {"impulses", impulses}};
-  }
+// --- write: the CSV with its sidecar, and stdout ---------------------------------------------------
 
-  if (!st.output.empty()) {
-    // CSV and sidecar appear together or not at all; `-o run.json` (the sidecar's own name) is
-    // refused by the batch instead of overwriting the CSV with the sidecar.
-    cs::io::AtomicBatch batch;
-    batch.add(st.output, cs::io::format_csv(names, columns));
-    auto doc = cs::io::make_document();
-    doc["command"] = "simulate";
-    doc["csv"] = st.output;
-    doc["columns"] = names;
-    doc["units"] = {{"command", position ? "deg (motor-angle target)" : "V (driver speed input)"},
-                    {"drive_command", position ? "deg (after the 30 Hz pulse train)" : "V (after the 12-bit D/A)"},
-                    {"angles", "deg"},
-                    {"rates", "deg/s"},
-                    {"contact_torque", "N·m (on the link)"},
-                    {"penetration", "deg (< 0 inside the play)"}};
-    doc["configuration"] = {{"mode", st.mode},
-                            {"signal", {{"type", st.type}, {"parameters", signal_json}}},
-                            {"shaper", shaper_json},
-                            {"builtin_rig", st.rig_option->count() > 0 ? st.rig_name : std::string("thesis")},
-                            {"config_file", st.config.empty() ? nlohmann::ordered_json(nullptr)
-                                                              : nlohmann::ordered_json(st.config)},
-                            {"duration_s", options.duration_s},
-                            {"output_rate_hz", options.output_rate_hz},
-                            {"initial_play_fraction", options.initial_play_fraction},
-                            {"noise_seed", options.seed},
-                            {"sensor_noise", options.sensor_noise},
-                            {"rig", truth_json(truth, mode)}};
-    doc["summary"] = summary;
-    nlohmann::ordered_json events = nlohmann::ordered_json::array();
-    for (const auto& e : s.events) {
-      events.push_back({{"time_s", e.time_s}, {"kind", std::string(cs::plant::to_string(e.kind))},
-                        {"side", e.side}, {"rate_rad_s", e.rate}});
-      if (events.size() >= 1000) break;
-    }
-    doc["events_first_1000"] = events;
-    batch.add(sidecar_path(st.output), doc.dump(2) + "\n");
-    batch.commit();
-    fmt::print(stderr, "clearshape simulate: wrote {} ({} rows) and {}\n", st.output, n,
-               sidecar_path(st.output).string());
+std::string rig_name(const State& st) { return st.rig_option->count() > 0 ? st.rig_name : std::string("thesis"); }
+
+nlohmann::ordered_json configuration_json(const State& st, const Plan& p, const Command& c) {
+  return {{"mode", st.mode},
+          {"signal", {{"type", st.type}, {"parameters", cs::cli::signal_parameters_json(c.signal)}}},
+          {"shaper", c.shaper ? cs::cli::shaper_json(*c.shaper, st.shaper_frequency_hz, st.shaper_zeta)
+                              : nlohmann::ordered_json(nullptr)},
+          {"builtin_rig", rig_name(st)},
+          {"config_file", st.config.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(st.config)},
+          {"duration_s", p.options.duration_s},
+          {"output_rate_hz", p.options.output_rate_hz},
+          {"initial_play_fraction", p.options.initial_play_fraction},
+          {"noise_seed", p.options.seed},
+          {"sensor_noise", p.options.sensor_noise},
+          {"rig", truth_json(p.truth, p.mode)}};
+}
+
+nlohmann::ordered_json events_json(const std::vector<cs::plant::ContactEvent>& events) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const auto& e : events) {
+    out.push_back({{"time_s", e.time_s}, {"kind", std::string(cs::plant::to_string(e.kind))},
+                   {"side", e.side}, {"rate_rad_s", e.rate}});
+    if (out.size() >= 1000) break;
   }
+  return out;
+}
+
+// CSV and sidecar appear together or not at all; `-o run.json` (the sidecar's own name) is
+// refused by the batch instead of overwriting the CSV with the sidecar.
+void write_files(const State& st, const Plan& p, const Command& c, const rig::RunRecord& run,
+                 const DegreeColumns& d, const Summary& summary) {
+  const bool position = p.mode == rig::CommandMode::position;
+  const std::vector<std::string> names = column_names(p.mode);
+  cs::io::AtomicBatch batch;
+  batch.add(st.output, cs::io::format_csv(names, column_data(run, d)));
+  auto doc = cs::io::make_document();
+  doc["command"] = "simulate";
+  doc["csv"] = st.output;
+  doc["columns"] = names;
+  doc["units"] = {{"command", position ? "deg (motor-angle target)" : "V (driver speed input)"},
+                  {"drive_command", position ? "deg (after the 30 Hz pulse train)" : "V (after the 12-bit D/A)"},
+                  {"angles", "deg"},
+                  {"rates", "deg/s"},
+                  {"contact_torque", "N·m (on the link)"},
+                  {"penetration", "deg (< 0 inside the play)"}};
+  doc["configuration"] = configuration_json(st, p, c);
+  doc["summary"] = summary.json;
+  doc["events_first_1000"] = events_json(run.simulation.events);
+  const auto sidecar = cs::cli::sidecar_path(st.output);
+  batch.add(sidecar, doc.dump(2) + "\n");
+  batch.commit();
+  fmt::print(stderr, "clearshape simulate: wrote {} ({} rows) and {}\n", st.output, run.simulation.size(),
+             sidecar.string());
+}
+
+void print_json(const State& st, const Plan& p, const Command& c, const Summary& summary) {
+  auto doc = cs::io::make_document();
+  doc["command"] = "simulate";
+  doc["mode"] = st.mode;
+  doc["signal"] = st.type;
+  doc["shaper"] = c.shaper ? nlohmann::ordered_json(c.shaper->method()) : nlohmann::ordered_json(nullptr);
+  doc["rig"] = rig_name(st);
+  doc["clearance_deg"] = cs::rad_to_deg(p.truth.clearance_rad);
+  doc["contact"] = contact_json(p.contact);
+  for (const auto& [k, v] : summary.json.items()) doc[k] = v;
+  doc["output"] = st.output.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(st.output);
+  cs::cli::print_json(doc);
+}
+
+void print_table(const State& st, const Plan& p, const Command& c, const rig::RunRecord& run, const Summary& sm) {
+  const std::vector<std::pair<std::string, std::string>> rows = {
+      {"mode", st.mode},
+      {"signal", st.type},
+      {"shaper", c.shaper ? c.shaper->method() : "none"},
+      {"clearance", fmt::format("{} deg ({})", cs::rad_to_deg(p.truth.clearance_rad),
+                                run.rigid ? "rigid" : std::string(rig::to_string(p.contact.model)))},
+      {"samples", fmt::format("{} ({} Hz)", run.simulation.size(), p.options.output_rate_hz)},
+      {"events", fmt::format("{}", run.simulation.stats.events)},
+      {"MD link rate", fmt::format("{:.6g} deg/s (Eq. 5.1, from {:.4g} s)", sm.md_link_rate.mean_deviation,
+                                   sm.md_link_rate.start_time_s)},
+      {"MD gyro", fmt::format("{:.6g} deg/s", sm.md_gyro.mean_deviation)},
+      {"MD link angle", fmt::format("{:.6g} deg", sm.md_link_angle.mean_deviation)},
+      {"peak contact torque", fmt::format("{:.6g} N·m", sm.peak_torque_n_m)},
+      {"wall time", fmt::format("{:.4g} s ({:.0f}x real time)", sm.wall_s,
+                                sm.json["real_time_factor"].get<double>())}};
+  for (const auto& [k, v] : rows) fmt::print("{:<22}{}\n", k, v);
+  if (!st.output.empty()) fmt::print("{:<22}{}\n", "output", st.output);
+}
+
+void run(const State& st) {
+  const Plan p = plan(st);
+  const Command command = command_of(st, p.options);
+  const cs::UniformSeries rig_command = rig_units(command.values, p.mode);
+
+  const auto begin = std::chrono::steady_clock::now();
+  const rig::RunRecord run = rig::simulate_run(p.truth, p.mode, rig_command, p.options);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+
+  const DegreeColumns d = degree_columns(run, command.values);
+  const Summary summary = summarize(run, d, p.options.output_rate_hz, wall_s);
+  if (!st.output.empty()) write_files(st, p, command, run, d, summary);
   if (run.limited_commands > 0) {
     fmt::print(stderr, "clearshape simulate: warning: {} command sample(s)/update(s) were limited by the "
                        "command path (D/A range or pulse-rate cap)\n", run.limited_commands);
   }
-
   if (st.json) {
-    auto doc = cs::io::make_document();
-    doc["command"] = "simulate";
-    doc["mode"] = st.mode;
-    doc["signal"] = st.type;
-    doc["shaper"] = shaper ? nlohmann::ordered_json(shaper->method()) : nlohmann::ordered_json(nullptr);
-    doc["rig"] = st.rig_option->count() > 0 ? st.rig_name : std::string("thesis");
-    doc["clearance_deg"] = cs::rad_to_deg(truth.clearance_rad);
-    doc["contact"] = contact_json(contact);
-    for (const auto& [k, v] : summary.items()) doc[k] = v;
-    doc["output"] = st.output.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(st.output);
-    cs::cli::print_json(doc);
-    return;
+    print_json(st, p, command, summary);
+  } else {
+    print_table(st, p, command, run, summary);
   }
-  const std::vector<std::pair<std::string, std::string>> rows = {
-      {"mode", st.mode},
-      {"signal", st.type},
-      {"shaper", shaper ? shaper->method() : "none"},
-      {"clearance", fmt::format("{} deg ({})", cs::rad_to_deg(truth.clearance_rad),
-                                run.rigid ? "rigid" : std::string(rig::to_string(contact.model)))},
-      {"samples", fmt::format("{} ({} Hz)", n, options.output_rate_hz)},
-      {"events", fmt::format("{}", s.stats.events)},
-      {"MD link rate", fmt::format("{:.6g} deg/s (Eq. 5.1, from {:.4g} s)", md_link_rate.mean_deviation,
-                                   md_link_rate.start_time_s)},
-      {"MD gyro", fmt::format("{:.6g} deg/s", md_gyro.mean_deviation)},
-      {"MD link angle", fmt::format("{:.6g} deg", md_link_angle.mean_deviation)},
-      {"peak contact torque", fmt::format("{:.6g} N·m", peak_torque)},
-      {"wall time", fmt::format("{:.4g} s ({:.0f}x real time)", wall_s,
-                                summary["real_time_factor"].get<double>())}};
-  for (const auto& [k, v] : rows) fmt::print("{:<22}{}\n", k, v);
-  if (!st.output.empty()) fmt::print("{:<22}{}\n", "output", st.output);
 }
 
 void setup(CLI::App& sub) {
