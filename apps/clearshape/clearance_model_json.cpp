@@ -26,6 +26,25 @@ double number(const json& j, const std::string& key, const std::string& file, co
   return v.get<double>();
 }
 
+// An optional number (a file written before the key existed): `fallback` when absent.
+double optional_number(const json& j, const std::string& key, double fallback, const std::string& file,
+                       const std::string& path) {
+  return j.is_object() && j.contains(key) ? number(j, key, file, path) : fallback;
+}
+
+// The joint's friction (absent in files written before it was fitted: none).
+void friction_of(const json& coulomb, const json& viscous, const json& regularization, study::ClearanceModel& m,
+                 const std::string& file, const std::string& path) {
+  m.coulomb_n_m = coulomb.is_null() ? 0.0 : number(coulomb, "value", file, path + "coulomb.");
+  m.viscous_n_m_s_per_rad = viscous.is_null() ? 0.0 : number(viscous, "value", file, path + "viscous.");
+  if (!regularization.is_null()) m.friction_regularization_rad_s = regularization.get<double>();
+  if (!(m.coulomb_n_m >= 0.0)) throw InputError(file, 0, path + "coulomb.value", "must be >= 0 N·m");
+  if (!(m.viscous_n_m_s_per_rad >= 0.0)) throw InputError(file, 0, path + "viscous.value", "must be >= 0 N·m·s/rad");
+  if (!(m.friction_regularization_rad_s > 0.0)) {
+    throw InputError(file, 0, "friction_regularization_rad_s", "must be > 0 rad/s");
+  }
+}
+
 lti::ProcessModel drive_of(const json& d, const std::string& file, const std::string& path) {
   lti::ProcessParameters p;
   for (const auto& [name, v] : at(d, "parameters", file, path).items()) {
@@ -53,6 +72,11 @@ IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& 
     m.damping = number(at(p, "damping", file, "parameters."), "value", file, "parameters.damping.");
     m.exponent = number(at(p, "exponent", file, "parameters."), "value", file, "parameters.exponent.");
     m.play_rad = deg_to_rad(number(at(p, "play", file, "parameters."), "value", file, "parameters.play."));
+    const json none;
+    const json& reg = doc.contains("friction_regularization_rad_s") ? doc.at("friction_regularization_rad_s") : none;
+    if (!reg.is_null() && !reg.is_number()) throw InputError(file, 0, "friction_regularization_rad_s", "is not a number");
+    friction_of(p.contains("coulomb") ? p.at("coulomb") : none, p.contains("viscous") ? p.at("viscous") : none, reg, m, file,
+                "parameters.");
     m.link_inertia_kg_m2 = number(doc, "link_inertia_kg_m2", file, "");
     m.mode = rig::command_mode_from_string(at(doc, "mode", file, "").get<std::string>());
     m.drive = drive_of(at(doc, "drive", file, ""), file, "drive.");
@@ -65,6 +89,17 @@ IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& 
     m.damping = number(c, "damping_n_m_s_per_rad", file, "sections.clearance.");
     m.exponent = number(c, "exponent", file, "sections.clearance.");
     m.play_rad = deg_to_rad(number(c, "play_deg", file, "sections.clearance."));
+    m.coulomb_n_m = optional_number(c, "coulomb_n_m", 0.0, file, "sections.clearance.");
+    m.viscous_n_m_s_per_rad = optional_number(c, "viscous_n_m_s_per_rad", 0.0, file, "sections.clearance.");
+    m.friction_regularization_rad_s =
+        optional_number(c, "friction_regularization_rad_s", m.friction_regularization_rad_s, file, "sections.clearance.");
+    if (!(m.coulomb_n_m >= 0.0)) throw InputError(file, 0, "sections.clearance.coulomb_n_m", "must be >= 0 N·m");
+    if (!(m.viscous_n_m_s_per_rad >= 0.0)) {
+      throw InputError(file, 0, "sections.clearance.viscous_n_m_s_per_rad", "must be >= 0 N·m·s/rad");
+    }
+    if (!(m.friction_regularization_rad_s > 0.0)) {
+      throw InputError(file, 0, "sections.clearance.friction_regularization_rad_s", "must be > 0 rad/s");
+    }
     m.link_inertia_kg_m2 = number(c, "link_inertia_kg_m2", file, "sections.clearance.");
     m.mode = rig::command_mode_from_string(at(at(doc, "protocol", file, ""), "mode", file, "protocol.").get<std::string>());
     const json& ident = at(s, "identification", file, "sections.");

@@ -5,6 +5,9 @@
 //     mode), or
 //   - a study's results.json (sections.clearance, the identification's selected drive model,
 //     sections.link_mode).
+// The joint friction (Coulomb and viscous on the relative rate) is read where present
+// (parameters.coulomb/viscous, sections.clearance.coulomb_n_m/viscous_n_m_s_per_rad); a file
+// written before it was fitted reads as friction 0.
 // Errors name the file and the missing key (InputError).
 #include <filesystem>
 #include <optional>

@@ -125,7 +125,7 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
   for (const auto& q : fit.parameters) {
     const bool angle = q.name == "play";
     params[q.name] = {{"value", angle ? rad_to_deg(q.value) : q.value},
-                      {"unit", q.name == "stiffness" ? "N·m/rad^n" : q.name == "damping" ? "N·m·s/rad" : angle ? "deg" : "1"},
+                      {"unit", study::clearance_parameter_unit(q.name)},
                       {"start", angle ? rad_to_deg(q.start) : q.start},
                       {"free", q.free},
                       {"std", std::isfinite(q.std_error) ? json(q.std_error) : json(nullptr)},
@@ -156,6 +156,7 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
   const auto names = fp.start.drive.structure().parameter_names();
   const auto values = fp.start.drive.to_vector();
   for (std::size_t i = 0; i < names.size(); ++i) drive_parameters[std::string(names[i])] = {{"value", values[i]}};
+  doc["friction_regularization_rad_s"] = fit.model.friction_regularization_rad_s;  // v_t of the Coulomb term
   doc["mode"] = rig::to_string(fp.start.mode);
   doc["link_inertia_kg_m2"] = fp.start.link_inertia_kg_m2;
   doc["drive"] = {{"model", fp.start.drive.code()}, {"parameters", drive_parameters}};

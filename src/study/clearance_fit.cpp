@@ -316,6 +316,15 @@ std::vector<double> sensed_link_rate_deg_s(const ClearanceFitProblem& p, const M
   return rate;
 }
 
+std::string clearance_parameter_unit(const std::string& name) {
+  if (name == "stiffness") return "N·m/rad^n";
+  if (name == "damping" || name == "viscous") return "N·m·s/rad";
+  if (name == "play") return "deg";
+  if (name == "exponent") return "1";
+  if (name == "coulomb") return "N·m";
+  return "";
+}
+
 void apply_sensor_low_pass(std::vector<double>& rate, double bandwidth_hz, double sample_time_s) {
   if (!(bandwidth_hz > 0.0) || rate.empty()) return;
   require_positive("sample_time_s", sample_time_s);

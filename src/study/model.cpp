@@ -51,6 +51,10 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
   joint.half_play_rad = rigid ? 1e3 : 0.5 * m.play_rad;  // rigid: a free link, copied below
   joint.law = plant::ContactLaw::hertz_dashpot(m.stiffness, m.exponent, m.damping,
                                                plant::DampingPolicy::clamped);
+  // Eq. 2.9 as a joint torque on φ̇: −c·tanh(φ̇/v_t) − b·φ̇ (plant::Friction, no Stribeck peak).
+  joint.joint_friction.coulomb = m.coulomb_n_m;
+  joint.joint_friction.viscous = m.viscous_n_m_s_per_rad;
+  joint.joint_friction.regularization_rate = m.friction_regularization_rad_s;
   model.joint = joint;
 
   plant::SimulationOptions options;

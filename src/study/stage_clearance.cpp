@@ -174,10 +174,7 @@ void stage_clearance(Context& c) {
     parameters.push_back({{"name", q.name},
                           {"value", deg ? rad_to_deg(q.value) : q.value},
                           {"start", deg ? rad_to_deg(q.start) : q.start},
-                          {"unit", q.name == "stiffness" ? "N·m/rad^n"
-                                   : q.name == "damping" ? "N·m·s/rad"
-                                   : deg                 ? "deg"
-                                                         : "1"},
+                          {"unit", clearance_parameter_unit(q.name)},
                           {"free", q.free},
                           {"at_bound", q.at_bound},
                           {"std_error", std::isfinite(q.std_error) ? json(q.std_error) : json()},
@@ -189,6 +186,9 @@ void stage_clearance(Context& c) {
                              {"exponent", fitted.exponent},
                              {"gyro_filtered", cl.filter_gyro},
                              {"play_deg", rad_to_deg(fitted.play_rad)},
+                             {"coulomb_n_m", fitted.coulomb_n_m},
+                             {"viscous_n_m_s_per_rad", fitted.viscous_n_m_s_per_rad},
+                             {"friction_regularization_rad_s", fitted.friction_regularization_rad_s},
                              {"link_inertia_kg_m2", J},
                              {"stiffness_over_inertia", fitted.stiffness / J},
                              {"damping_over_inertia_1_s", fitted.damping / J},

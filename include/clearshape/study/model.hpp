@@ -5,6 +5,10 @@
 // plant module (CVODE) and the drive command paths of the signal module with their published
 // settings (§3.2: 30 Hz pulse updates, 3000 pulses/rev, 500 kHz; 12-bit ±10 V D/A).
 //
+// The joint's friction (thesis Eq. 2.9, F_T = −μ F_N v_T/|v_T|, here as a bearing torque on the
+// link–motor relative rate φ̇ with its sign regularized as the plant does, plant/friction.hpp):
+// τ_f = −c·tanh(φ̇/v_t) − b·φ̇. It decides where a link that leaves its flank stops in the play.
+//
 // Position mode: the pulse generator programs a target at its next 30 Hz update, one update
 // period after it was written (the rig reports the commanded position it actually applied, and
 // the clearance fit uses that record directly).
@@ -26,6 +30,9 @@ struct ClearanceModel {
   double stiffness = 1e4;       ///< K, N·m/rad^n
   double exponent = 1.5;        ///< n
   double damping = 300.0;       ///< D, N·m·s/rad
+  double coulomb_n_m = 0.0;     ///< c: the joint's Coulomb torque (Eq. 2.9, regularized), 0: none
+  double viscous_n_m_s_per_rad = 0.0;          ///< b: viscous on the relative rate, 0: none
+  double friction_regularization_rad_s = 1e-3;  ///< v_t of tanh(φ̇/v_t) (the large-play truth's)
 };
 
 /// The model's response, sampled like a record (no sensor noise or quantization).
@@ -128,6 +135,10 @@ struct ClearanceFitResult {
 /// NLopt fails (invalid arguments, out of memory); a search that ends at `max_evaluations` or on
 /// round-off is reported with `converged == false`, never silently.
 ClearanceFitResult fit_clearance(const ClearanceFitProblem& problem);
+
+/// The unit of a fitted parameter's value as the outputs write it (the play in deg): "N·m/rad^n",
+/// "N·m·s/rad", "deg", "1", "N·m" (coulomb), "N·m·s/rad" (viscous); "" for an unknown name.
+std::string clearance_parameter_unit(const std::string& name);
 
 /// The sensor's first-order low-pass of `clearance_fit`, in place (0: no filtering).
 void apply_sensor_low_pass(std::vector<double>& rate, double bandwidth_hz, double sample_time_s);

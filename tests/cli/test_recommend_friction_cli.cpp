@@ -1,0 +1,116 @@
+// The joint friction of the identified nonlinear model (study::ClearanceModel: Coulomb c and
+// viscous b on the link–motor relative rate, thesis Eq. 2.9 regularized) as the CLI reads it:
+//  - `recommend --model FIT.json` with friction predicts the unshaped Eq. 5.1 MD that
+//    `clearshape simulate` gives for a rig configuration with the same drive, play, contact law
+//    and joint friction (the rig's own plant and pulse path: another code path);
+//  - a document written before friction was fitted (no coulomb/viscous keys) still reads, as
+//    friction 0; a negative friction is exit 2 naming the file and the key.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "support/cli.hpp"
+#include "support/paths.hpp"
+
+using clearshape::testing::golden_path;
+using clearshape::testing::run_cli;
+
+namespace {
+
+std::filesystem::path temp(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("recommend_friction_cli_" + std::to_string(::getpid()) + "_" + name);
+}
+
+void write(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream out(p);
+  out << text;
+}
+
+std::string spectrum_args() {
+  return "recommend --data " + golden_path("recommend_one_mode.csv").string() + " --column gyro_deg_s";
+}
+
+const char* kDrive = R"({"model": "P3UZ", "parameters": {"Kp": {"value": 0.9959}, "Tz": {"value": 0.0042},
+  "Zeta": {"value": 0.9968}, "Tw": {"value": 0.0102}, "Tp3": {"value": 0.0034}}})";
+
+// A `fit-clearance --json` document of a 1° play with a Hertz-like flank; `friction` is the text of
+// the coulomb/viscous entries (with a leading comma) or "".
+std::string fit_json(const std::string& friction) {
+  return R"({"command": "fit-clearance", "mode": "position", "link_inertia_kg_m2": 0.005,
+ "parameters": {"stiffness": {"value": 2.0e5}, "damping": {"value": 2.0},
+                "play": {"value": 1.0}, "exponent": {"value": 1.5})" +
+         friction + R"(}, "drive": )" + kDrive + "}";
+}
+
+double unshaped_prediction(const std::filesystem::path& fit, const std::string& move) {
+  const auto r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 3 --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return nlohmann::json::parse(r.out)["model"]["unshaped_md"].get<double>();
+}
+
+double simulated(double coulomb, double viscous, const std::string& move) {
+  const auto config = temp("model.toml");
+  write(config, "[joint]\nclearance_deg = 1.0\nfriction_viscous_n_m_s_per_rad = " + std::to_string(viscous) +
+                    "\nfriction_coulomb_n_m = " + std::to_string(coulomb) + R"(
+[contact]
+model = "thesis"
+stiffness = 2.0e5
+exponent = 1.5
+damping = 2.0
+[link]
+inertia_kg_m2 = 0.005
+mass_kg = 0.0
+com_distance_m = 0.0
+axis_tilt_deg = 0.0
+ground_viscous_n_m_s_per_rad = 0.0
+[drive.position]
+kp = 0.9959
+tz_s = 0.0042
+zeta = 0.9968
+tw_s = 0.0102
+tp3_s = 0.0034
+td_s = 0.0
+[gyroscope]
+low_pass_hz = 0
+)");
+  const auto s = run_cli("simulate --config " + config.string() + " --signal step" + move + " --duration 3 --no-noise --json");
+  EXPECT_EQ(s.exit_code, 0) << s.err;
+  std::filesystem::remove(config);
+  return nlohmann::json::parse(s.out)["mean_deviation_eq_5_1"]["link_angle_deg"]["mean_deviation"].get<double>();
+}
+
+TEST(RecommendFrictionCli, PredictionWithFrictionEqualsSimulateOfTheSameJoint) {
+  const std::string move = " --amplitude 10 --start-s 0.2";
+  const auto fit = temp("fit.json");
+  write(fit, fit_json(R"(, "coulomb": {"value": 2e-3}, "viscous": {"value": 1e-4})"));
+  const double with_friction = unshaped_prediction(fit, move);
+  const double rig = simulated(2e-3, 1e-4, move);
+  EXPECT_NEAR(with_friction, rig, 0.02 * rig) << "model " << with_friction << " rig " << rig;
+  // The same document without the friction keys (an older fit) reads as friction 0: the model
+  // then predicts the frictionless joint, which is another number.
+  write(fit, fit_json(""));
+  const double without = unshaped_prediction(fit, move);
+  const double rig0 = simulated(0.0, 0.0, move);
+  EXPECT_NEAR(without, rig0, 0.02 * rig0) << "model " << without << " rig " << rig0;
+  EXPECT_GT(std::abs(without - with_friction), 0.05 * with_friction);
+  std::filesystem::remove(fit);
+}
+
+TEST(RecommendFrictionCli, NegativeFrictionNamesTheKey) {
+  const auto fit = temp("bad.json");
+  write(fit, fit_json(R"(, "coulomb": {"value": -1e-3})"));
+  const auto r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step --amplitude 5 --start-s 0.2");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(fit.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("parameters.coulomb"), std::string::npos) << r.err;
+  std::filesystem::remove(fit);
+}
+
+}  // namespace
