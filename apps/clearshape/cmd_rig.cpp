@@ -26,10 +26,10 @@
 #include "clearshape/rig/serial_rig.hpp"
 #include "clearshape/rig/wire_protocol.h"
 #include "clearshape/shaping/design.hpp"
-#include "clearshape/signal/parameters.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "command.hpp"
 #include "rig_serial_options.hpp"
+#include "run_json.hpp"
 #include "signal_options.hpp"
 
 namespace cs = clearshape;
@@ -154,92 +154,102 @@ std::optional<cs::shaping::Shaper> shaper_of(const RunState& st) {
   return cs::shaping::design(request);
 }
 
-std::filesystem::path sidecar_path(const std::string& output) {
-  std::filesystem::path p(output);
-  p.replace_extension(".json");
-  return p;
-}
+// --- plan: the board's options and the command --------------------------------------------------
 
-// Collected by the logging thread (it may allocate; the loop never waits for it).
-struct Columns {
-  std::vector<double> time_s, command, shaped, applied, counts, motor_deg, gyro_raw, gyro_deg_s, flags, latency_s;
+struct RunPlan {
+  rig::SerialRigOptions options;
+  std::size_t samples = 0;       ///< cycles: samples at 0 … duration
+  std::vector<double> command;   ///< deg (position) or V (speed); zeros for `stream`
+  std::optional<cs::shaping::Shaper> shaper;
+  json signal = nullptr;
+  json shaper_json = nullptr;
+  bool position() const { return options.mode == rig::CommandMode::position; }
 };
 
-void execute(const RunState& st, const std::string& name, bool is_run) {
+RunPlan plan(const RunState& st, const std::string& name, bool is_run) {
   if (st.output.empty()) throw cs::InvalidArgument(fmt::format("rig {}: --output FILE.csv is required", name));
   if (std::filesystem::path(st.output).extension() == ".json") {
     throw cs::InvalidArgument(fmt::format("rig {}: --output must not end in .json (the sidecar takes that name)", name));
   }
   cs::require_in_closed("--duration", st.duration_s, 1e-3, 86400.0);
-  rig::SerialRigOptions o = st.serial.build();
-  const bool position = o.mode == rig::CommandMode::position;
-  const std::size_t n = static_cast<std::size_t>(std::llround(st.duration_s * o.sample_rate_hz)) + 1;
-
-  std::vector<double> values(n, 0.0);
-  json signal_json = nullptr, shaper_json = nullptr;
-  std::optional<cs::shaping::Shaper> designed;
+  RunPlan p;
+  p.options = st.serial.build();
+  p.samples = static_cast<std::size_t>(std::llround(st.duration_s * p.options.sample_rate_hz)) + 1;
+  p.command.assign(p.samples, 0.0);
   if (is_run) {
     const cs::signal::Signal signal = st.signal_options.build(st.type);
-    values = cs::signal::sample(signal, o.sample_rate_hz, st.duration_s).values;
-    values.resize(n, values.empty() ? 0.0 : values.back());
-    json params = json::object();
-    for (const auto& [key, value] : cs::signal::parameters_of(signal)) {
-      params[key] = std::visit([](const auto& x) { return json(x); }, value);
-    }
-    signal_json = {{"type", st.type}, {"parameters", params}};
-    designed = shaper_of(st);
-    if (designed) {
-      json impulses = json::array();
-      for (const auto& i : designed->impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
-      shaper_json = {{"method", designed->method()},
-                     {"frequency_hz", st.shaper_frequency_hz},
-                     {"damping_ratio", st.shaper_zeta},
-                     {"duration_s", designed->duration_s()},
-                     {"impulses", impulses},
-                     {"applied", "online (shaping::StreamingShaper, one sample per cycle)"}};
+    p.command = cs::signal::sample(signal, p.options.sample_rate_hz, st.duration_s).values;
+    p.command.resize(p.samples, p.command.empty() ? 0.0 : p.command.back());
+    p.signal = {{"type", st.type}, {"parameters", cs::cli::signal_parameters_json(signal)}};
+    p.shaper = shaper_of(st);
+    if (p.shaper) {
+      p.shaper_json = cs::cli::shaper_json(*p.shaper, st.shaper_frequency_hz, st.shaper_zeta);
+      p.shaper_json["applied"] = "online (shaping::StreamingShaper, one sample per cycle)";
     }
   } else {
-    o.servo_on = st.servo_on;
-    if (st.serial.watchdog_option->count() == 0) o.watchdog_ms = 0;  // nothing is commanded: no watchdog by default
+    p.options.servo_on = st.servo_on;
+    if (st.serial.watchdog_option->count() == 0) p.options.watchdog_ms = 0;  // nothing is commanded: no watchdog by default
   }
-  rig::SerialRig r(o);
-  rig::CommandSource source(values, o.mode);
-  if (designed) source.set_shaper(*designed, r.sample_time_s());
+  return p;
+}
 
+// --- run: the real-time loop on the board, its records collected by the logging thread ------------
+
+// Collected by the logging thread (it may allocate; the loop never waits for it).
+struct Columns {
+  std::vector<double> time_s, command, shaped, applied, counts, motor_deg, gyro_raw, gyro_deg_s, flags, latency_s;
+  rig::Measurement last{};
+
+  void reserve(std::size_t n) {
+    for (auto* v : {&time_s, &command, &shaped, &applied, &counts, &motor_deg, &gyro_raw, &gyro_deg_s, &flags,
+                    &latency_s}) {
+      v->reserve(n);
+    }
+  }
+  void add(const rig::LogRecord& rec, bool position) {
+    if (rec.read_status != cs::Status::ok) return;
+    const rig::Measurement& m = rec.measurement;
+    time_s.push_back(m.time_s);
+    command.push_back(rec.command);
+    shaped.push_back(rec.command_shaped);
+    applied.push_back(position ? cs::rad_to_deg(m.command_applied) : m.command_applied);
+    counts.push_back(static_cast<double>(m.encoder_counts));
+    motor_deg.push_back(m.motor_angle_deg());
+    gyro_raw.push_back(m.gyro_raw);
+    gyro_deg_s.push_back(m.gyro_rate_deg_s());
+    flags.push_back(m.flags);
+    latency_s.push_back(rec.latency_s);
+    last = m;
+  }
+};
+
+struct Outcome {
+  rig::RunStatistics stats;
+  rig::SerialRigStats link;
+  std::string stop_problem;  ///< empty when the board confirmed STOP
+  std::vector<std::string> warnings;
+};
+
+Outcome run_on_board(const RunState& st, const std::string& name, bool is_run, const RunPlan& p, rig::SerialRig& r,
+                     Columns& c) {
+  const rig::SerialRigOptions& o = p.options;
+  rig::CommandSource source(p.command, o.mode);
+  if (p.shaper) source.set_shaper(*p.shaper, r.sample_time_s());
+  Outcome out;
   rig::RealtimeOptions ro;
   ro.realtime_scheduling = !st.no_realtime;
   ro.write_commands = is_run;
-  std::vector<std::string> warnings;
-  ro.warn = [&warnings](const std::string& w) {
-    warnings.push_back(w);
+  ro.warn = [&out](const std::string& w) {
+    out.warnings.push_back(w);
     fmt::print(stderr, "clearshape: warning: {}\n", w);
   };
   r.configure();
   fmt::print(stderr, "clearshape rig {}: {} firmware {} ({}), {} mode at {:g} Hz, {:g} s\n", name, o.port,
              r.board().firmware_version(), r.backend(), rig::to_string(o.mode), o.sample_rate_hz, st.duration_s);
   rig::RealtimeRunner runner(r, source, ro);
-
-  Columns c;
-  for (auto* v : {&c.time_s, &c.command, &c.shaped, &c.applied, &c.counts, &c.motor_deg, &c.gyro_raw, &c.gyro_deg_s,
-                  &c.flags, &c.latency_s}) {
-    v->reserve(n);
-  }
-  rig::Measurement last{};
-  const auto sink = [&](const rig::LogRecord& rec) {
-    if (rec.read_status != cs::Status::ok) return;
-    const rig::Measurement& m = rec.measurement;
-    c.time_s.push_back(m.time_s);
-    c.command.push_back(rec.command);
-    c.shaped.push_back(rec.command_shaped);
-    c.applied.push_back(position ? cs::rad_to_deg(m.command_applied) : m.command_applied);
-    c.counts.push_back(static_cast<double>(m.encoder_counts));
-    c.motor_deg.push_back(m.motor_angle_deg());
-    c.gyro_raw.push_back(m.gyro_raw);
-    c.gyro_deg_s.push_back(m.gyro_rate_deg_s());
-    c.flags.push_back(m.flags);
-    c.latency_s.push_back(rec.latency_s);
-    last = m;
-  };
+  c.reserve(p.samples);
+  const bool position = p.position();
+  const auto sink = [&](const rig::LogRecord& rec) { c.add(rec, position); };
   const bool tty = isatty(fileno(stderr)) != 0;
   int status_calls = 0;
   const auto status = [&](const rig::RunStatistics& s) {
@@ -248,124 +258,174 @@ void execute(const RunState& st, const std::string& name, bool is_run) {
     const rig::SerialRigStats link = r.stats();
     fmt::print(stderr, "{}t {:7.2f}/{:g} s  samples {}  lost {}  corrupted {}  late {}  overruns {}  motor {:9.3f} deg  "
                        "gyro {:8.2f} deg/s{}",
-               tty ? "\r" : "", last.time_s, st.duration_s, s.samples, link.samples_lost, link.frames_corrupted,
-               link.samples_late, s.overruns, last.motor_angle_deg(), last.gyro_rate_deg_s(), tty ? "" : "\n");
+               tty ? "\r" : "", c.last.time_s, st.duration_s, s.samples, link.samples_lost, link.frames_corrupted,
+               link.samples_late, s.overruns, c.last.motor_angle_deg(), c.last.gyro_rate_deg_s(), tty ? "" : "\n");
   };
-  const rig::RunStatistics s = runner.run(n, sink, status);
+  out.stats = runner.run(p.samples, sink, status);
   if (tty) fmt::print(stderr, "\n");
-  const rig::SerialRigStats link = r.stats();
-  const std::string stop_problem = r.last_stop_problem();
+  out.link = r.stats();
+  out.stop_problem = r.last_stop_problem();
   r.cleanup();
+  return out;
+}
 
-  const std::string u = position ? "deg" : "v";
-  std::vector<std::string> names = {"time_s"};
-  std::vector<const std::vector<double>*> columns = {&c.time_s};
+// --- write: the CSV with its sidecar, stdout, the verdict -----------------------------------------
+
+struct Table {
+  std::vector<std::string> names;
+  std::vector<const std::vector<double>*> columns;
+};
+
+Table table(const Columns& c, const RunPlan& p, bool is_run) {
+  const std::string u = p.position() ? "deg" : "v";
+  Table t{{"time_s"}, {&c.time_s}};
   if (is_run) {
-    names.push_back("command_" + u);
-    columns.push_back(&c.command);
-    if (designed) {
-      names.push_back("command_shaped_" + u);
-      columns.push_back(&c.shaped);
+    t.names.push_back("command_" + u);
+    t.columns.push_back(&c.command);
+    if (p.shaper) {
+      t.names.push_back("command_shaped_" + u);
+      t.columns.push_back(&c.shaped);
     }
   }
   for (const auto& [col, v] : std::initializer_list<std::pair<std::string, const std::vector<double>*>>{
            {"command_applied_" + u, &c.applied}, {"encoder_counts", &c.counts},  {"motor_deg", &c.motor_deg},
            {"gyro_raw", &c.gyro_raw},            {"gyro_deg_s", &c.gyro_deg_s}, {"flags", &c.flags},
            {"latency_s", &c.latency_s}}) {
-    names.push_back(col);
-    columns.push_back(v);
+    t.names.push_back(col);
+    t.columns.push_back(v);
   }
-  const bool complete = s.complete();
-  json statistics = {{"cycles", s.cycles},
-                     {"samples", s.samples},
-                     {"samples_lost", s.samples_lost},
-                     {"frames_corrupted", s.frames_corrupted},
-                     {"samples_late", s.samples_late},
-                     {"late_tolerance_s", o.late_tolerance_s},
-                     {"max_lateness_s", link.max_lateness_s},
-                     {"overruns", s.overruns},
-                     {"read_failures", s.read_failures},
-                     {"write_failures", s.write_failures},
-                     {"log_dropped", s.log_dropped},
-                     {"ring_overflows", link.ring_overflows},
-                     {"commands_sent", link.commands_sent},
-                     {"commands_dropped", link.commands_dropped},
-                     {"board_tx_overflows", link.board_tx_overflows},
-                     {"latency_p50_s", s.latency_p50_s},
-                     {"latency_p99_s", s.latency_p99_s},
-                     {"latency_max_s", s.latency_max_s},
-                     {"latency_overflows", s.latency_overflows},
-                     {"sched_fifo", s.sched_fifo},
-                     {"memory_locked", s.memory_locked},
-                     {"stopped_by", s.stopped_by.empty() ? json(nullptr) : json(s.stopped_by)},
-                     {"stop_confirmed", stop_problem.empty()}};
+  return t;
+}
+
+json statistics_json(const Outcome& out, const rig::SerialRigOptions& o) {
+  const rig::RunStatistics& s = out.stats;
+  const rig::SerialRigStats& link = out.link;
+  return {{"cycles", s.cycles},
+          {"samples", s.samples},
+          {"samples_lost", s.samples_lost},
+          {"frames_corrupted", s.frames_corrupted},
+          {"samples_late", s.samples_late},
+          {"late_tolerance_s", o.late_tolerance_s},
+          {"max_lateness_s", link.max_lateness_s},
+          {"overruns", s.overruns},
+          {"read_failures", s.read_failures},
+          {"write_failures", s.write_failures},
+          {"log_dropped", s.log_dropped},
+          {"ring_overflows", link.ring_overflows},
+          {"commands_sent", link.commands_sent},
+          {"commands_dropped", link.commands_dropped},
+          {"board_tx_overflows", link.board_tx_overflows},
+          {"latency_p50_s", s.latency_p50_s},
+          {"latency_p99_s", s.latency_p99_s},
+          {"latency_max_s", s.latency_max_s},
+          {"latency_overflows", s.latency_overflows},
+          {"sched_fifo", s.sched_fifo},
+          {"memory_locked", s.memory_locked},
+          {"stopped_by", s.stopped_by.empty() ? json(nullptr) : json(s.stopped_by)},
+          {"stop_confirmed", out.stop_problem.empty()}};
+}
+
+json units_json(const rig::SerialRigOptions& o) {
+  const bool position = o.mode == rig::CommandMode::position;
+  return {{"time_s", "s (board tick × sample time)"},
+          {"command", position ? "deg (motor-angle target)" : "V (driver speed input)"},
+          {"command_applied", position ? "deg (pulses emitted × 360 / pulses_per_rev)" : "V (DAC code)"},
+          {"encoder_counts", fmt::format("counts ({} per revolution)", o.counts_per_rev)},
+          {"motor_deg", "deg"},
+          {"gyro_raw", fmt::format("LSB ({} LSB per deg/s)", o.gyro_sensitivity_lsb_per_dps)},
+          {"gyro_deg_s", "deg/s"},
+          {"flags", "rig::MeasurementFlag bits (rig/types.hpp)"},
+          {"latency_s", "s (cycle deadline → command written)"}};
+}
+
+json configuration_json(const rig::SerialRigOptions& o, const RunState& st) {
+  return {{"mode", std::string(rig::to_string(o.mode))},
+          {"sample_rate_hz", o.sample_rate_hz},
+          {"update_rate_hz", o.update_rate_hz},
+          {"max_pulse_rate_hz", o.max_pulse_rate_hz},
+          {"baud", o.baud},
+          {"gyro_fs_sel", o.gyro_fs_sel},
+          {"gyro_dlpf_cfg", o.gyro_dlpf_cfg},
+          {"watchdog_ms", o.watchdog_ms},
+          {"counts_per_rev", o.counts_per_rev},
+          {"pulses_per_rev", o.pulses_per_rev},
+          {"servo_on", o.servo_on},
+          {"duration_s", st.duration_s},
+          {"realtime_scheduling", !st.no_realtime}};
+}
+
+void write_files(const RunState& st, const std::string& name, const RunPlan& p, const rig::SerialRig& r,
+                 const Table& t, const Outcome& out, const json& statistics) {
   auto doc = cs::io::make_document();
   doc["command"] = "rig " + name;
   doc["csv"] = st.output;
-  doc["complete"] = complete;
-  doc["columns"] = names;
-  doc["units"] = {{"time_s", "s (board tick × sample time)"},
-                  {"command", position ? "deg (motor-angle target)" : "V (driver speed input)"},
-                  {"command_applied", position ? "deg (pulses emitted × 360 / pulses_per_rev)" : "V (DAC code)"},
-                  {"encoder_counts", fmt::format("counts ({} per revolution)", o.counts_per_rev)},
-                  {"motor_deg", "deg"},
-                  {"gyro_raw", fmt::format("LSB ({} LSB per deg/s)", o.gyro_sensitivity_lsb_per_dps)},
-                  {"gyro_deg_s", "deg/s"},
-                  {"flags", "rig::MeasurementFlag bits (rig/types.hpp)"},
-                  {"latency_s", "s (cycle deadline → command written)"}};
+  doc["complete"] = out.stats.complete();
+  doc["columns"] = t.names;
+  doc["units"] = units_json(p.options);
   doc["rig"] = {{"kind", "physical"}, {"board", board_json(r)}};
-  doc["configuration"] = {{"mode", std::string(rig::to_string(o.mode))},
-                          {"sample_rate_hz", o.sample_rate_hz},
-                          {"update_rate_hz", o.update_rate_hz},
-                          {"max_pulse_rate_hz", o.max_pulse_rate_hz},
-                          {"baud", o.baud},
-                          {"gyro_fs_sel", o.gyro_fs_sel},
-                          {"gyro_dlpf_cfg", o.gyro_dlpf_cfg},
-                          {"watchdog_ms", o.watchdog_ms},
-                          {"counts_per_rev", o.counts_per_rev},
-                          {"pulses_per_rev", o.pulses_per_rev},
-                          {"servo_on", o.servo_on},
-                          {"duration_s", st.duration_s},
-                          {"realtime_scheduling", !st.no_realtime}};
-  doc["signal"] = signal_json;
-  doc["shaper"] = shaper_json;
+  doc["configuration"] = configuration_json(p.options, st);
+  doc["signal"] = p.signal;
+  doc["shaper"] = p.shaper_json;
   doc["statistics"] = statistics;
-  doc["warnings"] = warnings;
+  doc["warnings"] = out.warnings;
+  const auto sidecar = cs::cli::sidecar_path(st.output);
   cs::io::AtomicBatch batch;
-  batch.add(st.output, cs::io::format_csv(names, columns));
-  batch.add(sidecar_path(st.output), doc.dump(2) + "\n");
+  batch.add(st.output, cs::io::format_csv(t.names, t.columns));
+  batch.add(sidecar, doc.dump(2) + "\n");
   batch.commit();
-  fmt::print(stderr, "clearshape rig {}: wrote {} ({} rows) and {}\n", name, st.output, c.time_s.size(),
-             sidecar_path(st.output).string());
+  fmt::print(stderr, "clearshape rig {}: wrote {} ({} rows) and {}\n", name, st.output, t.columns[0]->size(),
+             sidecar.string());
+}
 
+void print_summary(const RunState& st, const std::string& name, const RunPlan& p, const Outcome& out,
+                   const json& statistics) {
+  const rig::RunStatistics& s = out.stats;
   if (st.json) {
-    auto out = cs::io::make_document();
-    out["command"] = "rig " + name;
-    out["output"] = st.output;
-    out["complete"] = complete;
-    out["statistics"] = statistics;
-    cs::cli::print_json(out);
-  } else {
-    fmt::print("{:<14}{} of {} ({} lost, {} corrupted frames, {} late beyond {:g} ms)\n", "samples", s.samples, s.cycles,
-               s.samples_lost, s.frames_corrupted, s.samples_late, o.late_tolerance_s * 1e3);
-    fmt::print("{:<14}p50 {:.1f} us, p99 {:.1f} us, max {:.1f} us; {} overruns{}\n", "loop latency",
-               s.latency_p50_s * 1e6, s.latency_p99_s * 1e6, s.latency_max_s * 1e6, s.overruns,
-               s.sched_fifo ? " (SCHED_FIFO)" : " (normal priority)");
-    fmt::print("{:<14}{}\n", "record", complete ? "complete" : "INCOMPLETE");
-    fmt::print("{:<14}{}\n", "output", st.output);
+    auto doc = cs::io::make_document();
+    doc["command"] = "rig " + name;
+    doc["output"] = st.output;
+    doc["complete"] = s.complete();
+    doc["statistics"] = statistics;
+    cs::cli::print_json(doc);
+    return;
   }
-  if (!stop_problem.empty()) {
-    fmt::print(stderr, "clearshape: warning: STOP was not confirmed: {}\n", stop_problem);
+  fmt::print("{:<14}{} of {} ({} lost, {} corrupted frames, {} late beyond {:g} ms)\n", "samples", s.samples, s.cycles,
+             s.samples_lost, s.frames_corrupted, s.samples_late, p.options.late_tolerance_s * 1e3);
+  fmt::print("{:<14}p50 {:.1f} us, p99 {:.1f} us, max {:.1f} us; {} overruns{}\n", "loop latency",
+             s.latency_p50_s * 1e6, s.latency_p99_s * 1e6, s.latency_max_s * 1e6, s.overruns,
+             s.sched_fifo ? " (SCHED_FIFO)" : " (normal priority)");
+  fmt::print("{:<14}{}\n", "record", s.complete() ? "complete" : "INCOMPLETE");
+  fmt::print("{:<14}{}\n", "output", st.output);
+}
+
+// A failed read stops the run; lost samples fail a `run` (its record has holes) and warn a `stream`.
+void check_outcome(const std::string& name, bool is_run, const RunPlan& p, const Outcome& out) {
+  const rig::RunStatistics& s = out.stats;
+  const std::string& port = p.options.port;
+  if (!out.stop_problem.empty()) {
+    fmt::print(stderr, "clearshape: warning: STOP was not confirmed: {}\n", out.stop_problem);
   }
   if (!s.stopped_by.empty()) {
-    throw cs::RuntimeError(fmt::format("rig {}: {} on {}; the record written is incomplete", name, s.stopped_by, o.port));
+    throw cs::RuntimeError(fmt::format("rig {}: {} on {}; the record written is incomplete", name, s.stopped_by, port));
   }
   if (s.samples_lost > 0) {
     const std::string what = fmt::format("rig {}: {} sample(s) lost on {}; the record has holes (flags bit 64, sidecar "
-                                         "\"complete\": false)", name, s.samples_lost, o.port);
+                                         "\"complete\": false)", name, s.samples_lost, port);
     if (is_run) throw cs::RuntimeError(what + " and must not be used as a complete run");
     fmt::print(stderr, "clearshape: warning: {}\n", what);
   }
+}
+
+void execute(const RunState& st, const std::string& name, bool is_run) {
+  const RunPlan p = plan(st, name, is_run);
+  rig::SerialRig r(p.options);
+  Columns c;
+  const Outcome out = run_on_board(st, name, is_run, p, r, c);
+  const Table t = table(c, p, is_run);
+  const json statistics = statistics_json(out, p.options);
+  write_files(st, name, p, r, t, out, statistics);
+  print_summary(st, name, p, out, statistics);
+  check_outcome(name, is_run, p, out);
 }
 
 void add_run_options(CLI::App& sub, RunState& st) {
