@@ -17,11 +17,11 @@
 #include "clearshape/core/units.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
-#include "clearshape/signal/parameters.hpp"
 #include "clearshape/signal/position_path.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "clearshape/signal/speed_path.hpp"
 #include "command.hpp"
+#include "run_json.hpp"
 #include "signal_options.hpp"
 
 namespace cs = clearshape;
@@ -69,12 +69,10 @@ std::string column(std::string_view stem, const std::string& unit) {
   return unit == "1" ? std::string(stem) : fmt::format("{}_{}", stem, unit);
 }
 
-nlohmann::ordered_json to_json(const sig::ParameterValue& v) {
-  return std::visit([](const auto& x) { return nlohmann::ordered_json(x); }, v);
-}
+// --- plan: the checked options and the column unit ---------------------------------------------
 
-void run(const State& st) {
-  const sig::Signal signal = st.signal_options.build(st.type);
+// Checks --rate, --duration and the path options; returns the unit of the command column.
+std::string checked_unit(const State& st) {
   if (!(st.rate_hz > 0.0 && st.rate_hz <= 1e6)) {
     cs::throw_invalid("--rate", st.rate_hz, "(0, 1e6] Hz", "Give the sample rate in Hz, e.g. 1000");
   }
@@ -90,138 +88,143 @@ void run(const State& st) {
   }
   require_path_options(st.position_options, st.path, "position");
   require_path_options(st.speed_options, st.path, "speed");
+  return unit;
+}
 
-  const cs::UniformSeries command = sig::sample(signal, st.rate_hz, st.duration_s);
+// A config's validate() names its field ("update_rate_hz = …"); the message names the option instead.
+template <class Config>
+void validate_naming_options(const Config& c, std::initializer_list<std::pair<const char*, const char*>> options) {
+  try {
+    c.validate();
+  } catch (const cs::InvalidArgument& e) {
+    std::string m = e.what();
+    for (auto [key, option] : options) {
+      if (m.rfind(std::string(key) + " = ", 0) == 0) m = option + m.substr(std::string(key).size());
+    }
+    throw cs::InvalidArgument(m);
+  }
+}
+
+// --- run: the command through a drive's command path ----------------------------------------------
+
+// The path's columns and its report (JSON and table rows); empty without a path.
+struct PathOutput {
+  std::vector<std::string> names;
+  std::vector<double> commanded, second;
+  nlohmann::ordered_json json;
+  std::vector<std::pair<std::string, std::string>> rows;
+};
+
+sig::PulseTrainConfig pulse_train_config(const State& st) {
+  sig::PulseTrainConfig c;
+  c.update_rate_hz = st.update_hz;
+  c.counts_per_rev = st.counts_per_rev;
+  c.gear_ratio = st.gear_ratio;
+  c.max_pulse_frequency_hz = st.max_pulse_hz;
+  c.velocity_hold = st.velocity_hold == "sampled" ? sig::VelocityHold::sampled : sig::VelocityHold::lookahead;
+  validate_naming_options(c, {{"update_rate_hz", "--update-hz"}, {"counts_per_rev", "--counts-per-rev"},
+                              {"gear_ratio", "--gear-ratio"}, {"max_pulse_frequency_hz", "--max-pulse-hz"}});
+  return c;
+}
+
+PathOutput position_path(const State& st, const sig::Signal& signal, const cs::UniformSeries& command) {
+  const sig::PulseTrainConfig c = pulse_train_config(st);
+  cs::UniformSeries rad = command;
+  for (double& v : rad.values) v = cs::deg_to_rad(v);
+  // The driver starts where the signal is before it starts (0, or the offset).
+  const sig::PositionPathResult r = sig::apply_position_path(rad, c, cs::deg_to_rad(signal.value_at(-1.0)));
+  PathOutput out;
+  out.commanded = r.commanded_rad.values;
+  for (double& v : out.commanded) v = cs::rad_to_deg(v);
+  out.second = r.pulse_frequency_hz.values;
+  out.names = {"commanded_deg", "pulse_frequency_hz"};
+  double max_f = 0.0;
+  for (double f : out.second) max_f = std::max(max_f, std::abs(f));
+  std::int64_t final_count = r.initial_count;
+  for (auto n : r.pulses_per_update) final_count += n;
+  const double final_deg = out.commanded.back();
+  out.json = {{"mode", "position"},
+              {"update_hz", c.update_rate_hz},
+              {"counts_per_rev", c.counts_per_rev},
+              {"gear_ratio", c.gear_ratio},
+              {"max_pulse_frequency_hz", c.max_pulse_frequency_hz},
+              {"velocity_hold", st.velocity_hold},
+              {"updates", r.pulses_per_update.size()},
+              {"saturated_updates", r.saturated_updates},
+              {"max_lag_deg", cs::rad_to_deg(r.max_lag_rad)},
+              {"peak_pulse_frequency_hz", max_f},
+              {"final_count", final_count},
+              {"final_commanded_deg", final_deg}};
+  out.rows = {{"path", fmt::format("position: {} Hz updates, {} counts/rev, gear {}, {} velocity",
+                                   num(c.update_rate_hz), num(c.counts_per_rev), num(c.gear_ratio), st.velocity_hold)},
+              {"final commanded", fmt::format("{} deg ({} counts)", num(final_deg), final_count)},
+              {"peak pulse frequency", fmt::format("{} Hz (cap {} Hz)", num(max_f), num(c.max_pulse_frequency_hz))},
+              {"saturated updates", fmt::format("{} of {}", r.saturated_updates, r.pulses_per_update.size())},
+              {"max lag", fmt::format("{} deg", num(cs::rad_to_deg(r.max_lag_rad)))}};
+  if (r.saturated_updates > 0) {
+    fmt::print(stderr, "clearshape signal: warning: {} update(s) hit the {} Hz pulse cap; the commanded "
+                       "position lags the trajectory (max {} deg)\n",
+               r.saturated_updates, c.max_pulse_frequency_hz, cs::rad_to_deg(r.max_lag_rad));
+  }
+  return out;
+}
+
+PathOutput speed_path(const State& st, const std::string& unit, const cs::UniformSeries& command) {
+  sig::AnalogOutputConfig c;
+  c.volts_per_unit = unit == "V" && st.speed_options[0]->count() == 0 ? 1.0 : st.daq_scale;
+  c.resolution_bits = st.daq_bits;
+  c.full_scale_v = st.daq_range_v;
+  validate_naming_options(c, {{"volts_per_unit", "--daq-scale"}, {"resolution_bits", "--daq-bits"},
+                              {"full_scale_v", "--daq-range-v"}});
+  const sig::SpeedPathResult r = sig::apply_speed_path(command, c);
+  PathOutput out;
+  out.commanded = r.commanded.values;
+  out.second = r.volts.values;
+  out.names = {column("commanded", unit), "daq_v"};
+  out.json = {{"mode", "speed"},
+              {"volts_per_unit", c.volts_per_unit},
+              {"resolution_bits", c.resolution_bits},
+              {"full_scale_v", c.full_scale_v},
+              {"lsb_v", c.lsb_v()},
+              {"clipped_samples", r.clipped_samples},
+              {"final_commanded", out.commanded.back()},
+              {"final_v", out.second.back()}};
+  out.rows = {{"path", fmt::format("speed: {}-bit D/A, +/-{} V, {} V per {}", c.resolution_bits,
+                                   num(c.full_scale_v), num(c.volts_per_unit), unit)},
+              {"final commanded", fmt::format("{} {} ({} V)", num(out.commanded.back()), unit, num(out.second.back()))},
+              {"clipped samples", fmt::format("{} of {}", r.clipped_samples, command.size())}};
+  if (r.clipped_samples > 0) {
+    fmt::print(stderr, "clearshape signal: warning: {} sample(s) clipped at +/-{} V\n",
+               r.clipped_samples, c.full_scale_v);
+  }
+  return out;
+}
+
+// --- write: the CSV and stdout ------------------------------------------------------------------
+
+void print_json(const State& st, const sig::Signal& signal, const std::string& unit, const cs::UniformSeries& command,
+                const std::vector<std::string>& names, const PathOutput& path) {
   const auto [lo, hi] = std::minmax_element(command.values.begin(), command.values.end());
-  const std::vector<double> time = command.times_s();
+  auto doc = cs::io::make_document();
+  doc["command"] = "signal";
+  doc["type"] = std::string(signal.type());
+  doc["parameters"] = cs::cli::signal_parameters_json(signal);
+  doc["unit"] = unit;
+  doc["samples"] = command.size();
+  doc["sample_time_s"] = command.sample_time_s;
+  doc["duration_s"] = command.end_s();
+  doc["min"] = *lo;
+  doc["max"] = *hi;
+  doc["final"] = command.values.back();
+  doc["columns"] = names;
+  doc["path"] = path.json.is_null() ? nlohmann::ordered_json("none") : path.json;
+  doc["output"] = st.output.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(st.output);
+  cs::cli::print_json(doc);
+}
 
-  std::vector<std::string> names = {"time_s", column("command", unit)};
-  std::vector<const std::vector<double>*> columns = {&time, &command.values};
-  nlohmann::ordered_json path_json;
-  std::vector<std::pair<std::string, std::string>> path_rows;
-  std::vector<double> commanded;
-  std::vector<double> second;
-
-  if (st.path == "position") {
-    sig::PulseTrainConfig c;
-    c.update_rate_hz = st.update_hz;
-    c.counts_per_rev = st.counts_per_rev;
-    c.gear_ratio = st.gear_ratio;
-    c.max_pulse_frequency_hz = st.max_pulse_hz;
-    c.velocity_hold = st.velocity_hold == "sampled" ? sig::VelocityHold::sampled : sig::VelocityHold::lookahead;
-    try {
-      c.validate();
-    } catch (const cs::InvalidArgument& e) {  // name the options
-      std::string m = e.what();
-      for (auto [key, option] : {std::pair{"update_rate_hz", "--update-hz"}, {"counts_per_rev", "--counts-per-rev"},
-                                 {"gear_ratio", "--gear-ratio"}, {"max_pulse_frequency_hz", "--max-pulse-hz"}}) {
-        if (m.rfind(std::string(key) + " = ", 0) == 0) m = option + m.substr(std::string(key).size());
-      }
-      throw cs::InvalidArgument(m);
-    }
-    cs::UniformSeries rad = command;
-    for (double& v : rad.values) v = cs::deg_to_rad(v);
-    // The driver starts where the signal is before it starts (0, or the offset).
-    const sig::PositionPathResult r = sig::apply_position_path(rad, c, cs::deg_to_rad(signal.value_at(-1.0)));
-    commanded = r.commanded_rad.values;
-    for (double& v : commanded) v = cs::rad_to_deg(v);
-    second = r.pulse_frequency_hz.values;
-    names.push_back("commanded_deg");
-    names.push_back("pulse_frequency_hz");
-    columns.push_back(&commanded);
-    columns.push_back(&second);
-    double max_f = 0.0;
-    for (double f : second) max_f = std::max(max_f, std::abs(f));
-    std::int64_t final_count = r.initial_count;
-    for (auto n : r.pulses_per_update) final_count += n;
-    path_json = {{"mode", "position"},
-                 {"update_hz", c.update_rate_hz},
-                 {"counts_per_rev", c.counts_per_rev},
-                 {"gear_ratio", c.gear_ratio},
-                 {"max_pulse_frequency_hz", c.max_pulse_frequency_hz},
-                 {"velocity_hold", st.velocity_hold},
-                 {"updates", r.pulses_per_update.size()},
-                 {"saturated_updates", r.saturated_updates},
-                 {"max_lag_deg", cs::rad_to_deg(r.max_lag_rad)},
-                 {"peak_pulse_frequency_hz", max_f},
-                 {"final_count", final_count},
-                 {"final_commanded_deg", commanded.back()}};
-    path_rows = {{"path", fmt::format("position: {} Hz updates, {} counts/rev, gear {}, {} velocity",
-                                      num(c.update_rate_hz), num(c.counts_per_rev), num(c.gear_ratio), st.velocity_hold)},
-                 {"final commanded", fmt::format("{} deg ({} counts)", num(commanded.back()), final_count)},
-                 {"peak pulse frequency", fmt::format("{} Hz (cap {} Hz)", num(max_f), num(c.max_pulse_frequency_hz))},
-                 {"saturated updates", fmt::format("{} of {}", r.saturated_updates, r.pulses_per_update.size())},
-                 {"max lag", fmt::format("{} deg", num(cs::rad_to_deg(r.max_lag_rad)))}};
-    if (r.saturated_updates > 0) {
-      fmt::print(stderr, "clearshape signal: warning: {} update(s) hit the {} Hz pulse cap; the commanded "
-                         "position lags the trajectory (max {} deg)\n",
-                 r.saturated_updates, c.max_pulse_frequency_hz, cs::rad_to_deg(r.max_lag_rad));
-    }
-  } else if (st.path == "speed") {
-    sig::AnalogOutputConfig c;
-    c.volts_per_unit = unit == "V" && st.speed_options[0]->count() == 0 ? 1.0 : st.daq_scale;
-    c.resolution_bits = st.daq_bits;
-    c.full_scale_v = st.daq_range_v;
-    try {
-      c.validate();
-    } catch (const cs::InvalidArgument& e) {
-      std::string m = e.what();
-      for (auto [key, option] : {std::pair{"volts_per_unit", "--daq-scale"}, {"resolution_bits", "--daq-bits"},
-                                 {"full_scale_v", "--daq-range-v"}}) {
-        if (m.rfind(std::string(key) + " = ", 0) == 0) m = option + m.substr(std::string(key).size());
-      }
-      throw cs::InvalidArgument(m);
-    }
-    const sig::SpeedPathResult r = sig::apply_speed_path(command, c);
-    commanded = r.commanded.values;
-    second = r.volts.values;
-    names.push_back(column("commanded", unit));
-    names.push_back("daq_v");
-    columns.push_back(&commanded);
-    columns.push_back(&second);
-    path_json = {{"mode", "speed"},
-                 {"volts_per_unit", c.volts_per_unit},
-                 {"resolution_bits", c.resolution_bits},
-                 {"full_scale_v", c.full_scale_v},
-                 {"lsb_v", c.lsb_v()},
-                 {"clipped_samples", r.clipped_samples},
-                 {"final_commanded", commanded.back()},
-                 {"final_v", second.back()}};
-    path_rows = {{"path", fmt::format("speed: {}-bit D/A, +/-{} V, {} V per {}", c.resolution_bits,
-                                      num(c.full_scale_v), num(c.volts_per_unit), unit)},
-                 {"final commanded", fmt::format("{} {} ({} V)", num(commanded.back()), unit, num(second.back()))},
-                 {"clipped samples", fmt::format("{} of {}", r.clipped_samples, command.size())}};
-    if (r.clipped_samples > 0) {
-      fmt::print(stderr, "clearshape signal: warning: {} sample(s) clipped at +/-{} V\n",
-                 r.clipped_samples, c.full_scale_v);
-    }
-  }
-
-  if (!st.output.empty()) {
-    cs::io::write_csv(st.output, names, columns);
-    fmt::print(stderr, "clearshape signal: wrote {} ({} rows)\n", st.output, command.size());
-  }
-
-  if (st.json) {
-    auto doc = cs::io::make_document();
-    doc["command"] = "signal";
-    doc["type"] = std::string(signal.type());
-    nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
-    for (const auto& [key, value] : sig::parameters_of(signal)) parameters[key] = to_json(value);
-    doc["parameters"] = parameters;
-    doc["unit"] = unit;
-    doc["samples"] = command.size();
-    doc["sample_time_s"] = command.sample_time_s;
-    doc["duration_s"] = command.end_s();
-    doc["min"] = *lo;
-    doc["max"] = *hi;
-    doc["final"] = command.values.back();
-    doc["columns"] = names;
-    doc["path"] = path_json.is_null() ? nlohmann::ordered_json("none") : path_json;
-    doc["output"] = st.output.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(st.output);
-    cs::cli::print_json(doc);
-    return;
-  }
+void print_table(const State& st, const sig::Signal& signal, const std::string& unit, const cs::UniformSeries& command,
+                 const PathOutput& path) {
+  const auto [lo, hi] = std::minmax_element(command.values.begin(), command.values.end());
   const std::string u = unit == "1" ? "" : " " + unit;
   std::vector<std::pair<std::string, std::string>> rows = {
       {"signal", std::string(signal.type())},
@@ -229,9 +232,35 @@ void run(const State& st) {
       {"min", num(*lo) + u},
       {"max", num(*hi) + u},
       {"final", num(command.values.back()) + u}};
-  rows.insert(rows.end(), path_rows.begin(), path_rows.end());
+  rows.insert(rows.end(), path.rows.begin(), path.rows.end());
   if (!st.output.empty()) rows.emplace_back("output", st.output);
   for (const auto& [k, v] : rows) fmt::print("{:<22}{}\n", k, v);
+}
+
+void run(const State& st) {
+  const sig::Signal signal = st.signal_options.build(st.type);
+  const std::string unit = checked_unit(st);
+  const cs::UniformSeries command = sig::sample(signal, st.rate_hz, st.duration_s);
+  PathOutput path;
+  if (st.path == "position") path = position_path(st, signal, command);
+  if (st.path == "speed") path = speed_path(st, unit, command);
+
+  const std::vector<double> time = command.times_s();
+  std::vector<std::string> names = {"time_s", column("command", unit)};
+  std::vector<const std::vector<double>*> columns = {&time, &command.values};
+  if (!path.names.empty()) {
+    names.insert(names.end(), path.names.begin(), path.names.end());
+    columns.insert(columns.end(), {&path.commanded, &path.second});
+  }
+  if (!st.output.empty()) {
+    cs::io::write_csv(st.output, names, columns);
+    fmt::print(stderr, "clearshape signal: wrote {} ({} rows)\n", st.output, command.size());
+  }
+  if (st.json) {
+    print_json(st, signal, unit, command, names, path);
+  } else {
+    print_table(st, signal, unit, command, path);
+  }
 }
 
 void setup(CLI::App& sub) {
