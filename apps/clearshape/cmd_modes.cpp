@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -94,8 +95,15 @@ nlohmann::ordered_json number_or_null(double v) {
   return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
 }
 
-void run_modes(const ModesState& st) {
-  const io::Table t = io::read_table(st.data);
+// --- plan: the record's timing and window, the ident options ------------------------------------
+
+// The record's sample time: a time column, --sample-time, or none (frequencies per sample).
+struct Timing {
+  double dt = 1.0;
+  bool per_sample = false;
+};
+
+Timing timing(const ModesState& st, const io::Table& t) {
   const bool have_ts = st.sample_time_option != nullptr && st.sample_time_option->count() > 0;
   std::optional<std::size_t> tc;
   if (!st.time_column.empty()) {
@@ -104,105 +112,144 @@ void run_modes(const ModesState& st) {
   } else if (!have_ts) {
     tc = time_column(t);
   }
-  double dt = 1.0;
-  bool per_sample = false;
-  if (tc) {
-    dt = io::uniform_sample_time(t, t.names[*tc]);
-  } else if (have_ts) {
+  if (tc) return {io::uniform_sample_time(t, t.names[*tc]), false};
+  if (have_ts) {
     require_positive("--sample-time", st.sample_time_s, "Give the sample time of the record in seconds.");
-    dt = st.sample_time_s;
-  } else {
-    per_sample = true;  // frequencies in cycles/sample
+    return {st.sample_time_s, false};
   }
-  const std::vector<double>& y_all = t.columns[column_index(t, st.output_column)];
-  const auto [from, end] = window(st, y_all.size(), dt, per_sample);
-  const auto first = static_cast<std::ptrdiff_t>(from), last = static_cast<std::ptrdiff_t>(end);
-  const std::vector<double> y(y_all.begin() + first, y_all.begin() + last);
-  ident::ModeOptions o;
-  o.modes = st.modes;
-  o.order = st.order;
-  o.refine = !st.no_refine;
-  o.estimate_offset = !st.no_offset;
-  o.max_damping_ratio = st.max_damping;
-  ident::ModeIdentification r;
-  std::string kind;
-  if (!st.input_column.empty()) {
-    const std::vector<double>& u_all = t.columns[column_index(t, st.input_column)];
-    ident::Experiment e{st.data, dt, std::vector<double>(u_all.begin() + first, u_all.begin() + last), y};
-    r = ident::identify_modes(e, o);
-    kind = "input-output";
-  } else {
-    r = ident::identify_free_response_modes(UniformSeries{0.0, dt, y}, o);
-    kind = "free response";
-  }
-  const auto warnings = modes_warnings(r, st);
-  for (const auto& w : warnings) fmt::print(stderr, "clearshape modes: warning: {}\n", w);
-  if (!warnings.empty()) fmt::print(stderr, "clearshape modes: the result is NOT to be trusted (\"trusted\": false)\n");
+  return {1.0, true};  // frequencies in cycles/sample
+}
 
-  const std::string unit = per_sample ? "cycles/sample" : "Hz";
-  const std::string key = per_sample ? "frequency_cycles_per_sample" : "frequency_hz";
-  // A ready `clearshape shape` command for the first one or two modes (needs Hz).
-  std::string shape_command;
-  if (!per_sample && !r.modes.empty()) {
-    shape_command = fmt::format("clearshape shape --method zvd --frequency-hz {:.6g} --zeta {:.6g}",
+struct ModesPlan {
+  Timing timing;
+  std::size_t from = 0, end = 0;  ///< the window, samples [from, end)
+  std::vector<double> y;          ///< the output column in the window
+  ident::ModeOptions options;
+};
+
+ModesPlan plan(const ModesState& st, const io::Table& t) {
+  ModesPlan p;
+  p.timing = timing(st, t);
+  const std::vector<double>& y_all = t.columns[column_index(t, st.output_column)];
+  std::tie(p.from, p.end) = window(st, y_all.size(), p.timing.dt, p.timing.per_sample);
+  p.y.assign(y_all.begin() + static_cast<std::ptrdiff_t>(p.from), y_all.begin() + static_cast<std::ptrdiff_t>(p.end));
+  p.options.modes = st.modes;
+  p.options.order = st.order;
+  p.options.refine = !st.no_refine;
+  p.options.estimate_offset = !st.no_offset;
+  p.options.max_damping_ratio = st.max_damping;
+  return p;
+}
+
+// --- run: free response or input/output ------------------------------------------------------------
+
+struct ModesResult {
+  ident::ModeIdentification identification;
+  std::string kind;  ///< "free response" or "input-output"
+};
+
+ModesResult identify(const ModesState& st, const io::Table& t, const ModesPlan& p) {
+  if (st.input_column.empty()) {
+    return {ident::identify_free_response_modes(UniformSeries{0.0, p.timing.dt, p.y}, p.options), "free response"};
+  }
+  const std::vector<double>& u_all = t.columns[column_index(t, st.input_column)];
+  const auto first = static_cast<std::ptrdiff_t>(p.from), last = static_cast<std::ptrdiff_t>(p.end);
+  ident::Experiment e{st.data, p.timing.dt, std::vector<double>(u_all.begin() + first, u_all.begin() + last), p.y};
+  return {ident::identify_modes(e, p.options), "input-output"};
+}
+
+// --- write: stdout ------------------------------------------------------------------------------------
+
+// A ready `clearshape shape` command for the first one or two modes (needs Hz).
+std::string shape_command(const ident::ModeIdentification& r, bool per_sample) {
+  if (per_sample || r.modes.empty()) return {};
+  std::string out = fmt::format("clearshape shape --method zvd --frequency-hz {:.6g} --zeta {:.6g}",
                                 r.modes[0].natural_frequency_hz(), r.modes[0].damping_ratio);
-    if (r.modes.size() > 1) {
-      shape_command += fmt::format(" --second-frequency-hz {:.6g} --second-zeta {:.6g}", r.modes[1].natural_frequency_hz(),
-                                   r.modes[1].damping_ratio);
-    }
+  if (r.modes.size() > 1) {
+    out += fmt::format(" --second-frequency-hz {:.6g} --second-zeta {:.6g}", r.modes[1].natural_frequency_hz(),
+                       r.modes[1].damping_ratio);
   }
-  if (st.json) {
-    auto doc = io::make_document();
-    doc["command"] = "modes";
-    doc["data"] = st.data;
-    doc["kind"] = kind;
-    doc["method"] = r.method;
-    doc["samples"] = y.size();
-    doc["window"] = {{"from_sample", from}, {"to_sample", end}};
-    doc["sample_time_s"] = per_sample ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(dt);
-    doc["frequency_unit"] = unit;
-    if (per_sample) {
-      doc["note"] = "no time column and no --sample-time: frequencies are per sample (cycles/sample); "
-                    "give --sample-time or a time column for Hz";
-    }
-    doc["fit_percent"] = r.fit_percent;
-    doc["rmse"] = r.rmse;
-    doc["decimation"] = r.decimation;
-    nlohmann::ordered_json modes = nlohmann::ordered_json::array();
-    for (const auto& m : r.modes) {
-      nlohmann::ordered_json j;
-      j[key] = m.natural_frequency_hz();
-      j[per_sample ? "frequency_std_cycles_per_sample" : "frequency_std_hz"] = number_or_null(m.natural_frequency_std_hz());
-      j[per_sample ? "natural_frequency_rad_per_sample" : "natural_frequency_rad_s"] = m.natural_frequency_rad_s;
-      j[per_sample ? "natural_frequency_std_rad_per_sample" : "natural_frequency_std_rad_s"] =
-          number_or_null(m.natural_frequency_std_rad_s);
-      j[per_sample ? "damped_frequency_cycles_per_sample" : "damped_frequency_hz"] = m.damped_frequency_hz();
-      j["damping_ratio"] = m.damping_ratio;
-      j["damping_ratio_std"] = number_or_null(m.damping_ratio_std);
-      j["amplitude"] = m.amplitude;
-      j["amplitude_std"] = number_or_null(m.amplitude_std);
-      j["amplitude_meaning"] = st.input_column.empty() ? "initial amplitude of the damped sinusoid (output units)"
-                                                       : "peak gain of the mode's term (output per input unit)";
-      j["rms_contribution"] = m.rms_contribution;
-      modes.push_back(j);
-    }
-    doc["modes"] = modes;
-    doc["shape_command"] = shape_command.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(shape_command);
-    doc["trusted"] = warnings.empty();
-    doc["warnings"] = warnings;
-    print_json(doc);
-    return;
+  return out;
+}
+
+nlohmann::ordered_json mode_json(const ident::ModeEstimate& m, bool per_sample, bool input_output) {
+  nlohmann::ordered_json j;
+  j[per_sample ? "frequency_cycles_per_sample" : "frequency_hz"] = m.natural_frequency_hz();
+  j[per_sample ? "frequency_std_cycles_per_sample" : "frequency_std_hz"] = number_or_null(m.natural_frequency_std_hz());
+  j[per_sample ? "natural_frequency_rad_per_sample" : "natural_frequency_rad_s"] = m.natural_frequency_rad_s;
+  j[per_sample ? "natural_frequency_std_rad_per_sample" : "natural_frequency_std_rad_s"] =
+      number_or_null(m.natural_frequency_std_rad_s);
+  j[per_sample ? "damped_frequency_cycles_per_sample" : "damped_frequency_hz"] = m.damped_frequency_hz();
+  j["damping_ratio"] = m.damping_ratio;
+  j["damping_ratio_std"] = number_or_null(m.damping_ratio_std);
+  j["amplitude"] = m.amplitude;
+  j["amplitude_std"] = number_or_null(m.amplitude_std);
+  j["amplitude_meaning"] = !input_output ? "initial amplitude of the damped sinusoid (output units)"
+                                         : "peak gain of the mode's term (output per input unit)";
+  j["rms_contribution"] = m.rms_contribution;
+  return j;
+}
+
+void print_modes_json(const ModesState& st, const ModesPlan& p, const ModesResult& res,
+                      const std::vector<std::string>& warnings) {
+  const ident::ModeIdentification& r = res.identification;
+  const bool per_sample = p.timing.per_sample;
+  auto doc = io::make_document();
+  doc["command"] = "modes";
+  doc["data"] = st.data;
+  doc["kind"] = res.kind;
+  doc["method"] = r.method;
+  doc["samples"] = p.y.size();
+  doc["window"] = {{"from_sample", p.from}, {"to_sample", p.end}};
+  doc["sample_time_s"] = per_sample ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(p.timing.dt);
+  doc["frequency_unit"] = per_sample ? "cycles/sample" : "Hz";
+  if (per_sample) {
+    doc["note"] = "no time column and no --sample-time: frequencies are per sample (cycles/sample); "
+                  "give --sample-time or a time column for Hz";
   }
-  fmt::print("{} modes of {} ({} samples, {}), fit {:.3f} %\n", kind, st.data, y.size(), r.method, r.fit_percent);
+  doc["fit_percent"] = r.fit_percent;
+  doc["rmse"] = r.rmse;
+  doc["decimation"] = r.decimation;
+  nlohmann::ordered_json modes = nlohmann::ordered_json::array();
+  for (const auto& m : r.modes) modes.push_back(mode_json(m, per_sample, !st.input_column.empty()));
+  doc["modes"] = modes;
+  const std::string shape = shape_command(r, per_sample);
+  doc["shape_command"] = shape.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(shape);
+  doc["trusted"] = warnings.empty();
+  doc["warnings"] = warnings;
+  print_json(doc);
+}
+
+void print_modes_table(const ModesState& st, const ModesPlan& p, const ModesResult& res) {
+  const ident::ModeIdentification& r = res.identification;
+  const bool per_sample = p.timing.per_sample;
+  fmt::print("{} modes of {} ({} samples, {}), fit {:.3f} %\n", res.kind, st.data, p.y.size(), r.method,
+             r.fit_percent);
   if (per_sample) fmt::print("no sample time: frequencies are per sample (cycles/sample); give --sample-time for Hz\n");
-  fmt::print("\n  #  {:>16} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "frequency " + unit, "std", "zeta", "std", "amplitude",
+  fmt::print("\n  #  {:>16} {:>12} {:>12} {:>12} {:>12} {:>12}\n",
+             std::string("frequency ") + (per_sample ? "cycles/sample" : "Hz"), "std", "zeta", "std", "amplitude",
              "std");
   std::size_t i = 0;
   for (const auto& m : r.modes) {
     fmt::print("  {}  {:>16.7g} {:>12.3g} {:>12.6g} {:>12.3g} {:>12.5g} {:>12.3g}\n", ++i, m.natural_frequency_hz(),
                m.natural_frequency_std_hz(), m.damping_ratio, m.damping_ratio_std, m.amplitude, m.amplitude_std);
   }
-  if (!shape_command.empty()) fmt::print("\nshaper: {}\n", shape_command);
+  const std::string shape = shape_command(r, per_sample);
+  if (!shape.empty()) fmt::print("\nshaper: {}\n", shape);
+}
+
+void run_modes(const ModesState& st) {
+  const io::Table t = io::read_table(st.data);
+  const ModesPlan p = plan(st, t);
+  const ModesResult res = identify(st, t, p);
+  const auto warnings = modes_warnings(res.identification, st);
+  for (const auto& w : warnings) fmt::print(stderr, "clearshape modes: warning: {}\n", w);
+  if (!warnings.empty()) fmt::print(stderr, "clearshape modes: the result is NOT to be trusted (\"trusted\": false)\n");
+  if (st.json) {
+    print_modes_json(st, p, res, warnings);
+  } else {
+    print_modes_table(st, p, res);
+  }
 }
 
 void setup(CLI::App& sub) {
