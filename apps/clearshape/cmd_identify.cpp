@@ -366,114 +366,155 @@ void write_simulated(const std::string& path, const ident::Experiment& e, const 
   fmt::print(stderr, "clearshape identify: wrote {} ({} rows)\n", path, time.size());
 }
 
-void run_identify(const IdentifyState& st) {
+// --- plan: the structure, the runs and the fit options ------------------------------------------
+
+struct IdentifyPlan {
+  lti::ProcessStructure structure;
+  std::string model;  ///< as the user wrote it, upper case ("P3UZ", the thesis's spelling)
+  std::vector<ident::Experiment> experiments;
+  ident::ProcessFitOptions options;
+};
+
+IdentifyPlan plan(const IdentifyState& st) {
   if (st.data.empty()) throw InvalidArgument("identify: give at least one --data FILE");
-  const lti::ProcessStructure structure = lti::ProcessStructure::parse(st.model);
-  std::string requested_model = st.model;
-  for (char& c : requested_model) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  lti::ProcessStructure structure = lti::ProcessStructure::parse(st.model);
+  std::string model = st.model;
+  for (char& c : model) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   std::vector<ident::Experiment> experiments;
   for (const auto& path : st.data) experiments.push_back(load(path, st));
-  const ident::ProcessFitOptions options = fit_options(st);
+  ident::ProcessFitOptions options = fit_options(st);
+  return {std::move(structure), std::move(model), std::move(experiments), std::move(options)};
+}
 
-  if (st.crossval) {
-    if (!st.simulated_csv.empty()) throw InvalidArgument("identify: --simulated applies without --crossval");
-    ident::CrossValidationOptions co;
-    co.fit = options;
-    fmt::print(stderr, "clearshape identify: cross-validating {} on {} runs\n", requested_model, experiments.size());
-    const auto cv = ident::cross_validate(structure, experiments, co);
-    std::vector<std::vector<std::string>> warnings;
-    for (const auto& e : cv.estimates) warnings.push_back(identify_warnings(e, st));
-    for (std::size_t i = 0; i < warnings.size(); ++i) {
-      for (const auto& w : warnings[i]) fmt::print(stderr, "clearshape identify: warning: model from {}: {}\n", cv.names[i], w);
-    }
-    if (!cv.best_trusted) fmt::print(stderr, "clearshape identify: no model is to be trusted; the best is marked untrusted\n");
-    if (st.json) {
-      auto doc = io::make_document();
-      doc["command"] = "identify";
-      doc["mode"] = "crossval";
-      doc["model"] = requested_model;
-      doc["model_canonical"] = structure.code();
-      doc["experiments"] = cv.names;
-      nlohmann::ordered_json m = nlohmann::ordered_json::array();
-      for (Eigen::Index i = 0; i < cv.fit_percent.rows(); ++i) {
-        nlohmann::ordered_json row = nlohmann::ordered_json::array();
-        for (Eigen::Index j = 0; j < cv.fit_percent.cols(); ++j) row.push_back(cv.fit_percent(i, j));
-        m.push_back(row);
-      }
-      doc["fit_percent_matrix"] = m;
-      doc["matrix_layout"] = "row i: model identified on experiment i; column j: simulated on experiment j (NRMSE fit %)";
-      nlohmann::ordered_json models = nlohmann::ordered_json::array();
-      for (std::size_t i = 0; i < cv.estimates.size(); ++i) {
-        auto j = estimate_json(cv.estimates[i], {st.data[i]}, requested_model);
-        j["identified_on"] = cv.names[i];
-        j["mean_validation_fit_percent"] = cv.mean_validation_fit_percent[i];
-        j["trusted"] = warnings[i].empty();
-        j["warnings"] = warnings[i];
-        models.push_back(j);
-      }
-      doc["models"] = models;
-      doc["best"] = {{"index", cv.best}, {"identified_on", cv.names[cv.best]},
-                     {"mean_validation_fit_percent", cv.mean_validation_fit_percent[cv.best]},
-                     {"trusted", warnings[cv.best].empty()}};
-      if (cv.joint) {
-        auto j = estimate_json(*cv.joint, st.data, requested_model);
-        doc["joint"] = j;
-      }
-      print_json(doc);
-      return;
-    }
-    fmt::print("cross-validation of {} (thesis §4.2): NRMSE fit %, row = identified on, column = simulated on\n\n",
-               requested_model);
-    fmt::print("  {:<16}", "");
-    for (const auto& n : cv.names) fmt::print(" {:>12.12}", n);
-    fmt::print(" {:>12}\n", "mean other");
-    for (std::size_t i = 0; i < cv.names.size(); ++i) {
-      fmt::print("  {:<16.16}", cv.names[i]);
-      for (std::size_t j = 0; j < cv.names.size(); ++j) {
-        fmt::print(" {:>12.3f}", cv.fit_percent(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
-      }
-      fmt::print(" {:>12.3f}{}{}\n", cv.mean_validation_fit_percent[i], i == cv.best ? "  <- best" : "",
-                 warnings[i].empty() ? "" : "  (not trusted)");
-    }
-    if (cv.joint) {
-      fmt::print("  {:<16}", "joint (all)");
-      for (double f : cv.joint_fit_percent) fmt::print(" {:>12.3f}", f);
-      fmt::print("\n");
-    }
-    fmt::print("\nbest: identified on {}\n", cv.names[cv.best]);
-    print_estimate(cv.estimates[cv.best], requested_model);
-    return;
+// --- crossval: each run identified alone, simulated on every other -------------------------------
+
+using ModelWarnings = std::vector<std::vector<std::string>>;  // per model of the cross-validation
+
+nlohmann::ordered_json matrix_json(const Eigen::MatrixXd& fit_percent) {
+  nlohmann::ordered_json m = nlohmann::ordered_json::array();
+  for (Eigen::Index i = 0; i < fit_percent.rows(); ++i) {
+    nlohmann::ordered_json row = nlohmann::ordered_json::array();
+    for (Eigen::Index j = 0; j < fit_percent.cols(); ++j) row.push_back(fit_percent(i, j));
+    m.push_back(row);
   }
+  return m;
+}
 
-  fmt::print(stderr, "clearshape identify: fitting {} to {} run(s)\n", requested_model, experiments.size());
-  const auto est = ident::estimate_process_model(structure, experiments, options);
+nlohmann::ordered_json crossval_json(const IdentifyState& st, const IdentifyPlan& p, const ident::CrossValidation& cv,
+                                     const ModelWarnings& warnings) {
+  auto doc = io::make_document();
+  doc["command"] = "identify";
+  doc["mode"] = "crossval";
+  doc["model"] = p.model;
+  doc["model_canonical"] = p.structure.code();
+  doc["experiments"] = cv.names;
+  doc["fit_percent_matrix"] = matrix_json(cv.fit_percent);
+  doc["matrix_layout"] = "row i: model identified on experiment i; column j: simulated on experiment j (NRMSE fit %)";
+  nlohmann::ordered_json models = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < cv.estimates.size(); ++i) {
+    auto j = estimate_json(cv.estimates[i], {st.data[i]}, p.model);
+    j["identified_on"] = cv.names[i];
+    j["mean_validation_fit_percent"] = cv.mean_validation_fit_percent[i];
+    j["trusted"] = warnings[i].empty();
+    j["warnings"] = warnings[i];
+    models.push_back(j);
+  }
+  doc["models"] = models;
+  doc["best"] = {{"index", cv.best}, {"identified_on", cv.names[cv.best]},
+                 {"mean_validation_fit_percent", cv.mean_validation_fit_percent[cv.best]},
+                 {"trusted", warnings[cv.best].empty()}};
+  if (cv.joint) doc["joint"] = estimate_json(*cv.joint, st.data, p.model);
+  return doc;
+}
+
+void print_crossval(const IdentifyPlan& p, const ident::CrossValidation& cv, const ModelWarnings& warnings) {
+  fmt::print("cross-validation of {} (thesis §4.2): NRMSE fit %, row = identified on, column = simulated on\n\n",
+             p.model);
+  fmt::print("  {:<16}", "");
+  for (const auto& n : cv.names) fmt::print(" {:>12.12}", n);
+  fmt::print(" {:>12}\n", "mean other");
+  for (std::size_t i = 0; i < cv.names.size(); ++i) {
+    fmt::print("  {:<16.16}", cv.names[i]);
+    for (std::size_t j = 0; j < cv.names.size(); ++j) {
+      fmt::print(" {:>12.3f}", cv.fit_percent(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
+    }
+    fmt::print(" {:>12.3f}{}{}\n", cv.mean_validation_fit_percent[i], i == cv.best ? "  <- best" : "",
+               warnings[i].empty() ? "" : "  (not trusted)");
+  }
+  if (cv.joint) {
+    fmt::print("  {:<16}", "joint (all)");
+    for (double f : cv.joint_fit_percent) fmt::print(" {:>12.3f}", f);
+    fmt::print("\n");
+  }
+  fmt::print("\nbest: identified on {}\n", cv.names[cv.best]);
+  print_estimate(cv.estimates[cv.best], p.model);
+}
+
+void run_crossval(const IdentifyState& st, const IdentifyPlan& p) {
+  if (!st.simulated_csv.empty()) throw InvalidArgument("identify: --simulated applies without --crossval");
+  ident::CrossValidationOptions co;
+  co.fit = p.options;
+  fmt::print(stderr, "clearshape identify: cross-validating {} on {} runs\n", p.model, p.experiments.size());
+  const auto cv = ident::cross_validate(p.structure, p.experiments, co);
+  ModelWarnings warnings;
+  for (const auto& e : cv.estimates) warnings.push_back(identify_warnings(e, st));
+  for (std::size_t i = 0; i < warnings.size(); ++i) {
+    for (const auto& w : warnings[i]) fmt::print(stderr, "clearshape identify: warning: model from {}: {}\n", cv.names[i], w);
+  }
+  if (!cv.best_trusted) fmt::print(stderr, "clearshape identify: no model is to be trusted; the best is marked untrusted\n");
+  if (st.json) {
+    print_json(crossval_json(st, p, cv, warnings));
+  } else {
+    print_crossval(p, cv, warnings);
+  }
+}
+
+// --- fit: one model for all runs -------------------------------------------------------------------
+
+nlohmann::ordered_json fit_json(const IdentifyState& st, const IdentifyPlan& p, const ident::ProcessEstimate& est,
+                                const std::vector<std::string>& warnings) {
+  auto doc = io::make_document();
+  doc["command"] = "identify";
+  doc["mode"] = "fit";
+  const nlohmann::ordered_json result = estimate_json(est, st.data, p.model);
+  for (const auto& [k, v] : result.items()) doc[k] = v;
+  doc["trusted"] = warnings.empty();
+  doc["warnings"] = warnings;
+  doc["configuration"] = {{"initial_state", st.initial_state},
+                          {"hold", st.hold},
+                          {"output_offset", st.output_offset},
+                          {"input_offset", st.input_offset},
+                          {"starts", st.starts},
+                          {"fix", st.fix},
+                          {"bound", st.bound},
+                          {"initial", st.initial},
+                          {"focus", "simulation"}};
+  return doc;
+}
+
+void run_fit(const IdentifyState& st, const IdentifyPlan& p) {
+  fmt::print(stderr, "clearshape identify: fitting {} to {} run(s)\n", p.model, p.experiments.size());
+  const auto est = ident::estimate_process_model(p.structure, p.experiments, p.options);
   if (!st.simulated_csv.empty()) {
-    if (experiments.size() != 1) throw InvalidArgument("identify: --simulated needs exactly one --data file");
-    write_simulated(st.simulated_csv, experiments[0], est.experiments[0]);
+    if (p.experiments.size() != 1) throw InvalidArgument("identify: --simulated needs exactly one --data file");
+    write_simulated(st.simulated_csv, p.experiments[0], est.experiments[0]);
   }
   const auto warnings = identify_warnings(est, st);
   report_warnings(warnings);
   if (st.json) {
-    auto doc = io::make_document();
-    doc["command"] = "identify";
-    doc["mode"] = "fit";
-    const nlohmann::ordered_json result = estimate_json(est, st.data, requested_model);
-    for (const auto& [k, v] : result.items()) doc[k] = v;
-    doc["trusted"] = warnings.empty();
-    doc["warnings"] = warnings;
-    doc["configuration"] = {{"initial_state", st.initial_state},
-                            {"hold", st.hold},
-                            {"output_offset", st.output_offset},
-                            {"input_offset", st.input_offset},
-                            {"starts", st.starts},
-                            {"fix", st.fix},
-                            {"bound", st.bound},
-                            {"initial", st.initial},
-                            {"focus", "simulation"}};
-    print_json(doc);
-    return;
+    print_json(fit_json(st, p, est, warnings));
+  } else {
+    print_estimate(est, p.model);
   }
-  print_estimate(est, requested_model);
+}
+
+void run_identify(const IdentifyState& st) {
+  const IdentifyPlan p = plan(st);
+  if (st.crossval) {
+    run_crossval(st, p);
+  } else {
+    run_fit(st, p);
+  }
 }
 
 void setup(CLI::App& sub) {
