@@ -43,11 +43,9 @@ struct CalibrateOptions {
   bool json = false;
 };
 
-void run(const CalibrateOptions& o) {
-  const study::Protocol position = study::load_protocol(o.position);
-  const study::Protocol speed = study::load_protocol(o.speed);
-  // Start: the uncalibrated physical prior with the search's starting joint; --variation-only
-  // keeps the built-in (calibrated) joint and fits the variation alone.
+// Start: the uncalibrated physical prior with the search's starting joint; --variation-only
+// keeps the built-in (calibrated) joint and fits the variation alone.
+rig::RigTruth start_truth(const CalibrateOptions& o) {
   rig::RigTruth start = o.variation_only ? rig::thesis_rig_truth() : rig::uncalibrated_thesis_rig_prior();
   if (!o.variation_only) {
     start.clearance_rad = deg_to_rad(o.play_deg);
@@ -59,7 +57,10 @@ void run(const CalibrateOptions& o) {
     start.gyro.noise_density_dps_per_rthz = o.noise;
   }
   start.validate();
+  return start;
+}
 
+study::RigCalibrationOptions calibration_options(const CalibrateOptions& o) {
   study::RigCalibrationOptions options;
   options.trials = o.trials;
   options.max_evaluations = o.max_evaluations;
@@ -68,9 +69,12 @@ void run(const CalibrateOptions& o) {
   options.variation_evaluations = o.variation_evaluations;
   options.fit_joint = !o.variation_only;
   options.progress = &std::cerr;
-  const study::RigCalibrationResult result = study::calibrate_rig(position, speed, start, options);
+  return options;
+}
 
-  const std::filesystem::path dir(o.out_dir);
+// The rig-truth.toml header: how it was made, its targets and its residuals.
+std::string toml_header(const CalibrateOptions& o, const study::RigCalibrationResult& result,
+                        const std::filesystem::path& dir) {
   std::string header = fmt::format(
       "Simulated thesis rig, calibrated by `clearshape calibrate-rig{}` (joint: {} evaluations, objective {:.5f};\n"
       "variation: {} evaluations, objective {:.5f}).\n"
@@ -94,16 +98,23 @@ void run(const CalibrateOptions& o) {
                             r.ours / r.target);
     }
   }
-  io::write_text_atomic(dir / "rig-truth.toml", study::truth_to_toml(result.truth, header, &result.speed_drive.drive));
-  auto doc = io::make_document();
-  doc["calibration"] = result.to_json();
-  doc["protocols"] = {o.position, o.speed};
-  io::write_json(dir / "rig-calibration.json", doc);
+  return header;
+}
 
-  if (o.json) {
-    print_json(doc);
-    return;
+void print_variation(const study::RigCalibrationResult& result) {
+  const auto& v = result.variation.variation;
+  fmt::print("\nVariation: drive gain sigma {:.3g} (position) / {:.3g} (speed), start latency <= {:.3g} s, "
+             "D/A noise {:.3g} V, D/A offset sigma {:.3g} V, flank damping sigma {:.3g}\n",
+             v.position_gain_rel_sigma, v.speed_gain_rel_sigma, v.start_latency_max_s, v.analog_noise_v,
+             v.analog_offset_sigma_v, v.flank_damping_rel_sigma);
+  fmt::print("{:<6} {:<18} {:<10} {:>10} {:>10} {:>8}\n", "table", "input", "quantity", "thesis", "ours", "ratio");
+  for (const auto& r : result.variation.residuals) {
+    fmt::print("{:<6} {:<18} {:<10} {:>10.4g} {:>10.4g} {:>8.2f}\n", r.table, r.input, r.quantity, r.target, r.ours,
+               r.ours / r.target);
   }
+}
+
+void print_table(const study::RigCalibrationResult& result, const std::filesystem::path& dir) {
   const auto& sd = result.speed_drive.drive.parameters();
   fmt::print("Speed drive (truth) under the 30 rad/s chain: Kp {:.4g} (deg/s)/V, Tz {:.4g} s, Zeta {:.4f}, "
              "Tw {:.4g} s, Tp3 {:.4g} s; chain RMS {:.3g} deg/s per V\n",
@@ -118,19 +129,28 @@ void run(const CalibrateOptions& o) {
     fmt::print("{:<6} {:<18} {:>10.4f} {:>10.4f} {:>7.1f}% {:>10.4f} {:>10.4f}\n", r.table, r.input, r.target_mean,
                r.ours_mean, 100.0 * r.relative_error(), r.target_std, r.ours_std);
   }
-  if (result.variation.evaluations > 0) {
-    const auto& v = result.variation.variation;
-    fmt::print("\nVariation: drive gain sigma {:.3g} (position) / {:.3g} (speed), start latency <= {:.3g} s, "
-               "D/A noise {:.3g} V, D/A offset sigma {:.3g} V, flank damping sigma {:.3g}\n",
-               v.position_gain_rel_sigma, v.speed_gain_rel_sigma, v.start_latency_max_s, v.analog_noise_v,
-               v.analog_offset_sigma_v, v.flank_damping_rel_sigma);
-    fmt::print("{:<6} {:<18} {:<10} {:>10} {:>10} {:>8}\n", "table", "input", "quantity", "thesis", "ours", "ratio");
-    for (const auto& r : result.variation.residuals) {
-      fmt::print("{:<6} {:<18} {:<10} {:>10.4g} {:>10.4g} {:>8.2f}\n", r.table, r.input, r.quantity, r.target, r.ours,
-                 r.ours / r.target);
-    }
-  }
+  if (result.variation.evaluations > 0) print_variation(result);
   fmt::print("\nWritten: {} and {}\n", (dir / "rig-truth.toml").string(), (dir / "rig-calibration.json").string());
+}
+
+void run(const CalibrateOptions& o) {
+  const study::Protocol position = study::load_protocol(o.position);
+  const study::Protocol speed = study::load_protocol(o.speed);
+  const rig::RigTruth start = start_truth(o);
+  const study::RigCalibrationResult result = study::calibrate_rig(position, speed, start, calibration_options(o));
+
+  const std::filesystem::path dir(o.out_dir);
+  io::write_text_atomic(dir / "rig-truth.toml",
+                        study::truth_to_toml(result.truth, toml_header(o, result, dir), &result.speed_drive.drive));
+  auto doc = io::make_document();
+  doc["calibration"] = result.to_json();
+  doc["protocols"] = {o.position, o.speed};
+  io::write_json(dir / "rig-calibration.json", doc);
+  if (o.json) {
+    print_json(doc);
+  } else {
+    print_table(result, dir);
+  }
 }
 
 const bool registered = register_command(
