@@ -63,138 +63,166 @@ struct DriveEdit {
   bool edited = false;
 };
 
+// Setters for the common kinds of key; the rest are written out where they are used.
+Setter num(double& field) {
+  return [&field](const toml::node& n, const std::string& k) { field = number(n, k); };
+}
+Setter ranged(double& field, double lo, double hi) {
+  return [&field, lo, hi](const toml::node& n, const std::string& k) {
+    const double v = number(n, k);
+    require_in_closed(k, v, lo, hi);
+    field = v;
+  };
+}
+Setter int_in(int& field, std::int64_t lo, std::int64_t hi, std::string allowed) {
+  return [&field, lo, hi, allowed = std::move(allowed)](const toml::node& n, const std::string& k) {
+    const auto v = integer(n, k);
+    if (v < lo || v > hi) throw_invalid(k, static_cast<double>(v), allowed);
+    field = static_cast<int>(v);
+  };
+}
+// A [contact] number: it overrides the law's default only when given.
+Setter contact_override(double& field, bool& given) {
+  return [&field, &given](const toml::node& n, const std::string& k) {
+    field = number(n, k);
+    given = true;
+  };
+}
+
+// One table per section of the file (the schema in rig_config.hpp).
+std::vector<Key> run_keys(RigConfig& c) {
+  return {{"duration_s", num(c.run.duration_s)},
+          {"output_rate_hz", num(c.run.output_rate_hz)},
+          {"initial_play_fraction", num(c.run.initial_play_fraction)},
+          {"seed",
+           [&c](const toml::node& n, const std::string& k) {
+             const auto v = integer(n, k);
+             if (v < 0) throw_invalid(k, static_cast<double>(v), ">= 0");
+             c.run.seed = static_cast<std::uint64_t>(v);
+           }},
+          {"sensor_noise", [&c](const toml::node& n, const std::string& k) { c.run.sensor_noise = boolean(n, k); }}};
+}
+
+std::vector<Key> joint_keys(rig::RigTruth& t) {
+  return {{"clearance_deg",
+           [&t](const toml::node& n, const std::string& k) {
+             const double v = number(n, k);
+             require_non_negative(k, v, "0 means a rigid joint");
+             t.clearance_rad = deg_to_rad(v);
+           }},
+          {"friction_viscous_n_m_s_per_rad", num(t.joint_friction.viscous)},
+          {"friction_coulomb_n_m", num(t.joint_friction.coulomb)}};
+}
+
+std::vector<Key> contact_keys(RigConfig& c) {
+  auto& o = c.contact_overrides;
+  return {{"model",
+           [&c](const toml::node& n, const std::string& k) {
+             c.contact_model = rig::contact_model_from_string(text(n, k));
+           }},
+          {"stiffness", contact_override(o.stiffness, c.has_stiffness)},
+          {"exponent", contact_override(o.exponent, c.has_exponent)},
+          {"damping", contact_override(o.damping, c.has_damping)},
+          {"restitution", contact_override(o.restitution, c.has_restitution)},
+          {"static_rate_rad_s", contact_override(o.static_rate_rad_s, c.has_static_rate)}};
+}
+
+std::vector<Key> link_keys(rig::RigTruth& t) {
+  return {{"inertia_kg_m2", num(t.link.inertia_kg_m2)},
+          {"mass_kg", num(t.link.mass_kg)},
+          {"com_distance_m", num(t.link.com_distance_m)},
+          {"axis_tilt_deg",
+           [&t](const toml::node& n, const std::string& k) { t.link.axis_tilt_rad = deg_to_rad(number(n, k)); }},
+          {"ground_viscous_n_m_s_per_rad", num(t.link.ground_viscous_n_m_s_per_rad)}};
+}
+
+std::vector<Key> drive_keys(DriveEdit& d) {  // Eq. 4.2, P3UZ[D]
+  auto p = [&d](double lti::ProcessParameters::*member) {
+    return [&d, member](const toml::node& n, const std::string& k) {
+      d.parameters.*member = number(n, k);
+      d.edited = true;
+    };
+  };
+  return {{"kp", p(&lti::ProcessParameters::kp)},   {"tz_s", p(&lti::ProcessParameters::tz)},
+          {"zeta", p(&lti::ProcessParameters::zeta)}, {"tw_s", p(&lti::ProcessParameters::tw)},
+          {"tp3_s", p(&lti::ProcessParameters::tp3)}, {"td_s", p(&lti::ProcessParameters::td)}};
+}
+
+std::vector<Key> encoder_keys(rig::RigTruth& t) {
+  return {{"lines_per_revolution", int_in(t.encoder.lines_per_revolution, 1, 100000000, "1 … 1e8")},
+          {"decoding", [&t](const toml::node& n, const std::string& k) {
+             const auto v = integer(n, k);
+             if (v != 1 && v != 2 && v != 4) throw_invalid(k, static_cast<double>(v), "1, 2 or 4");
+             t.encoder.decoding = static_cast<plant::Decoding>(v);
+           }}};
+}
+
+std::vector<Key> gyroscope_keys(rig::RigTruth& t) {
+  return {{"sensitivity_lsb_per_dps", num(t.gyro.sensitivity_lsb_per_dps)},
+          {"full_scale_dps", num(t.gyro.full_scale_dps)},
+          {"noise_density_dps_per_rthz", num(t.gyro.noise_density_dps_per_rthz)},
+          {"bias_dps", num(t.gyro.bias_dps)},
+          {"low_pass_hz",
+           [&t](const toml::node& n, const std::string& k) { t.gyro.low_pass = low_pass_from_hz(number(n, k), k); }},
+          {"latency_samples", int_in(t.gyro.latency_samples, 0, plant::kMaxGyroLatencySamples,
+                                     fmt::format("0 … {}", plant::kMaxGyroLatencySamples))}};
+}
+
+std::vector<Key> position_path_keys(rig::RigTruth& t) {
+  return {{"update_rate_hz", num(t.pulse_train.update_rate_hz)},
+          {"counts_per_rev", num(t.pulse_train.counts_per_rev)},
+          {"gear_ratio", num(t.pulse_train.gear_ratio)},
+          {"max_pulse_frequency_hz", num(t.pulse_train.max_pulse_frequency_hz)}};
+}
+
+std::vector<Key> speed_path_keys(rig::RigTruth& t) {
+  return {{"volts_per_unit", num(t.analog_output.volts_per_unit)},
+          {"resolution_bits", int_in(t.analog_output.resolution_bits, 1, 24, "1 … 24")},
+          {"full_scale_v", num(t.analog_output.full_scale_v)}};
+}
+
+std::vector<Key> variation_keys(rig::RigTruth& t) {  // run-to-run variation (rig/variation.hpp); SimRig only
+  auto& v = t.variation;
+  return {{"position_gain_rel_sigma", ranged(v.position_gain_rel_sigma, 0.0, 0.1)},
+          {"speed_gain_rel_sigma", ranged(v.speed_gain_rel_sigma, 0.0, 0.1)},
+          {"start_latency_max_s", ranged(v.start_latency_max_s, 0.0, 1e-3)},
+          {"analog_noise_v", ranged(v.analog_noise_v, 0.0, 0.1)},
+          {"analog_offset_sigma_v", ranged(v.analog_offset_sigma_v, 0.0, 0.1)},
+          {"flank_damping_rel_sigma", ranged(v.flank_damping_rel_sigma, 0.0, 1.0)}};
+}
+
+std::vector<Key> solver_keys(rig::RigTruth& t) {
+  return {{"integrator",
+           [&t](const toml::node& n, const std::string& k) {
+             const std::string v = text(n, k);
+             if (v == "bdf") {
+               t.solver.integrator = plant::Integrator::bdf;
+             } else if (v == "adams") {
+               t.solver.integrator = plant::Integrator::adams;
+             } else {
+               throw InvalidArgument(fmt::format("{} = '{}' is not an integrator; allowed: bdf, adams", k, v));
+             }
+           }},
+          {"relative_tolerance", num(t.solver.relative_tolerance)},
+          {"angle_tolerance_rad", num(t.solver.angle_tolerance_rad)},
+          {"rate_tolerance_rad_s", num(t.solver.rate_tolerance_rad_s)},
+          {"max_step_s", num(t.solver.max_step_s)}};
+}
+
 std::vector<Section> schema(RigConfig& c, DriveEdit& position, DriveEdit& speed) {
   auto& t = c.truth;
-  auto num = [](double& field) {
-    return [&field](const toml::node& n, const std::string& k) { field = number(n, k); };
-  };
-  auto ranged = [](double& field, double lo, double hi) {
-    return [&field, lo, hi](const toml::node& n, const std::string& k) {
-      const double v = number(n, k);
-      require_in_closed(k, v, lo, hi);
-      field = v;
-    };
-  };
-  auto drive_keys = [&](DriveEdit& d) {
-    auto p = [&d](double lti::ProcessParameters::*member) {
-      return [&d, member](const toml::node& n, const std::string& k) {
-        d.parameters.*member = number(n, k);
-        d.edited = true;
-      };
-    };
-    return std::vector<Key>{{"kp", p(&lti::ProcessParameters::kp)},
-                            {"tz_s", p(&lti::ProcessParameters::tz)},
-                            {"zeta", p(&lti::ProcessParameters::zeta)},
-                            {"tw_s", p(&lti::ProcessParameters::tw)},
-                            {"tp3_s", p(&lti::ProcessParameters::tp3)},
-                            {"td_s", p(&lti::ProcessParameters::td)}};
-  };
-  return {
-      {"run",
-       {{"duration_s", num(c.run.duration_s)},
-        {"output_rate_hz", num(c.run.output_rate_hz)},
-        {"initial_play_fraction", num(c.run.initial_play_fraction)},
-        {"seed",
-         [&c](const toml::node& n, const std::string& k) {
-           const auto v = integer(n, k);
-           if (v < 0) throw_invalid(k, static_cast<double>(v), ">= 0");
-           c.run.seed = static_cast<std::uint64_t>(v);
-         }},
-        {"sensor_noise", [&c](const toml::node& n, const std::string& k) { c.run.sensor_noise = boolean(n, k); }}}},
-      {"joint",
-       {{"clearance_deg",
-         [&t](const toml::node& n, const std::string& k) {
-           const double v = number(n, k);
-           require_non_negative(k, v, "0 means a rigid joint");
-           t.clearance_rad = deg_to_rad(v);
-         }},
-        {"friction_viscous_n_m_s_per_rad", num(t.joint_friction.viscous)},
-        {"friction_coulomb_n_m", num(t.joint_friction.coulomb)}}},
-      {"contact",
-       {{"model",
-         [&c](const toml::node& n, const std::string& k) {
-           c.contact_model = rig::contact_model_from_string(text(n, k));
-         }},
-        {"stiffness", [&c](const toml::node& n, const std::string& k) { c.contact_overrides.stiffness = number(n, k); c.has_stiffness = true; }},
-        {"exponent", [&c](const toml::node& n, const std::string& k) { c.contact_overrides.exponent = number(n, k); c.has_exponent = true; }},
-        {"damping", [&c](const toml::node& n, const std::string& k) { c.contact_overrides.damping = number(n, k); c.has_damping = true; }},
-        {"restitution", [&c](const toml::node& n, const std::string& k) { c.contact_overrides.restitution = number(n, k); c.has_restitution = true; }},
-        {"static_rate_rad_s", [&c](const toml::node& n, const std::string& k) { c.contact_overrides.static_rate_rad_s = number(n, k); c.has_static_rate = true; }}}},
-      {"link",
-       {{"inertia_kg_m2", num(t.link.inertia_kg_m2)},
-        {"mass_kg", num(t.link.mass_kg)},
-        {"com_distance_m", num(t.link.com_distance_m)},
-        {"axis_tilt_deg",
-         [&t](const toml::node& n, const std::string& k) { t.link.axis_tilt_rad = deg_to_rad(number(n, k)); }},
-        {"ground_viscous_n_m_s_per_rad", num(t.link.ground_viscous_n_m_s_per_rad)}}},
-      {"drive.position", drive_keys(position)},
-      {"drive.speed", drive_keys(speed)},
-      {"encoder",
-       {{"lines_per_revolution",
-         [&t](const toml::node& n, const std::string& k) {
-           const auto v = integer(n, k);
-           if (v < 1 || v > 100000000) throw_invalid(k, static_cast<double>(v), "1 … 1e8");
-           t.encoder.lines_per_revolution = static_cast<int>(v);
-         }},
-        {"decoding",
-         [&t](const toml::node& n, const std::string& k) {
-           const auto v = integer(n, k);
-           if (v != 1 && v != 2 && v != 4) throw_invalid(k, static_cast<double>(v), "1, 2 or 4");
-           t.encoder.decoding = static_cast<plant::Decoding>(v);
-         }}}},
-      {"gyroscope",
-       {{"sensitivity_lsb_per_dps", num(t.gyro.sensitivity_lsb_per_dps)},
-        {"full_scale_dps", num(t.gyro.full_scale_dps)},
-        {"noise_density_dps_per_rthz", num(t.gyro.noise_density_dps_per_rthz)},
-        {"bias_dps", num(t.gyro.bias_dps)},
-        {"low_pass_hz",
-         [&t](const toml::node& n, const std::string& k) { t.gyro.low_pass = low_pass_from_hz(number(n, k), k); }},
-        {"latency_samples",
-         [&t](const toml::node& n, const std::string& k) {
-           const auto v = integer(n, k);
-           if (v < 0 || v > plant::kMaxGyroLatencySamples) {
-             throw_invalid(k, static_cast<double>(v), fmt::format("0 … {}", plant::kMaxGyroLatencySamples));
-           }
-           t.gyro.latency_samples = static_cast<int>(v);
-         }}}},
-      {"position_path",
-       {{"update_rate_hz", num(t.pulse_train.update_rate_hz)},
-        {"counts_per_rev", num(t.pulse_train.counts_per_rev)},
-        {"gear_ratio", num(t.pulse_train.gear_ratio)},
-        {"max_pulse_frequency_hz", num(t.pulse_train.max_pulse_frequency_hz)}}},
-      {"speed_path",
-       {{"volts_per_unit", num(t.analog_output.volts_per_unit)},
-        {"resolution_bits",
-         [&t](const toml::node& n, const std::string& k) {
-           const auto v = integer(n, k);
-           if (v < 1 || v > 24) throw_invalid(k, static_cast<double>(v), "1 … 24");
-           t.analog_output.resolution_bits = static_cast<int>(v);
-         }},
-        {"full_scale_v", num(t.analog_output.full_scale_v)}}},
-      {"variation",  // run-to-run variation (rig/variation.hpp); SimRig only
-       {{"position_gain_rel_sigma", ranged(t.variation.position_gain_rel_sigma, 0.0, 0.1)},
-        {"speed_gain_rel_sigma", ranged(t.variation.speed_gain_rel_sigma, 0.0, 0.1)},
-        {"start_latency_max_s", ranged(t.variation.start_latency_max_s, 0.0, 1e-3)},
-        {"analog_noise_v", ranged(t.variation.analog_noise_v, 0.0, 0.1)},
-        {"analog_offset_sigma_v", ranged(t.variation.analog_offset_sigma_v, 0.0, 0.1)},
-        {"flank_damping_rel_sigma", ranged(t.variation.flank_damping_rel_sigma, 0.0, 1.0)}}},
-      {"solver",
-       {{"integrator",
-         [&t](const toml::node& n, const std::string& k) {
-           const std::string v = text(n, k);
-           if (v == "bdf") {
-             t.solver.integrator = plant::Integrator::bdf;
-           } else if (v == "adams") {
-             t.solver.integrator = plant::Integrator::adams;
-           } else {
-             throw InvalidArgument(fmt::format("{} = '{}' is not an integrator; allowed: bdf, adams", k, v));
-           }
-         }},
-        {"relative_tolerance", num(t.solver.relative_tolerance)},
-        {"angle_tolerance_rad", num(t.solver.angle_tolerance_rad)},
-        {"rate_tolerance_rad_s", num(t.solver.rate_tolerance_rad_s)},
-        {"max_step_s", num(t.solver.max_step_s)}}},
-  };
+  return {{"run", run_keys(c)},
+          {"joint", joint_keys(t)},
+          {"contact", contact_keys(c)},
+          {"link", link_keys(t)},
+          {"drive.position", drive_keys(position)},
+          {"drive.speed", drive_keys(speed)},
+          {"encoder", encoder_keys(t)},
+          {"gyroscope", gyroscope_keys(t)},
+          {"position_path", position_path_keys(t)},
+          {"speed_path", speed_path_keys(t)},
+          {"variation", variation_keys(t)},
+          {"solver", solver_keys(t)}};
 }
 
 std::string key_list(const std::vector<Key>& keys) {
