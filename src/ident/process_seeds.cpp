@@ -305,54 +305,26 @@ bool starts_at_rest(std::span<const double> y, bool relative_to_first) {
   return std::abs(y[0] - ref) <= std::max(0.02 * range, 4.0 * sigma);
 }
 
-std::vector<std::vector<double>> candidate_values(const Layout& l, std::span<const Experiment> experiments) {
-  const lti::ProcessStructure& s = l.structure;
-  const std::size_t count = l.names.size();
-  double t_min = std::numeric_limits<double>::infinity(), d_min = std::numeric_limits<double>::infinity();
-  for (const auto& e : experiments) {
-    t_min = std::min(t_min, e.sample_time_s);
-    d_min = std::min(d_min, e.duration_s());
-  }
-  std::optional<StepSeed> step;
-  for (const auto& e : experiments) {
-    step = analyse_step(e);
-    if (step) break;
-  }
-  // Delay guesses.
-  std::vector<double> delays{0.0};
-  if (l.td >= 0) {
-    if (l.is_fixed(l.td)) {
-      delays = {l.fixed_value[static_cast<std::size_t>(l.td)]};
-    } else if (step && step->onset_s > 0.0) {
-      delays.push_back(std::min(0.5 * step->onset_s, l.upper[static_cast<std::size_t>(l.td)]));
-    }
-  }
-  std::vector<std::vector<double>> out;
-  // One configuration: the scale τ (Tw or Tp1), ζ, and real time constants.
-  auto add = [&](double tw, double zeta, std::vector<double> tps) {
+namespace {
+
+// The candidate starting points of one structure, collected in the order they are made.
+class Candidates {
+ public:
+  Candidates(const Layout& l, std::vector<double> delays) : l_(l), delays_(std::move(delays)) {}
+
+  // One configuration: the scale τ (Tw or Tp1), ζ and real time constants, at every delay guess.
+  void add(double tw, double zeta, const std::vector<double>& tps) {
     if (!(tw > 0.0) || !std::isfinite(tw)) return;
-    for (double td : delays) {
-      std::vector<double> v(count, 0.0);
-      for (std::size_t i = 0; i < count; ++i) {
-        const std::string& name = l.names[i];
-        if (name == "Kp") v[i] = 1.0;
-        if (name == "Tw") v[i] = tw;
-        if (name == "Zeta") v[i] = std::clamp(zeta, 0.02, 2.5);
-        if (name == "Td") v[i] = td;
-        if (name == "Tp1") v[i] = tps.size() > 0 ? tps[0] : tw;
-        if (name == "Tp2") v[i] = tps.size() > 1 ? tps[1] : tw;
-        if (name == "Tp3") v[i] = s.underdamped ? (tps.empty() ? tw : tps[0]) : (tps.size() > 2 ? tps[2] : tw);
-      }
-      for (std::size_t i = 0; i < count; ++i) {
-        if (l.is_fixed(static_cast<int>(i))) v[i] = l.fixed_value[i];
-        else if (l.log_scale[i]) v[i] = std::clamp(v[i], std::max(l.lower[i], 1e-300), l.upper[i]);
-        if (l.log_scale[i] && !(v[i] > 0.0)) return;
-      }
-      out.push_back(std::move(v));
+    for (double td : delays_) {
+      std::vector<double> v = values(tw, zeta, tps, td);
+      if (!within_layout(v)) return;
+      out_.push_back(std::move(v));
     }
-  };
+  }
+
   // Shapes around a time scale τ.
-  auto shapes = [&](double tau, std::vector<double> zetas) {
+  void shapes(double tau, const std::vector<double>& zetas) {
+    const lti::ProcessStructure& s = l_.structure;
     if (s.underdamped) {
       for (double z : zetas) {
         if (s.pole_count == 3) {
@@ -371,70 +343,142 @@ std::vector<std::vector<double>> candidate_values(const Layout& l, std::span<con
       add(tau, 1.0, {tau, 0.3 * tau, 0.3 * tau});
       add(tau, 1.0, {tau, 0.3 * tau, 0.05 * tau});
     }
-  };
-  if (s.pole_count == 0) {
-    add(1.0, 1.0, {});
-    return out;
   }
-  // (a) the step response.
-  if (step) {
-    if (std::isfinite(step->wn_rad_s)) {
-      const double tw = 1.0 / step->wn_rad_s;
-      shapes(tw, {step->zeta, 0.5 * step->zeta, std::min(1.0, 2.0 * step->zeta)});
+
+  std::vector<std::vector<double>> take() { return std::move(out_); }
+
+ private:
+  std::vector<double> values(double tw, double zeta, const std::vector<double>& tps, double td) const {
+    const bool underdamped = l_.structure.underdamped;
+    std::vector<double> v(l_.names.size(), 0.0);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const std::string& name = l_.names[i];
+      if (name == "Kp") v[i] = 1.0;
+      if (name == "Tw") v[i] = tw;
+      if (name == "Zeta") v[i] = std::clamp(zeta, 0.02, 2.5);
+      if (name == "Td") v[i] = td;
+      if (name == "Tp1") v[i] = tps.size() > 0 ? tps[0] : tw;
+      if (name == "Tp2") v[i] = tps.size() > 1 ? tps[1] : tw;
+      if (name == "Tp3") v[i] = underdamped ? (tps.empty() ? tw : tps[0]) : (tps.size() > 2 ? tps[2] : tw);
     }
-    if (std::isfinite(step->t63_s)) shapes(s.underdamped ? 0.5 * step->t63_s : step->t63_s, {0.5, 0.9});
+    return v;
   }
-  // (b) subspace models of the structure's order.
-  const int order = process_order(s);
-  for (const auto& e : experiments) {
-    for (auto poles : subspace_poles(e, order)) {
-      std::erase_if(poles, [](const std::complex<double>& p) { return !(p.real() < 0.0); });
-      std::sort(poles.begin(), poles.end(), [](auto a, auto b) { return std::abs(a) < std::abs(b); });
-      if (poles.empty()) continue;
-      std::vector<double> real_tc;
-      std::complex<double> pair{0.0, 0.0};
-      bool have_pair = false;
-      for (const auto& p : poles) {
-        if (std::abs(p.imag()) > 1e-9 * std::abs(p)) {
-          if (!have_pair && p.imag() > 0.0) {
-            pair = p;
-            have_pair = true;
-          }
-        } else {
-          real_tc.push_back(-1.0 / p.real());
-        }
-      }
-      if (s.underdamped) {
-        if (have_pair) {
-          const double wn = std::abs(pair);
-          add(1.0 / wn, -pair.real() / wn, real_tc.empty() ? std::vector<double>{} : std::vector<double>{real_tc[0]});
-        } else if (real_tc.size() >= 2) {  // two real poles → Tw = √(τ1τ2), ζ = (τ1 + τ2)/(2√(τ1τ2))
-          const double tw = std::sqrt(real_tc[0] * real_tc[1]);
-          add(tw, (real_tc[0] + real_tc[1]) / (2.0 * tw), real_tc.size() > 2 ? std::vector<double>{real_tc[2]} : std::vector<double>{});
-        }
-      } else {
-        std::vector<double> tcs = real_tc;
-        if (have_pair) {
-          tcs.push_back(1.0 / std::abs(pair));
-          tcs.push_back(1.0 / std::abs(pair));
-        }
-        std::sort(tcs.rbegin(), tcs.rend());
-        if (!tcs.empty()) add(tcs[0], 1.0, tcs);
-      }
+
+  // Fixed values and bounds applied; false when a log-scaled parameter is not positive.
+  bool within_layout(std::vector<double>& v) const {
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (l_.is_fixed(static_cast<int>(i))) v[i] = l_.fixed_value[i];
+      else if (l_.log_scale[i]) v[i] = std::clamp(v[i], std::max(l_.lower[i], 1e-300), l_.upper[i]);
+      if (l_.log_scale[i] && !(v[i] > 0.0)) return false;
+    }
+    return true;
+  }
+
+  const Layout& l_;
+  std::vector<double> delays_;
+  std::vector<std::vector<double>> out_;
+};
+
+// Delay guesses: none, or half the step's onset (a fixed Td: its value).
+std::vector<double> delay_guesses(const Layout& l, const std::optional<StepSeed>& step) {
+  std::vector<double> delays{0.0};
+  if (l.td >= 0) {
+    if (l.is_fixed(l.td)) {
+      delays = {l.fixed_value[static_cast<std::size_t>(l.td)]};
+    } else if (step && step->onset_s > 0.0) {
+      delays.push_back(std::min(0.5 * step->onset_s, l.upper[static_cast<std::size_t>(l.td)]));
     }
   }
-  // (c) a log-spaced grid of time scales between 2T and half the shortest record.
+  return delays;
+}
+
+// (a) the step response: its overshoot's ωn and ζ, and its 63 % time.
+void add_step_candidates(Candidates& c, const StepSeed& step, bool underdamped) {
+  if (std::isfinite(step.wn_rad_s)) {
+    const double tw = 1.0 / step.wn_rad_s;
+    c.shapes(tw, {step.zeta, 0.5 * step.zeta, std::min(1.0, 2.0 * step.zeta)});
+  }
+  if (std::isfinite(step.t63_s)) c.shapes(underdamped ? 0.5 * step.t63_s : step.t63_s, {0.5, 0.9});
+}
+
+// (b) one subspace model's stable poles, slowest first, as the structure's time constants.
+void add_pole_candidates(Candidates& c, const lti::ProcessStructure& s, std::vector<std::complex<double>> poles) {
+  std::erase_if(poles, [](const std::complex<double>& p) { return !(p.real() < 0.0); });
+  std::sort(poles.begin(), poles.end(), [](auto a, auto b) { return std::abs(a) < std::abs(b); });
+  if (poles.empty()) return;
+  std::vector<double> real_tc;
+  std::complex<double> pair{0.0, 0.0};
+  bool have_pair = false;
+  for (const auto& p : poles) {
+    if (std::abs(p.imag()) > 1e-9 * std::abs(p)) {
+      if (!have_pair && p.imag() > 0.0) {
+        pair = p;
+        have_pair = true;
+      }
+    } else {
+      real_tc.push_back(-1.0 / p.real());
+    }
+  }
+  if (s.underdamped) {
+    if (have_pair) {
+      const double wn = std::abs(pair);
+      c.add(1.0 / wn, -pair.real() / wn, real_tc.empty() ? std::vector<double>{} : std::vector<double>{real_tc[0]});
+    } else if (real_tc.size() >= 2) {  // two real poles → Tw = √(τ1τ2), ζ = (τ1 + τ2)/(2√(τ1τ2))
+      const double tw = std::sqrt(real_tc[0] * real_tc[1]);
+      c.add(tw, (real_tc[0] + real_tc[1]) / (2.0 * tw),
+            real_tc.size() > 2 ? std::vector<double>{real_tc[2]} : std::vector<double>{});
+    }
+    return;
+  }
+  std::vector<double> tcs = real_tc;
+  if (have_pair) {
+    tcs.push_back(1.0 / std::abs(pair));
+    tcs.push_back(1.0 / std::abs(pair));
+  }
+  std::sort(tcs.rbegin(), tcs.rend());
+  if (!tcs.empty()) c.add(tcs[0], 1.0, tcs);
+}
+
+// (c) a log-spaced grid of time scales between 2T and half the shortest record.
+void add_grid_candidates(Candidates& c, const lti::ProcessStructure& s, double t_min, double d_min) {
   const double lo = 2.0 * t_min, hi = std::max(0.5 * d_min, 4.0 * lo);
   const int points = 10;
   for (int i = 0; i < points; ++i) {
     const double tau = lo * std::pow(hi / lo, static_cast<double>(i) / (points - 1));
     if (s.pole_count == 3) {
-      shapes(tau, {0.2, 0.6});
+      c.shapes(tau, {0.2, 0.6});
     } else {
-      shapes(tau, {0.15, 0.4, 0.8});
+      c.shapes(tau, {0.15, 0.4, 0.8});
     }
   }
-  return out;
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> candidate_values(const Layout& l, std::span<const Experiment> experiments) {
+  const lti::ProcessStructure& s = l.structure;
+  double t_min = std::numeric_limits<double>::infinity(), d_min = std::numeric_limits<double>::infinity();
+  for (const auto& e : experiments) {
+    t_min = std::min(t_min, e.sample_time_s);
+    d_min = std::min(d_min, e.duration_s());
+  }
+  std::optional<StepSeed> step;
+  for (const auto& e : experiments) {
+    step = analyse_step(e);
+    if (step) break;
+  }
+  Candidates c(l, delay_guesses(l, step));
+  if (s.pole_count == 0) {
+    c.add(1.0, 1.0, {});
+    return c.take();
+  }
+  if (step) add_step_candidates(c, *step, s.underdamped);
+  const int order = process_order(s);
+  for (const auto& e : experiments) {
+    for (auto& poles : subspace_poles(e, order)) add_pole_candidates(c, s, std::move(poles));
+  }
+  add_grid_candidates(c, s, t_min, d_min);
+  return c.take();
 }
 
 }  // namespace clearshape::ident::detail
