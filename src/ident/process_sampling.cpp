@@ -248,43 +248,146 @@ void compose_derivative(const PieceView& p1, const PieceView& dp1, const PieceVi
 
 // ---------------------------------------------------------------- sensitivity kernel
 
+// The sampled model and its derivatives along the fitted directions in flat arrays sized for
+// order NS (row-major Φ, taps G as n × 3, C, H), read by the kernel's inner loops.
 template <int NS>
-bool run_kernel(const KernelInput& in, double* out, double* jac) {
-  constexpr int n = NS;
-  constexpr int nn = n * n + 1;
-  const Sampled& m = *in.model;
-  const std::size_t count = in.input.size();
-  const int np = jac != nullptr ? static_cast<int>(in.directions.size()) : 0;
-  const bool dx0 = jac != nullptr && in.d_x0;
-  const bool du0 = jac != nullptr && in.d_u0;
-  const bool dy0 = jac != nullptr && in.d_y0;
-  const std::size_t cols = jac != nullptr ? jacobian_columns(in) : 0;
-  const std::size_t d = m.delay_samples;
-
+struct KernelTables {
+  static constexpr int n = NS;
+  static constexpr int nn = n * n + 1;
   std::array<double, nn> phi{};
   std::array<double, 3 * n + 1> g{};
   std::array<double, n + 1> c{};
-  const std::array<double, 3> h{m.h(0), m.h(1), m.h(2)};
-  for (int i = 0; i < n; ++i) {
-    c[i] = m.c(i);
-    for (int l = 0; l < n; ++l) phi[i * n + l] = m.phi(i, l);
-    for (int j = 0; j < 3; ++j) g[i * 3 + j] = m.taps(i, j);
-  }
+  std::array<double, 3> h{};
   std::array<std::array<double, nn>, kMaxParameters> dphi{};
   std::array<std::array<double, 3 * n + 1>, kMaxParameters> dg{};
   std::array<std::array<double, n + 1>, kMaxParameters> dc{};
   std::array<std::array<double, 3>, kMaxParameters> dh{};
   std::array<double, kMaxParameters> scale{};
+};
+
+template <int NS>
+void load_tables(const KernelInput& in, int np, KernelTables<NS>& t) noexcept {
+  constexpr int n = NS;
+  const Sampled& m = *in.model;
+  t.h = {m.h(0), m.h(1), m.h(2)};
+  for (int i = 0; i < n; ++i) {
+    t.c[i] = m.c(i);
+    for (int l = 0; l < n; ++l) t.phi[i * n + l] = m.phi(i, l);
+    for (int j = 0; j < 3; ++j) t.g[i * 3 + j] = m.taps(i, j);
+  }
   for (int p = 0; p < np; ++p) {
     const auto q = static_cast<std::size_t>(in.directions[static_cast<std::size_t>(p)]);
-    scale[static_cast<std::size_t>(p)] = in.scale[static_cast<std::size_t>(p)];
-    for (int j = 0; j < 3; ++j) dh[p][j] = m.dh[q](j);
+    t.scale[static_cast<std::size_t>(p)] = in.scale[static_cast<std::size_t>(p)];
+    for (int j = 0; j < 3; ++j) t.dh[p][j] = m.dh[q](j);
     for (int i = 0; i < n; ++i) {
-      dc[p][i] = m.dc[q](i);
-      for (int l = 0; l < n; ++l) dphi[p][i * n + l] = m.dphi[q](i, l);
-      for (int j = 0; j < 3; ++j) dg[p][i * 3 + j] = m.dtaps[q](i, j);
+      t.dc[p][i] = m.dc[q](i);
+      for (int l = 0; l < n; ++l) t.dphi[p][i * n + l] = m.dphi[q](i, l);
+      for (int j = 0; j < 3; ++j) t.dg[p][i * 3 + j] = m.dtaps[q](i, j);
     }
   }
+}
+
+// What the kernel computes besides the output: np parameter directions, ∂/∂x0, ∂/∂u0, ∂/∂y0.
+struct KernelShape {
+  int np = 0;
+  bool dx0 = false, du0 = false, dy0 = false;
+  std::size_t cols = 0;  ///< Jacobian columns
+  int zu_block = 0;      ///< state block of ∂x/∂u0 (after x and the np parameter blocks)
+};
+
+// The input at lags 0, 1, 2 of one sample (u[k−d], u[k−d−1], u[k−d−2]).
+struct Lags {
+  double l0, l1, l2;
+};
+
+// One step of the state blocks [x | z_0 … z_(np−1) | zu] from `cur` into `nxt`; vb: the
+// real-sample indicator at the same lags as the input (∂u/∂u0 = −1 there).
+template <int NS>
+[[gnu::always_inline]] inline void advance_states(const KernelTables<NS>& t, const KernelShape& ks,
+                                                  const double* __restrict cur, double* __restrict nxt, const Lags& u,
+                                                  const double* vb) noexcept {
+  constexpr int n = NS;
+  const int np = ks.np;
+  const double* x = cur;
+  for (int i = 0; i < n; ++i) {  // x[k] = Φ x[k−1] + Σ Gⱼ u[k−d−j]
+    double s = t.g[i * 3] * u.l0 + t.g[i * 3 + 1] * u.l1 + t.g[i * 3 + 2] * u.l2;
+    for (int l = 0; l < n; ++l) s += t.phi[i * n + l] * x[l];
+    nxt[i] = s;
+  }
+  for (int p = 0; p < np; ++p) {  // ∂x[k] = Φ ∂x[k−1] + ∂Φ x[k−1] + Σ ∂Gⱼ u[k−d−j]
+    const double* z = cur + (1 + p) * n;
+    double* zn = nxt + (1 + p) * n;
+    for (int i = 0; i < n; ++i) {
+      double s = t.dg[p][i * 3] * u.l0 + t.dg[p][i * 3 + 1] * u.l1 + t.dg[p][i * 3 + 2] * u.l2;
+      for (int l = 0; l < n; ++l) s += t.phi[i * n + l] * z[l] + t.dphi[p][i * n + l] * x[l];
+      zn[i] = s;
+    }
+  }
+  if (ks.du0) {
+    const double* zu = cur + ks.zu_block * n;
+    double* zun = nxt + ks.zu_block * n;
+    for (int i = 0; i < n; ++i) {
+      double s = -(t.g[i * 3] * vb[2] + t.g[i * 3 + 1] * vb[1] + t.g[i * 3 + 2] * vb[0]);
+      for (int l = 0; l < n; ++l) s += t.phi[i * n + l] * zu[l];
+      zun[i] = s;
+    }
+  }
+}
+
+// r ← r Φ: the row C Φᵏ of the ∂y/∂x0 columns.
+template <int NS>
+[[gnu::always_inline]] inline void advance_initial_state_row(const KernelTables<NS>& t, std::array<double, NS + 1>& r) noexcept {
+  constexpr int n = NS;
+  std::array<double, n + 1> rn{};
+  for (int l = 0; l < n; ++l) {
+    double s = 0.0;
+    for (int i = 0; i < n; ++i) s += r[i] * t.phi[i * n + l];
+    rn[l] = s;
+  }
+  r = rn;
+}
+
+// One row of the Jacobian: ∂y[k] along each direction (scaled), C Φᵏ, ∂y/∂u0, ∂y/∂y0.
+template <int NS>
+[[gnu::always_inline]] inline void jacobian_row(const KernelTables<NS>& t, const KernelShape& ks,
+                                                const double* __restrict cur, const std::array<double, NS + 1>& r,
+                                                const Lags& u, const double* vb, double* __restrict row) noexcept {
+  constexpr int n = NS;
+  const int np = ks.np;
+  const double* x = cur;
+  for (int p = 0; p < np; ++p) {
+    const double* z = cur + (1 + p) * n;
+    double s = t.dh[p][0] * u.l0 + t.dh[p][1] * u.l1 + t.dh[p][2] * u.l2;
+    for (int i = 0; i < n; ++i) s += t.c[i] * z[i] + t.dc[p][i] * x[i];
+    row[p] = t.scale[static_cast<std::size_t>(p)] * s;
+  }
+  std::size_t col = static_cast<std::size_t>(np);
+  if (ks.dx0) {
+    for (int l = 0; l < n; ++l) row[col++] = r[l];
+  }
+  if (ks.du0) {
+    const double* zu = cur + ks.zu_block * n;
+    double s = -(t.h[0] * vb[2] + t.h[1] * vb[1] + t.h[2] * vb[0]);
+    for (int i = 0; i < n; ++i) s += t.c[i] * zu[i];
+    row[col++] = s;
+  }
+  if (ks.dy0) row[col] = 1.0;
+}
+
+template <int NS>
+bool run_kernel(const KernelInput& in, double* out, double* jac) {
+  constexpr int n = NS;
+  const std::size_t count = in.input.size();
+  const std::size_t d = in.model->delay_samples;
+  KernelShape ks;
+  ks.np = jac != nullptr ? static_cast<int>(in.directions.size()) : 0;
+  ks.dx0 = jac != nullptr && in.d_x0;
+  ks.du0 = jac != nullptr && in.d_u0;
+  ks.dy0 = jac != nullptr && in.d_y0;
+  ks.cols = jac != nullptr ? jacobian_columns(in) : 0;
+  ks.zu_block = 1 + ks.np;
+  KernelTables<NS> t;
+  load_tables(in, ks.np, t);
   // Input with d + 2 leading zeros (the history before the start): lag j of sample k is
   // padded[k + 2 − j]; the same for the indicator of real samples (∂u/∂u0 = −1 there).
   std::vector<double> padded(count + d + 2, 0.0), valid(count + d + 2, 0.0);
@@ -292,86 +395,34 @@ bool run_kernel(const KernelInput& in, double* out, double* jac) {
     padded[k + d + 2] = in.input[k];
     valid[k + d + 2] = 1.0;
   }
-
   // State blocks: [x | z_0 … z_(np−1) | zu], each n wide; r = C Φᵏ for the x0 columns.
   constexpr int kMaxBlocks = kMaxParameters + 2;
   std::array<double, (n + 1) * kMaxBlocks> sa{}, sb{};
   double* cur = sa.data();
   double* nxt = sb.data();
-  std::array<double, n + 1> r{}, rn{};
+  std::array<double, n + 1> r{};
   for (int i = 0; i < n; ++i) {
     cur[i] = in.x0.empty() ? 0.0 : in.x0[static_cast<std::size_t>(i)];
-    r[i] = c[i];  // ∂y[0]/∂x0 = C
+    r[i] = t.c[i];  // ∂y[0]/∂x0 = C
   }
-  const int zu_block = 1 + np;
-  const int blocks = zu_block + 1;
+  const int blocks = ks.zu_block + 1;
   for (std::size_t k = 0; k < count; ++k) {
     const double* lag_base = padded.data() + k;  // lag j at lag_base[2 − j]
-    const double l0 = lag_base[2], l1 = lag_base[1], l2 = lag_base[0];
+    const Lags u{lag_base[2], lag_base[1], lag_base[0]};
+    const double* vb = valid.data() + k;
     if (k > 0) {
-      const double* x = cur;
-      for (int i = 0; i < n; ++i) {  // x[k] = Φ x[k−1] + Σ Gⱼ u[k−d−j]
-        double s = g[i * 3] * l0 + g[i * 3 + 1] * l1 + g[i * 3 + 2] * l2;
-        for (int l = 0; l < n; ++l) s += phi[i * n + l] * x[l];
-        nxt[i] = s;
-      }
-      for (int p = 0; p < np; ++p) {  // ∂x[k] = Φ ∂x[k−1] + ∂Φ x[k−1] + Σ ∂Gⱼ u[k−d−j]
-        const double* z = cur + (1 + p) * n;
-        double* zn = nxt + (1 + p) * n;
-        for (int i = 0; i < n; ++i) {
-          double s = dg[p][i * 3] * l0 + dg[p][i * 3 + 1] * l1 + dg[p][i * 3 + 2] * l2;
-          for (int l = 0; l < n; ++l) s += phi[i * n + l] * z[l] + dphi[p][i * n + l] * x[l];
-          zn[i] = s;
-        }
-      }
-      if (du0) {
-        const double* vb = valid.data() + k;
-        const double* zu = cur + zu_block * n;
-        double* zun = nxt + zu_block * n;
-        for (int i = 0; i < n; ++i) {
-          double s = -(g[i * 3] * vb[2] + g[i * 3 + 1] * vb[1] + g[i * 3 + 2] * vb[0]);
-          for (int l = 0; l < n; ++l) s += phi[i * n + l] * zu[l];
-          zun[i] = s;
-        }
-      }
-      if (dx0) {  // C Φᵏ
-        for (int l = 0; l < n; ++l) {
-          double s = 0.0;
-          for (int i = 0; i < n; ++i) s += r[i] * phi[i * n + l];
-          rn[l] = s;
-        }
-        r = rn;
-      }
+      advance_states(t, ks, cur, nxt, u, vb);
+      if (ks.dx0) advance_initial_state_row(t, r);
       std::swap(cur, nxt);
       if ((k & 15U) == 0) {  // decaying states would reach subnormal numbers (~100× slower)
         for (int i = 0; i < blocks * n; ++i) cur[i] = std::abs(cur[i]) < 1e-200 ? 0.0 : cur[i];
         for (int i = 0; i < n; ++i) r[i] = std::abs(r[i]) < 1e-200 ? 0.0 : r[i];
       }
     }
-    const double* x = cur;
-    double y = in.y0 + h[0] * l0 + h[1] * l1 + h[2] * l2;
-    for (int i = 0; i < n; ++i) y += c[i] * x[i];
+    double y = in.y0 + t.h[0] * u.l0 + t.h[1] * u.l1 + t.h[2] * u.l2;
+    for (int i = 0; i < n; ++i) y += t.c[i] * cur[i];
     out[k] = y;
-    if (jac == nullptr) continue;
-    double* row = jac + k * cols;
-    for (int p = 0; p < np; ++p) {
-      const double* z = cur + (1 + p) * n;
-      double s = dh[p][0] * l0 + dh[p][1] * l1 + dh[p][2] * l2;
-      for (int i = 0; i < n; ++i) s += c[i] * z[i] + dc[p][i] * x[i];
-      row[p] = scale[static_cast<std::size_t>(p)] * s;
-    }
-    std::size_t col = static_cast<std::size_t>(np);
-    if (dx0) {
-      for (int l = 0; l < n; ++l) row[col++] = r[l];
-    }
-    if (du0) {
-      const double* vb = valid.data() + k;
-      const double* zu = cur + zu_block * n;
-      double s = -(h[0] * vb[2] + h[1] * vb[1] + h[2] * vb[0]);
-      for (int i = 0; i < n; ++i) s += c[i] * zu[i];
-      row[col++] = s;
-    }
-    if (dy0) row[col] = 1.0;
+    if (jac != nullptr) jacobian_row(t, ks, cur, r, u, vb, jac + k * ks.cols);
   }
   for (std::size_t k = 0; k < count; ++k)
     if (!std::isfinite(out[k])) return false;
