@@ -31,11 +31,8 @@ void shift_invariance(const Eigen::MatrixXd& gamma, Eigen::MatrixXd& a, Eigen::R
   a = gamma.topRows(i - 1).completeOrthogonalDecomposition().solve(gamma.bottomRows(i - 1));
 }
 
-}  // namespace
-
-SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const SubspaceOptions& options) {
-  validate(experiment);
-  if (order < 1) throw_invalid("n4sid order", 0.0, ">= 1");
+// The horizon i (block rows): options.block_rows or max(2n, 10); checked against the record.
+std::size_t horizon(const Experiment& experiment, std::size_t order, const SubspaceOptions& options) {
   const std::size_t n_samples = experiment.size();
   const std::size_t i = options.block_rows > 0 ? options.block_rows : std::max<std::size_t>(2 * order, 10);
   if (i <= order) {
@@ -47,22 +44,38 @@ SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const Subsp
                           " samples; a horizon of " + std::to_string(i) + " and order " + std::to_string(order) +
                           " need at least " + std::to_string(2 * i + 2 * order + 10) + ". Use a longer record.");
   }
-  // Scale u and y to unit RMS for conditioning; the scales are undone at the end.
-  const double su = rms(experiment.input) > 0.0 ? rms(experiment.input) : 1.0;
-  const double sy = rms(experiment.output) > 0.0 ? rms(experiment.output) : 1.0;
-  std::vector<double> u(n_samples), y(n_samples);
+  return i;
+}
+
+// u and y scaled to unit RMS for conditioning; the scales are undone at the end.
+struct ScaledData {
+  std::vector<double> u, y;
+  double su = 1.0, sy = 1.0;
+};
+
+ScaledData scaled(const Experiment& experiment) {
+  const std::size_t n_samples = experiment.size();
+  ScaledData s;
+  s.su = rms(experiment.input) > 0.0 ? rms(experiment.input) : 1.0;
+  s.sy = rms(experiment.output) > 0.0 ? rms(experiment.output) : 1.0;
+  s.u.resize(n_samples);
+  s.y.resize(n_samples);
   for (std::size_t k = 0; k < n_samples; ++k) {
-    u[k] = experiment.input[k] / su;
-    y[k] = experiment.output[k] / sy;
+    s.u[k] = experiment.input[k] / s.su;
+    s.y[k] = experiment.output[k] / s.sy;
   }
-  const std::size_t j = n_samples - 2 * i + 1;
+  return s;
+}
+
+// A matrix whose left singular vectors span the extended observability matrix Γᵢ.
+Eigen::MatrixXd observability_basis(const ScaledData& s, std::size_t i, SubspaceMethod method) {
+  const std::size_t j = s.u.size() - 2 * i + 1;
   const auto ii = static_cast<Eigen::Index>(i);
-  const Eigen::MatrixXd up = hankel(u, 0, i, j), uf = hankel(u, i, i, j);
-  const Eigen::MatrixXd yp = hankel(y, 0, i, j), yf = hankel(y, i, i, j);
+  const Eigen::MatrixXd up = hankel(s.u, 0, i, j), uf = hankel(s.u, i, i, j);
+  const Eigen::MatrixXd yp = hankel(s.y, 0, i, j), yf = hankel(s.y, i, i, j);
   Eigen::MatrixXd wp(2 * ii, static_cast<Eigen::Index>(j));
   wp << up, yp;
-  Eigen::MatrixXd basis;  // its left singular vectors span the extended observability matrix Γᵢ
-  if (options.method == SubspaceMethod::n4sid) {
+  if (method == SubspaceMethod::n4sid) {
     // Yf ≈ Lw Wp + Lu Uf (least squares, QR of the regressor); the oblique projection of Yf
     // along Uf onto Wp is Oᵢ = Lw Wp (Van Overschee & De Moor 1996, Thm. 2), whose left
     // singular vectors are those of Lw Rᵀ with Wpᵀ = Q R.
@@ -71,17 +84,70 @@ SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const Subsp
     const Eigen::MatrixXd theta = z.transpose().colPivHouseholderQr().solve(yf.transpose()).transpose();
     Eigen::HouseholderQR<Eigen::MatrixXd> qr(wp.transpose());
     const Eigen::MatrixXd r = qr.matrixQR().topRows(2 * ii).triangularView<Eigen::Upper>();
-    basis = theta.leftCols(2 * ii) * r.transpose();
-  } else {
-    // PO-MOESP (Verhaegen 1994): LQ of [Uf; Wp; Yf] = L Qᵀ; the block L32 (Yf rows, Wp columns)
-    // is Yf projected orthogonally to Uf and correlated with the past: its column space is Γᵢ.
-    Eigen::MatrixXd h(4 * ii, static_cast<Eigen::Index>(j));
-    h << uf, wp, yf;
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr(h.transpose());
-    const Eigen::MatrixXd l = qr.matrixQR().topRows(4 * ii).triangularView<Eigen::Upper>().transpose();
-    basis = l.block(3 * ii, ii, ii, 2 * ii);
+    return theta.leftCols(2 * ii) * r.transpose();
   }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(basis, Eigen::ComputeThinU);
+  // PO-MOESP (Verhaegen 1994): LQ of [Uf; Wp; Yf] = L Qᵀ; the block L32 (Yf rows, Wp columns)
+  // is Yf projected orthogonally to Uf and correlated with the past: its column space is Γᵢ.
+  Eigen::MatrixXd h(4 * ii, static_cast<Eigen::Index>(j));
+  h << uf, wp, yf;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(h.transpose());
+  const Eigen::MatrixXd l = qr.matrixQR().topRows(4 * ii).triangularView<Eigen::Upper>().transpose();
+  return l.block(3 * ii, ii, ii, 2 * ii);
+}
+
+// x0, B and D of the scaled data, given A and C.
+struct InputTerms {
+  Eigen::VectorXd x0, b;
+  double d = 0.0;
+};
+
+// Least squares on y[k] = C Aᵏ x0 + Σ_{m<k} C A^(k−1−m) B u[m] + D u[k].
+InputTerms input_terms(const Eigen::MatrixXd& a, const Eigen::RowVectorXd& c, const ScaledData& s,
+                       const SubspaceOptions& options) {
+  const std::size_t n_samples = s.u.size();
+  const Eigen::Index n = a.rows();
+  const bool with_x0 = options.estimate_initial_state;
+  const Eigen::Index cols = (with_x0 ? n : 0) + n + (options.feedthrough ? 1 : 0);
+  Eigen::MatrixXd phi(static_cast<Eigen::Index>(n_samples), cols);
+  Eigen::RowVectorXd cak = c;                        // C Aᵏ
+  Eigen::MatrixXd xb = Eigen::MatrixXd::Zero(n, n);  // state of (A, e_l) driven by u
+  for (std::size_t k = 0; k < n_samples; ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    Eigen::Index col = 0;
+    if (with_x0) {
+      phi.block(kk, 0, 1, n) = cak;
+      col += n;
+    }
+    phi.block(kk, col, 1, n) = c * xb;
+    col += n;
+    if (options.feedthrough) phi(kk, col) = s.u[k];
+    cak = cak * a;
+    xb = a * xb;
+    xb.diagonal().array() += s.u[k];  // + e_l u[k] for every column l
+  }
+  const Eigen::VectorXd yv = Eigen::Map<const Eigen::VectorXd>(s.y.data(), static_cast<Eigen::Index>(n_samples));
+  const Eigen::VectorXd sol = phi.colPivHouseholderQr().solve(yv);
+  InputTerms out;
+  Eigen::Index col = 0;
+  out.x0 = Eigen::VectorXd::Zero(n);
+  if (with_x0) {
+    out.x0 = sol.head(n);
+    col += n;
+  }
+  out.b = sol.segment(col, n);
+  col += n;
+  out.d = options.feedthrough ? sol(col) : 0.0;
+  return out;
+}
+
+}  // namespace
+
+SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const SubspaceOptions& options) {
+  validate(experiment);
+  if (order < 1) throw_invalid("n4sid order", 0.0, ">= 1");
+  const std::size_t i = horizon(experiment, order, options);
+  const ScaledData s = scaled(experiment);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(observability_basis(s, i, options.method), Eigen::ComputeThinU);
   SubspaceModel out;
   for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
   const auto n = static_cast<Eigen::Index>(order);
@@ -93,46 +159,14 @@ SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const Subsp
   Eigen::MatrixXd a;
   Eigen::RowVectorXd c;
   shift_invariance(gamma, a, c);
-
-  // x0, B, D by least squares on y[k] = C Aᵏ x0 + Σ_{m<k} C A^(k−1−m) B u[m] + D u[k].
-  const bool with_x0 = options.estimate_initial_state;
-  const Eigen::Index cols = (with_x0 ? n : 0) + n + (options.feedthrough ? 1 : 0);
-  Eigen::MatrixXd phi(static_cast<Eigen::Index>(n_samples), cols);
-  Eigen::RowVectorXd cak = c;                   // C Aᵏ
-  Eigen::MatrixXd xb = Eigen::MatrixXd::Zero(n, n);  // state of (A, e_l) driven by u
-  for (std::size_t k = 0; k < n_samples; ++k) {
-    const auto kk = static_cast<Eigen::Index>(k);
-    Eigen::Index col = 0;
-    if (with_x0) {
-      phi.block(kk, 0, 1, n) = cak;
-      col += n;
-    }
-    phi.block(kk, col, 1, n) = c * xb;
-    col += n;
-    if (options.feedthrough) phi(kk, col) = u[k];
-    cak = cak * a;
-    xb = a * xb;
-    xb.diagonal().array() += u[k];  // + e_l u[k] for every column l
-  }
-  const Eigen::VectorXd yv = Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(n_samples));
-  const Eigen::VectorXd sol = phi.colPivHouseholderQr().solve(yv);
-  Eigen::Index col = 0;
-  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(n);
-  if (with_x0) {
-    x0 = sol.head(n);
-    col += n;
-  }
-  const Eigen::VectorXd b = sol.segment(col, n);
-  col += n;
-  const double d = options.feedthrough ? sol(col) : 0.0;
-
+  const InputTerms t = input_terms(a, c, s, options);
   out.model.a = a;
-  out.model.b = b / su;
-  out.model.c = c * sy;
-  out.model.d = Eigen::MatrixXd::Constant(1, 1, d * sy / su);
+  out.model.b = t.b / s.su;
+  out.model.c = c * s.sy;
+  out.model.d = Eigen::MatrixXd::Constant(1, 1, t.d * s.sy / s.su);
   out.model.sample_time_s = experiment.sample_time_s;
   out.model.hold = lti::Hold::zoh;
-  out.initial_state = x0;
+  out.initial_state = t.x0;
   return out;
 }
 
