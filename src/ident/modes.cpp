@@ -121,10 +121,7 @@ ModeIdentification finish(const detail::ModalModel& model, const Eigen::MatrixXd
   return out;
 }
 
-}  // namespace
-
-ModeIdentification identify_free_response_modes(const UniformSeries& response, const ModeOptions& options) {
-  check_options(options);
+void check_free_response(const UniformSeries& response) {
   require_positive("response sample_time_s", response.sample_time_s);
   const std::size_t n = response.size();
   if (n < 50) {
@@ -135,20 +132,23 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
       throw InvalidArgument("free response sample " + std::to_string(k) + " is not finite; repair the record.");
     }
   }
-  const std::vector<double>& y = response.values;
-  const std::size_t order = options.order > 0 ? options.order : 2 * options.modes + 2;
-  // Block averaging keeps the poles (z^q) of a sum of exponentials and shortens the Hankel
-  // matrix; the offset is one more pole, at z = 1, which the offset parameter then replaces.
-  const std::size_t q = choose_decimation(y, options.modes, order);
+}
+
+// Means of consecutive blocks of q samples (a last partial block is dropped).
+std::vector<double> block_average(const std::vector<double>& y, std::size_t q) {
   std::vector<double> averaged;
-  for (std::size_t k = 0; (k + 1) * q <= n; ++k) {
+  for (std::size_t k = 0; (k + 1) * q <= y.size(); ++k) {
     double s = 0.0;
     for (std::size_t j = 0; j < q; ++j) s += y[k * q + j];
     averaged.push_back(s / static_cast<double>(q));
   }
-  const std::size_t era_order = std::min(order + (options.estimate_offset ? 1 : 0), averaged.size() / 3 - 1);
-  const FreeResponseModel era_model = era(averaged, era_order);
-  // Poles at the full rate: z = exp(log(z_q)/q).
+  return averaged;
+}
+
+// The ERA model's poles at the full rate, z = exp(log(z_q)/q), as modal blocks (no input). A
+// real pole slower than the record of n samples is the constant offset when that is estimated.
+detail::ModalModel full_rate_blocks(const FreeResponseModel& era_model, std::size_t q, std::size_t n,
+                                    bool estimate_offset) {
   Eigen::EigenSolver<Eigen::MatrixXd> es(era_model.a, false);
   detail::ModalModel model;
   model.has_input = false;
@@ -163,8 +163,7 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
       blk.pole0 = std::log(std::abs(z));
       blk.pole1 = std::arg(z);
     } else if (std::abs(z.imag()) <= tol) {
-      // A real pole slower than the record is the constant offset when that is estimated.
-      if (options.estimate_offset && std::abs(1.0 - z.real()) < 1.0 / static_cast<double>(n)) continue;
+      if (estimate_offset && std::abs(1.0 - z.real()) < 1.0 / static_cast<double>(n)) continue;
       blk.complex = false;
       blk.pole0 = z.real();
     } else {
@@ -172,10 +171,14 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
     }
     model.blocks.push_back(blk);
   }
-  solve_amplitudes(model, y, options.estimate_offset);
-  // Keep the `modes` most energetic oscillatory blocks, and any other block whose energy Σ yᵢ²
-  // stands out of the noise (> 25 σ², σ² from the residual of this linear fit): spurious poles
-  // that only fit noise would leave the refinement without a unique optimum.
+  return model;
+}
+
+// Keep the `modes` most energetic oscillatory blocks, and any other block whose energy Σ yᵢ²
+// stands out of the noise (> 25 σ², σ² from the residual of the linear fit of `model`):
+// spurious poles that only fit noise would leave the refinement without a unique optimum.
+detail::ModalModel energetic_blocks(const detail::ModalModel& model, const std::vector<double>& y, std::size_t modes) {
+  const std::size_t n = y.size();
   std::vector<double> fitted(n);
   detail::simulate(model, {}, n, fitted.data(), nullptr);
   double sse = 0.0;
@@ -192,7 +195,7 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
   std::stable_sort(complex_order.begin(), complex_order.end(),
                    [&](std::size_t a, std::size_t b) { return energy[a] > energy[b]; });
   std::vector<bool> keep(model.blocks.size(), false);
-  for (std::size_t i = 0; i < complex_order.size() && i < options.modes; ++i) keep[complex_order[i]] = true;
+  for (std::size_t i = 0; i < complex_order.size() && i < modes; ++i) keep[complex_order[i]] = true;
   for (std::size_t b = 0; b < model.blocks.size(); ++b)
     if (energy[b] > 25.0 * sigma2) keep[b] = true;
   detail::ModalModel kept;
@@ -202,6 +205,24 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
   if (kept.blocks.empty()) {
     throw RuntimeError("no mode found in the free response (the record is flat or pure noise).");
   }
+  return kept;
+}
+
+}  // namespace
+
+ModeIdentification identify_free_response_modes(const UniformSeries& response, const ModeOptions& options) {
+  check_options(options);
+  check_free_response(response);
+  const std::vector<double>& y = response.values;
+  const std::size_t order = options.order > 0 ? options.order : 2 * options.modes + 2;
+  // Block averaging keeps the poles (z^q) of a sum of exponentials and shortens the Hankel
+  // matrix; the offset is one more pole, at z = 1, which the offset parameter then replaces.
+  const std::size_t q = choose_decimation(y, options.modes, order);
+  const std::vector<double> averaged = block_average(y, q);
+  const std::size_t era_order = std::min(order + (options.estimate_offset ? 1 : 0), averaged.size() / 3 - 1);
+  detail::ModalModel model = full_rate_blocks(era(averaged, era_order), q, y.size(), options.estimate_offset);
+  solve_amplitudes(model, y, options.estimate_offset);
+  detail::ModalModel kept = energetic_blocks(model, y, options.modes);
   solve_amplitudes(kept, y, options.estimate_offset);
   const std::vector<bool> free = detail::free_mask(kept, false, true, false, options.estimate_offset);
   Eigen::MatrixXd covariance;
