@@ -112,6 +112,169 @@ static inline {x} {p}_step_{s}({p}_state_{s} *st, {x} input)
 
 std::string short_number(double x) { return fmt::format("{:.6g}", x); }
 
+// What the header is made of: the taps, their bounds, the ring size and the names.
+struct HeaderPlan {
+  std::vector<sh::DiscreteTap> taps;
+  CHeaderBounds bounds;
+  std::size_t max_delay = 0;
+  std::size_t history = 0;  ///< ring size: a power of two > max_delay
+  std::string p, P;         ///< the C name and its upper-case macro prefix
+  bool fixed = false;       ///< Q15/Q31 taps generated
+};
+
+HeaderPlan plan(const ShaperDesign& design, const ExportOptions& options) {
+  if (!is_c_identifier(options.c_name)) {
+    throw InvalidArgument(fmt::format("--export-name = '{}' is not a C identifier; allowed: a letter or _ then letters, "
+                                      "digits or _, at most 31 characters", options.c_name));
+  }
+  HeaderPlan h;
+  h.taps = export_taps(design, options);
+  h.bounds = c_header_bounds(h.taps);
+  h.max_delay = sh::max_delay_samples(h.taps);
+  h.history = std::bit_ceil(h.max_delay + 1);
+  h.p = options.c_name;
+  h.P = upper(h.p);
+  h.fixed = h.bounds.q15.representable && h.bounds.q31.representable;
+  return h;
+}
+
+// The worst residual vibration of the taps over 0.9 … 1.1 × the mode frequency.
+double worst_band_residual(const sh::Shaper& discrete, double wn_rad_s, double zeta) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < kBandPoints; ++i) {
+    const double r = kBandRatioLow + (kBandRatioHigh - kBandRatioLow) * static_cast<double>(i) / static_cast<double>(kBandPoints - 1);
+    worst = std::max(worst, sh::residual_vibration(discrete, {r * wn_rad_s, zeta}));
+  }
+  return worst;
+}
+
+// The opening comment: the command, the design, the taps and their residual vibration.
+std::string design_comment(const HeaderPlan& h, const ShaperDesign& design, const ExportOptions& options) {
+  std::string s;
+  s += fmt::format("/* {}.h: input shaper exported by clearshape {} (clearshape shape --export c-header).\n", h.p, kVersion);
+  s += " * Generated file: regenerate rather than edit.\n";
+  if (!design.command.empty()) s += fmt::format(" *   {}\n", design.command);
+  s += " *\n";
+  s += fmt::format(" * Design: {}", design.shaper.method());
+  if (design.mode) {
+    s += fmt::format(", mode {} Hz (wn = {} rad/s), zeta = {}", short_number(design.mode->natural_frequency_hz()),
+                     short_number(design.mode->natural_frequency_rad_s), short_number(design.mode->damping_ratio));
+  }
+  if (design.second_mode) {
+    s += fmt::format(", second mode {} Hz, zeta = {}", short_number(design.second_mode->natural_frequency_hz()),
+                     short_number(design.second_mode->damping_ratio));
+  }
+  if (design.vtol) s += fmt::format(", Vtol = {}", short_number(*design.vtol));
+  s += fmt::format(";\n *   {} impulses (time_s: amplitude):", design.shaper.size());
+  for (const sh::Impulse& i : design.shaper.impulses()) s += fmt::format(" {}: {};", short_number(i.time_s), short_number(i.amplitude));
+  s += "\n *\n";
+  s += fmt::format(" * Taps at Ts = {} s ({} discretisation): y[k] = sum_j w_j * u[k - d_j],\n",
+                   shortest(options.sample_time_s),
+                   options.discretization == sh::Discretization::linear ? "linear, first-order hold" : "exact at the mode");
+  s += fmt::format(" *   N = {} taps, largest delay D = {} samples ({} s).\n", h.taps.size(), h.max_delay,
+                   short_number(static_cast<double>(h.max_delay) * options.sample_time_s));
+  if (design.mode) {
+    const sh::Shaper discrete = taps_as_shaper(h.taps, options.sample_time_s);
+    s += fmt::format(" * Residual vibration V (residual / unshaped residual; Singer & Seering 1990) at the design\n"
+                     " *   mode: {:.3g} for the continuous shaper, {:.3g} for these taps; these taps over\n"
+                     " *   0.9 .. 1.1 x the mode frequency: at most {:.3g}.\n",
+                     sh::residual_vibration(design.shaper, *design.mode), sh::residual_vibration(discrete, *design.mode),
+                     worst_band_residual(discrete, design.mode->natural_frequency_rad_s, design.mode->damping_ratio));
+  }
+  return s;
+}
+
+// The rest of the comment: number formats, error bounds (docs/export.md), use.
+std::string formats_comment(const HeaderPlan& h) {
+  std::string s = " *\n * Number formats\n";
+  s += " *   double  w_j as the shortest decimal that reads back to the same IEEE-754 binary64. The double\n"
+       " *           step repeats clearshape's StreamingShaper::step operation for operation, so with\n"
+       " *           binary64 and no FMA contraction (-ffp-contract=off, GCC's default in ISO C modes) its\n"
+       " *           output is bit for bit the C++ output.\n"
+       " *           avr-gcc: double is 32-bit (the same as float) unless -mdouble=64; there the double\n"
+       " *           shaper computes in binary32 and the float bound below applies to it.\n";
+  s += " *   float   w_j rounded to the nearest binary32 (shortest round-trip literals).\n";
+  if (h.fixed) {
+    s += " *   Q15     int16_t q_j with value q_j / 2^15: q_j = round(w_j * 2^15), half away from zero, then\n"
+         " *           corrected so that sum q_j = 32768 exactly (1.0: a step ends exactly at its target) -\n"
+         " *           the taps rounded the wrong way the most move by one LSB. Signal int16_t, products\n"
+         " *           and sum in int32_t (|sum| <= 2^30, no overflow: the taps are >= 0 and sum to 2^15),\n"
+         " *           output (sum +/- 2^14) / 2^15: rounded half away from zero.\n";
+    s += " *   Q31     the same with int32_t taps and signal, 2^31, int64_t sum (|sum| <= 2^62).\n";
+  } else {
+    s += fmt::format(" *   Q15/Q31 not generated: {}.\n", h.bounds.q15.why_not);
+  }
+  s += " *\n * Error bounds for an input with |x| <= X (y = exact sum_j w_j x_j; derived in\n"
+       " * clearshape's docs/export.md):\n";
+  // Two summation chains: γ_m with m = ceil(N/2) + 1 (Higham 2002, §3.1; c_header_bounds).
+  s += fmt::format(" *   float   |y_float - y| <= X * {:.3e}   (sum|w_f - w| + gamma_m * sum|w_f|, m = {})\n",
+                   h.bounds.float_gain_error, static_cast<int>(std::ceil(static_cast<double>(h.taps.size()) / 2.0) + 1));
+  if (h.fixed) {
+    s += fmt::format(" *   Q15     |y_q15 - y| <= 0.5 + X * {:.3e}   (0.5: output rounding; sum|q/2^15 - w|)\n",
+                     h.bounds.q15.abs_error_sum);
+    s += fmt::format(" *   Q31     |y_q31 - y| <= 0.5 + X * {:.3e}   (sum|q/2^31 - w|)\n", h.bounds.q31.abs_error_sum);
+  }
+  s += " *\n * Use, e.g. in a 1 kHz timer interrupt:\n";
+  s += fmt::format(" *   static {0}_state_float shaper;            at start-up: {0}_reset_float(&shaper, position);\n"
+                   " *   each tick: command = {0}_step_float(&shaper, command);\n"
+                   " * Each state is one ring buffer of {1}_HISTORY samples (static storage, no allocation); a step\n"
+                   " * is O({1}_TAPS) with no I/O. Use one state per axis.\n */\n",
+                   h.p, h.P);
+  return s;
+}
+
+// The include guard's opening, the sizes and the taps as macros.
+std::string macros(const HeaderPlan& h, const ExportOptions& options) {
+  const std::string& p = h.p;
+  const std::string& P = h.P;
+  std::vector<double> w;
+  std::vector<std::size_t> d;
+  for (const sh::DiscreteTap& t : h.taps) {
+    w.push_back(t.weight);
+    d.push_back(t.delay_samples);
+  }
+  std::string s = fmt::format("#ifndef {0}_H\n#define {0}_H\n\n#include <math.h>\n#include <stdint.h>\n\n", P);
+  s += fmt::format("#define {}_SAMPLE_TIME_S {}\n", P, shortest(options.sample_time_s));
+  s += fmt::format("#define {}_TAPS {}u\n", P, h.taps.size());
+  s += fmt::format("#define {}_MAX_DELAY {}u\n", P, h.max_delay);
+  s += fmt::format("#define {}_HISTORY {}u /* power of two > {}_MAX_DELAY */\n", P, h.history, P);
+  s += fmt::format("#define {}_HAS_FIXED_POINT {}\n", P, h.fixed ? 1 : 0);
+  const bool narrow = h.history <= 65536;
+  s += fmt::format("typedef {} {}_index_t;\n", narrow ? "uint16_t" : "uint32_t", p);
+  s += fmt::format("#define {0}_MASK (({1}_index_t)({0}_HISTORY - 1u))\n\n", P, p);
+  s += fmt::format("#define {}_DELAYS {}\n", P, braced(d, [](std::size_t x) { return fmt::format("{}u", x); }));
+  s += fmt::format("#define {}_TAPS_DOUBLE {}\n", P, braced(w, [](double x) { return shortest(x); }));
+  s += fmt::format("#define {}_TAPS_FLOAT {}\n", P, braced(w, [](double x) { return shortest(static_cast<float>(x)) + "f"; }));
+  if (h.fixed) {
+    s += fmt::format("#define {}_TAPS_Q15 {}\n", P, braced(h.bounds.q15.q, [](std::int64_t q) { return fmt::format("{}", q); }));
+    s += fmt::format("#define {}_TAPS_Q31 {}\n", P,
+                     braced(h.bounds.q31.q, [](std::int64_t q) { return fmt::format("INT32_C({})", q); }));
+  }
+  return s + "\n";
+}
+
+// The state types and the reset/step functions of every format, and the guard's end.
+std::string functions(const HeaderPlan& h) {
+  const std::string& p = h.p;
+  const std::string& P = h.P;
+  std::string s;
+  s += fmt::format("typedef struct {{ double history[{0}_HISTORY]; {1}_index_t head; }} {1}_state_double;\n", P, p);
+  s += fmt::format("typedef struct {{ float history[{0}_HISTORY]; {1}_index_t head; }} {1}_state_float;\n", P, p);
+  if (h.fixed) {
+    s += fmt::format("typedef struct {{ int16_t history[{0}_HISTORY]; {1}_index_t head; }} {1}_state_q15;\n", P, p);
+    s += fmt::format("typedef struct {{ int32_t history[{0}_HISTORY]; {1}_index_t head; }} {1}_state_q31;\n", P, p);
+  }
+  s += "\n";
+  s += float_step(p, P, "double", P + "_TAPS_DOUBLE", "0.0");
+  s += float_step(p, P, "float", P + "_TAPS_FLOAT", "0.0f");
+  if (h.fixed) {
+    s += fixed_step(p, P, "q15", "int16_t", "int32_t", P + "_TAPS_Q15", "INT32_C(16384)", "INT32_C(32768)");
+    s += fixed_step(p, P, "q31", "int32_t", "int64_t", P + "_TAPS_Q31", "INT64_C(1073741824)", "INT64_C(2147483648)");
+  }
+  s += fmt::format("#endif /* {}_H */\n", P);
+  return s;
+}
+
 }  // namespace
 
 CHeaderBounds c_header_bounds(std::span<const sh::DiscreteTap> taps) {
@@ -144,129 +307,10 @@ CHeaderBounds c_header_bounds(std::span<const sh::DiscreteTap> taps) {
 }
 
 ExportText to_c_header(const ShaperDesign& design, const ExportOptions& options) {
-  if (!is_c_identifier(options.c_name)) {
-    throw InvalidArgument(fmt::format("--export-name = '{}' is not a C identifier; allowed: a letter or _ then letters, "
-                                      "digits or _, at most 31 characters", options.c_name));
-  }
-  const std::vector<sh::DiscreteTap> taps = export_taps(design, options);
-  const CHeaderBounds bounds = c_header_bounds(taps);
-  const std::size_t max_delay = sh::max_delay_samples(taps);
-  const std::size_t history = std::bit_ceil(max_delay + 1);
-  const std::string& p = options.c_name;
-  const std::string P = upper(p);
-  const bool fixed = bounds.q15.representable && bounds.q31.representable;
+  const HeaderPlan h = plan(design, options);
   ExportText out;
-
-  std::vector<double> w;
-  std::vector<std::size_t> d;
-  for (const sh::DiscreteTap& t : taps) {
-    w.push_back(t.weight);
-    d.push_back(t.delay_samples);
-  }
-
-  std::string s;
-  s += fmt::format("/* {}.h: input shaper exported by clearshape {} (clearshape shape --export c-header).\n", p, kVersion);
-  s += " * Generated file: regenerate rather than edit.\n";
-  if (!design.command.empty()) s += fmt::format(" *   {}\n", design.command);
-  s += " *\n";
-  s += fmt::format(" * Design: {}", design.shaper.method());
-  if (design.mode) {
-    s += fmt::format(", mode {} Hz (wn = {} rad/s), zeta = {}", short_number(design.mode->natural_frequency_hz()),
-                     short_number(design.mode->natural_frequency_rad_s), short_number(design.mode->damping_ratio));
-  }
-  if (design.second_mode) {
-    s += fmt::format(", second mode {} Hz, zeta = {}", short_number(design.second_mode->natural_frequency_hz()),
-                     short_number(design.second_mode->damping_ratio));
-  }
-  if (design.vtol) s += fmt::format(", Vtol = {}", short_number(*design.vtol));
-  s += fmt::format(";\n *   {} impulses (time_s: amplitude):", design.shaper.size());
-  for (const sh::Impulse& i : design.shaper.impulses()) s += fmt::format(" {}: {};", short_number(i.time_s), short_number(i.amplitude));
-  s += "\n *\n";
-  s += fmt::format(" * Taps at Ts = {} s ({} discretisation): y[k] = sum_j w_j * u[k - d_j],\n",
-                   shortest(options.sample_time_s),
-                   options.discretization == sh::Discretization::linear ? "linear, first-order hold" : "exact at the mode");
-  s += fmt::format(" *   N = {} taps, largest delay D = {} samples ({} s).\n", taps.size(), max_delay,
-                   short_number(static_cast<double>(max_delay) * options.sample_time_s));
-  if (design.mode) {
-    const sh::Shaper discrete = taps_as_shaper(taps, options.sample_time_s);
-    double worst = 0.0;
-    for (std::size_t i = 0; i < kBandPoints; ++i) {
-      const double r = kBandRatioLow + (kBandRatioHigh - kBandRatioLow) * static_cast<double>(i) / static_cast<double>(kBandPoints - 1);
-      worst = std::max(worst, sh::residual_vibration(discrete, {r * design.mode->natural_frequency_rad_s, design.mode->damping_ratio}));
-    }
-    s += fmt::format(" * Residual vibration V (residual / unshaped residual; Singer & Seering 1990) at the design\n"
-                     " *   mode: {:.3g} for the continuous shaper, {:.3g} for these taps; these taps over\n"
-                     " *   0.9 .. 1.1 x the mode frequency: at most {:.3g}.\n",
-                     sh::residual_vibration(design.shaper, *design.mode), sh::residual_vibration(discrete, *design.mode), worst);
-  }
-  s += " *\n * Number formats\n";
-  s += " *   double  w_j as the shortest decimal that reads back to the same IEEE-754 binary64. The double\n"
-       " *           step repeats clearshape's StreamingShaper::step operation for operation, so with\n"
-       " *           binary64 and no FMA contraction (-ffp-contract=off, GCC's default in ISO C modes) its\n"
-       " *           output is bit for bit the C++ output.\n"
-       " *           avr-gcc: double is 32-bit (the same as float) unless -mdouble=64; there the double\n"
-       " *           shaper computes in binary32 and the float bound below applies to it.\n";
-  s += " *   float   w_j rounded to the nearest binary32 (shortest round-trip literals).\n";
-  if (fixed) {
-    s += " *   Q15     int16_t q_j with value q_j / 2^15: q_j = round(w_j * 2^15), half away from zero, then\n"
-         " *           corrected so that sum q_j = 32768 exactly (1.0: a step ends exactly at its target) -\n"
-         " *           the taps rounded the wrong way the most move by one LSB. Signal int16_t, products\n"
-         " *           and sum in int32_t (|sum| <= 2^30, no overflow: the taps are >= 0 and sum to 2^15),\n"
-         " *           output (sum +/- 2^14) / 2^15: rounded half away from zero.\n";
-    s += " *   Q31     the same with int32_t taps and signal, 2^31, int64_t sum (|sum| <= 2^62).\n";
-  } else {
-    s += fmt::format(" *   Q15/Q31 not generated: {}.\n", bounds.q15.why_not);
-  }
-  s += " *\n * Error bounds for an input with |x| <= X (y = exact sum_j w_j x_j; derived in\n"
-       " * clearshape's docs/export.md):\n";
-  s += fmt::format(" *   float   |y_float - y| <= X * {:.3e}   (sum|w_f - w| + gamma_m * sum|w_f|, m = {})\n",
-                   bounds.float_gain_error, static_cast<int>(std::ceil(static_cast<double>(taps.size()) / 2.0) + 1));
-  if (fixed) {
-    s += fmt::format(" *   Q15     |y_q15 - y| <= 0.5 + X * {:.3e}   (0.5: output rounding; sum|q/2^15 - w|)\n",
-                     bounds.q15.abs_error_sum);
-    s += fmt::format(" *   Q31     |y_q31 - y| <= 0.5 + X * {:.3e}   (sum|q/2^31 - w|)\n", bounds.q31.abs_error_sum);
-  }
-  s += " *\n * Use, e.g. in a 1 kHz timer interrupt:\n";
-  s += fmt::format(" *   static {0}_state_float shaper;            at start-up: {0}_reset_float(&shaper, position);\n"
-                   " *   each tick: command = {0}_step_float(&shaper, command);\n"
-                   " * Each state is one ring buffer of {1}_HISTORY samples (static storage, no allocation); a step\n"
-                   " * is O({1}_TAPS) with no I/O. Use one state per axis.\n */\n",
-                   p, P);
-  s += fmt::format("#ifndef {0}_H\n#define {0}_H\n\n#include <math.h>\n#include <stdint.h>\n\n", P);
-  s += fmt::format("#define {}_SAMPLE_TIME_S {}\n", P, shortest(options.sample_time_s));
-  s += fmt::format("#define {}_TAPS {}u\n", P, taps.size());
-  s += fmt::format("#define {}_MAX_DELAY {}u\n", P, max_delay);
-  s += fmt::format("#define {}_HISTORY {}u /* power of two > {}_MAX_DELAY */\n", P, history, P);
-  s += fmt::format("#define {}_HAS_FIXED_POINT {}\n", P, fixed ? 1 : 0);
-  const bool narrow = history <= 65536;
-  s += fmt::format("typedef {} {}_index_t;\n", narrow ? "uint16_t" : "uint32_t", p);
-  s += fmt::format("#define {0}_MASK (({1}_index_t)({0}_HISTORY - 1u))\n\n", P, p);
-  s += fmt::format("#define {}_DELAYS {}\n", P, braced(d, [](std::size_t x) { return fmt::format("{}u", x); }));
-  s += fmt::format("#define {}_TAPS_DOUBLE {}\n", P, braced(w, [](double x) { return shortest(x); }));
-  s += fmt::format("#define {}_TAPS_FLOAT {}\n", P, braced(w, [](double x) { return shortest(static_cast<float>(x)) + "f"; }));
-  if (fixed) {
-    s += fmt::format("#define {}_TAPS_Q15 {}\n", P, braced(bounds.q15.q, [](std::int64_t q) { return fmt::format("{}", q); }));
-    s += fmt::format("#define {}_TAPS_Q31 {}\n", P,
-                     braced(bounds.q31.q, [](std::int64_t q) { return fmt::format("INT32_C({})", q); }));
-  }
-  s += "\n";
-  s += fmt::format("typedef struct {{ double history[{0}_HISTORY]; {1}_index_t head; }} {1}_state_double;\n", P, p);
-  s += fmt::format("typedef struct {{ float history[{0}_HISTORY]; {1}_index_t head; }} {1}_state_float;\n", P, p);
-  if (fixed) {
-    s += fmt::format("typedef struct {{ int16_t history[{0}_HISTORY]; {1}_index_t head; }} {1}_state_q15;\n", P, p);
-    s += fmt::format("typedef struct {{ int32_t history[{0}_HISTORY]; {1}_index_t head; }} {1}_state_q31;\n", P, p);
-  }
-  s += "\n";
-  s += float_step(p, P, "double", P + "_TAPS_DOUBLE", "0.0");
-  s += float_step(p, P, "float", P + "_TAPS_FLOAT", "0.0f");
-  if (fixed) {
-    s += fixed_step(p, P, "q15", "int16_t", "int32_t", P + "_TAPS_Q15", "INT32_C(16384)", "INT32_C(32768)");
-    s += fixed_step(p, P, "q31", "int32_t", "int64_t", P + "_TAPS_Q31", "INT64_C(1073741824)", "INT64_C(2147483648)");
-  } else {
-    out.notes.push_back(fmt::format("c-header: no Q15/Q31 taps: {}", bounds.q15.why_not));
-  }
-  s += fmt::format("#endif /* {}_H */\n", P);
-  out.text = std::move(s);
+  out.text = design_comment(h, design, options) + formats_comment(h) + macros(h, options) + functions(h);
+  if (!h.fixed) out.notes.push_back(fmt::format("c-header: no Q15/Q31 taps: {}", h.bounds.q15.why_not));
   return out;
 }
 
