@@ -39,56 +39,56 @@ std::optional<std::string_view> rrf_type_for(sh::Method method) {
   }
 }
 
-ExportText to_rrf(const ShaperDesign& design, const ExportOptions& /*options*/) {
-  const sh::Shaper& shaper = design.shaper;
-  if (!shaper.is_positive()) {
-    throw InvalidArgument(fmt::format("--export rrf: the {} shaper has negative impulses; RRF shapes accelerations with "
-                                      "positive fractions only. Use a positive shaper (zvd, zvdd, ei2)", shaper.method()));
-  }
-  ExportText out;
-  std::string header = fmt::format("; Input shaper exported by clearshape {} for RepRapFirmware 3.5/3.6 (M593).\n", kVersion);
-  if (!design.command.empty()) header += fmt::format(";   {}\n", design.command);
+namespace {
 
-  // A named type when RRF's own design from the printed F and S matches ours.
-  const std::optional<std::string_view> type = rrf_type_for(design.method);
+// Why the design cannot be one of RRF's named types before comparing shapers ("" if it may be).
+std::string why_not_named(const ShaperDesign& design, const std::optional<std::string_view>& type) {
+  if (design.method == sh::Method::custom) return "the design is a custom impulse list";
+  if (!type) return fmt::format("RRF has no {} type", sh::to_string(design.method));
+  if (design.second_mode) return "RRF's named types shape one mode";
+  if (!design.mode) return "no design mode";
+  if (design.vtol && std::abs(*design.vtol - kRrfVtol) > 1e-12) {
+    return fmt::format("RRF's {} is the Vtol = 5 % design, this one has Vtol = {}", *type, *design.vtol);
+  }
+  return {};
+}
+
+// The named form: the lines to print, or why the custom form is needed instead.
+struct NamedForm {
+  std::string lines;  ///< comment and M593 line; empty when no named type fits
   std::string why_custom;
-  if (design.method == sh::Method::custom) {
-    why_custom = "the design is a custom impulse list";
-  } else if (!type) {
-    why_custom = fmt::format("RRF has no {} type", sh::to_string(design.method));
-  } else if (design.second_mode) {
-    why_custom = "RRF's named types shape one mode";
-  } else if (!design.mode) {
-    why_custom = "no design mode";
-  } else if (design.vtol && std::abs(*design.vtol - kRrfVtol) > 1e-12) {
-    why_custom = fmt::format("RRF's {} is the Vtol = 5 % design, this one has Vtol = {}", *type, *design.vtol);
-  } else {
-    const double f_hz = design.mode->natural_frequency_hz();
-    const std::string freq = fixed_significant(f_hz, kDigits);
-    const std::string zeta = fixed_significant(design.mode->damping_ratio, kDigits);
-    if (std::stod(freq) < kRrfMinFrequencyHz || std::stod(freq) > kRrfMaxFrequencyHz) {
-      why_custom = fmt::format("F = {} Hz is outside RRF's range for named types, [{:.4g}, {:g}] Hz", freq,
-                               kRrfMinFrequencyHz, kRrfMaxFrequencyHz);
-    } else if (std::stod(zeta) > 0.99) {
-      why_custom = fmt::format("S = {} is above RRF's limit 0.99", zeta);
-    } else {
-      const sh::Shaper theirs = *rrf_shaper(*type, std::stod(freq), std::stod(zeta));
-      const ResidualDifference diff = residual_difference(shaper, theirs, *design.mode);
-      if (diff.max_abs <= kFirmwareResidualTolerance) {
-        out.text = header + fmt::format("; RRF builds {} itself from F (the undamped natural frequency, Hz) and S (damping "
-                                        "ratio);\n; its shaper and the design differ in residual vibration by at most "
-                                        "{:.2g} over 0.5 .. 1.5 x F (tolerance {}).\n",
-                                        *type, diff.max_abs, kFirmwareResidualTolerance);
-        out.text += fmt::format("M593 P\"{}\" F{} S{}\n", *type, freq, zeta);
-        return out;
-      }
-      why_custom = fmt::format("the {} RRF builds from F{} S{} differs from the design by {:.3g} in residual vibration "
-                               "(at r = {:.3g}; tolerance {})",
-                               *type, freq, zeta, diff.max_abs, diff.at_ratio, kFirmwareResidualTolerance);
-    }
-  }
+};
 
-  // RRF's custom form: H = cumulative amplitudes of all impulses but the last, T = durations.
+// A named type when RRF's own design from the printed F and S matches ours.
+NamedForm named_form(const ShaperDesign& design) {
+  const std::optional<std::string_view> type = rrf_type_for(design.method);
+  if (std::string why = why_not_named(design, type); !why.empty()) return {{}, why};
+  const double f_hz = design.mode->natural_frequency_hz();
+  const std::string freq = fixed_significant(f_hz, kDigits);
+  const std::string zeta = fixed_significant(design.mode->damping_ratio, kDigits);
+  if (std::stod(freq) < kRrfMinFrequencyHz || std::stod(freq) > kRrfMaxFrequencyHz) {
+    return {{}, fmt::format("F = {} Hz is outside RRF's range for named types, [{:.4g}, {:g}] Hz", freq,
+                            kRrfMinFrequencyHz, kRrfMaxFrequencyHz)};
+  }
+  if (std::stod(zeta) > 0.99) return {{}, fmt::format("S = {} is above RRF's limit 0.99", zeta)};
+  const sh::Shaper theirs = *rrf_shaper(*type, std::stod(freq), std::stod(zeta));
+  const ResidualDifference diff = residual_difference(design.shaper, theirs, *design.mode);
+  if (diff.max_abs > kFirmwareResidualTolerance) {
+    return {{}, fmt::format("the {} RRF builds from F{} S{} differs from the design by {:.3g} in residual vibration "
+                            "(at r = {:.3g}; tolerance {})",
+                            *type, freq, zeta, diff.max_abs, diff.at_ratio, kFirmwareResidualTolerance)};
+  }
+  std::string lines = fmt::format("; RRF builds {} itself from F (the undamped natural frequency, Hz) and S (damping "
+                                  "ratio);\n; its shaper and the design differ in residual vibration by at most "
+                                  "{:.2g} over 0.5 .. 1.5 x F (tolerance {}).\n",
+                                  *type, diff.max_abs, kFirmwareResidualTolerance);
+  lines += fmt::format("M593 P\"{}\" F{} S{}\n", *type, freq, zeta);
+  return {lines, {}};
+}
+
+// RRF's custom form: H = cumulative amplitudes of all impulses but the last, T = durations.
+ExportText custom_form(const ShaperDesign& design, const std::string& header, const std::string& why_custom) {
+  const sh::Shaper& shaper = design.shaper;
   if (shaper.size() < 2) {
     throw InvalidArgument("--export rrf: a one-impulse shaper does not shape; RRF's equivalent is M593 P\"none\"");
   }
@@ -110,6 +110,7 @@ ExportText to_rrf(const ShaperDesign& design, const ExportOptions& /*options*/) 
     h_value.push_back(std::stod(h.back()));
     t_value.push_back(std::stod(t.back()));
   }
+  ExportText out;
   out.notes.push_back(fmt::format("rrf: custom form: {}", why_custom));
   out.text = header + fmt::format("; Custom form (H: cumulative amplitudes of every impulse but the last; T: durations "
                                   "between impulses, s):\n; {}.\n", why_custom);
@@ -121,6 +122,25 @@ ExportText to_rrf(const ShaperDesign& design, const ExportOptions& /*options*/) 
   }
   out.text += fmt::format("M593 P\"custom\" H{} T{}\n", join(h), join(t));
   return out;
+}
+
+}  // namespace
+
+ExportText to_rrf(const ShaperDesign& design, const ExportOptions& /*options*/) {
+  const sh::Shaper& shaper = design.shaper;
+  if (!shaper.is_positive()) {
+    throw InvalidArgument(fmt::format("--export rrf: the {} shaper has negative impulses; RRF shapes accelerations with "
+                                      "positive fractions only. Use a positive shaper (zvd, zvdd, ei2)", shaper.method()));
+  }
+  std::string header = fmt::format("; Input shaper exported by clearshape {} for RepRapFirmware 3.5/3.6 (M593).\n", kVersion);
+  if (!design.command.empty()) header += fmt::format(";   {}\n", design.command);
+  const NamedForm named = named_form(design);
+  if (!named.lines.empty()) {
+    ExportText out;
+    out.text = header + named.lines;
+    return out;
+  }
+  return custom_form(design, header, named.why_custom);
 }
 
 }  // namespace clearshape::exports
