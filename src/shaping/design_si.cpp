@@ -330,9 +330,7 @@ Seed choose_seed(double zeta, double vtol, double ratio, int max_impulses) {
   return *best;
 }
 
-}  // namespace
-
-Shaper design_si(const Mode& mode, const SiOptions& options) {
+void validate_si(const Mode& mode, const SiOptions& options) {
   detail::validate_mode(mode, "si");
   detail::validate_vtol(options.vtol, "si");
   require_positive("si: frequency_low_rad_s", options.frequency_low_rad_s,
@@ -347,31 +345,32 @@ Shaper design_si(const Mode& mode, const SiOptions& options) {
   if (options.constraint_points < 2 || options.constraint_points > 10000) {
     throw_invalid("si: constraint_points", options.constraint_points, "2 … 10000");
   }
-  const double zeta = mode.damping_ratio;
-  const double vtol = options.vtol;
-  const double centre_rad_s = std::sqrt(options.frequency_low_rad_s * options.frequency_high_rad_s);
-  const double ratio = options.frequency_high_rad_s / options.frequency_low_rad_s;
-  const auto points = static_cast<std::size_t>(options.constraint_points);
-  const int max_impulses = options.impulses > 0 ? options.impulses : kMaxImpulses;
+}
 
-  const Seed seed = choose_seed(zeta, vtol, ratio, max_impulses);
-  // Practical limit (checked when the seed must be widened): the band of the ZV shaper with 38
-  // derivatives (40 impulses) at this vtol.
-  if (seed.ratio < ratio) {
-    const double limit = zv_limit_ratio(zeta, vtol);
-    if (ratio > limit) {
-      throw InvalidArgument(fmt::format(
-          "si: the band ratio high/low = {:.4g} is out of range; allowed: <= {:.4g} at vtol = {} and "
-          "damping_ratio = {} (the band of a 40-impulse ZV-family shaper). The band is too wide: "
-          "narrow it or raise vtol", ratio, limit, vtol, zeta));
-    }
+// Practical limit (checked when the seed must be widened): the band of the ZV shaper with 38
+// derivatives (40 impulses) at this vtol.
+void check_band_limit(const Seed& seed, double ratio, double zeta, double vtol) {
+  if (seed.ratio >= ratio) return;
+  const double limit = zv_limit_ratio(zeta, vtol);
+  if (ratio > limit) {
+    throw InvalidArgument(fmt::format(
+        "si: the band ratio high/low = {:.4g} is out of range; allowed: <= {:.4g} at vtol = {} and "
+        "damping_ratio = {} (the band of a 40-impulse ZV-family shaper). The band is too wide: "
+        "narrow it or raise vtol", ratio, limit, vtol, zeta));
   }
-  State state = state_from(seed.shaper);
-  while (options.impulses > 0 && state.n < options.impulses) state = split_largest(state);
+}
 
-  // Continuation in log R from the seed's own band to the requested one.
-  double log_r = std::log(seed.ratio);
-  const double log_target = std::log(ratio);
+// The continuation's fixed data: the mode, the tolerance and the band to reach.
+struct BandTarget {
+  double zeta = 0.0, vtol = 0.0, ratio = 1.0;
+  std::size_t points = 0;  ///< constraint points over the band
+  int max_impulses = 0;
+};
+
+// Continuation in log R from the seed's band (log_r) to the target band; an impulse is split
+// when a step fails, then the step halves.
+State continue_to_band(State state, double log_r, const BandTarget& b) {
+  const double log_target = std::log(b.ratio);
   double step = 0.05;
   double max_v = 0.0;
   bool done = false;
@@ -379,16 +378,16 @@ Shaper design_si(const Mode& mode, const SiOptions& options) {
   while (!done) {
     const double next = log_r < log_target ? std::min(log_target, log_r + step) : std::max(log_target, log_r - step);
     State trial = state;
-    max_v = solve_band(trial, zeta, vtol, std::exp(next), points);
+    max_v = solve_band(trial, b.zeta, b.vtol, std::exp(next), b.points);
     // A feasible optimum far longer than the previous one means SLSQP left the branch.
     const bool kept_branch = duration_of(trial) <= 1.25 * duration_of(state) + 1e-9;
-    if (max_v <= vtol * (1.0 + 1e-6) && kept_branch) {
+    if (max_v <= b.vtol * (1.0 + 1e-6) && kept_branch) {
       state = std::move(trial);
       log_r = next;
       done = next == log_target;
       step = std::min(0.05, 2.0 * step);
       splits = 0;
-    } else if (state.n < max_impulses && splits < 2) {
+    } else if (state.n < b.max_impulses && splits < 2) {
       state = split_largest(state);
       ++splits;
     } else if ((step *= 0.5) < 1e-3) {
@@ -396,14 +395,19 @@ Shaper design_si(const Mode& mode, const SiOptions& options) {
           "si: no {}-impulse positive shaper was found with V <= {} over the band ratio {:.4g} "
           "(max V = {:.4g} at ratio {:.4g}); use more impulses (or impulses = 0 to choose "
           "automatically), a narrower band or a larger vtol",
-          state.n, vtol, ratio, max_v, std::exp(next)));
+          state.n, b.vtol, b.ratio, max_v, std::exp(next)));
     }
   }
+  return state;
+}
+
+// The state's impulses in seconds (times are in units of 1/centre). Impulses that ended at the
+// same time are merged and empty ones dropped (V is unchanged by both and by a common time
+// shift, so the first kept impulse moves to t = 0).
+std::vector<Impulse> impulses_of(const State& state, double centre_rad_s) {
   std::vector<double> a;
   std::vector<double> t;
   unpack(state.x.data(), state.n, a, t);
-  // Merge impulses that ended at the same time and drop empty ones (V is unchanged by both and
-  // by a common time shift, so the first kept impulse moves to t = 0).
   std::vector<Impulse> impulses;
   const double merge_tol = 1e-9 * std::max(t.back(), 1.0);
   for (std::size_t i = 0; i < a.size(); ++i) {
@@ -416,7 +420,27 @@ Shaper design_si(const Mode& mode, const SiOptions& options) {
   std::erase_if(impulses, [](const Impulse& q) { return q.amplitude <= 1e-12; });
   const double shift = impulses.front().time_s;
   for (Impulse& q : impulses) q.time_s = (q.time_s - shift) / centre_rad_s;
-  return Shaper("si", std::move(impulses), Shaper::Normalize::yes);
+  return impulses;
+}
+
+}  // namespace
+
+Shaper design_si(const Mode& mode, const SiOptions& options) {
+  validate_si(mode, options);
+  BandTarget b;
+  b.zeta = mode.damping_ratio;
+  b.vtol = options.vtol;
+  b.ratio = options.frequency_high_rad_s / options.frequency_low_rad_s;
+  b.points = static_cast<std::size_t>(options.constraint_points);
+  b.max_impulses = options.impulses > 0 ? options.impulses : kMaxImpulses;
+  const double centre_rad_s = std::sqrt(options.frequency_low_rad_s * options.frequency_high_rad_s);
+
+  const Seed seed = choose_seed(b.zeta, b.vtol, b.ratio, b.max_impulses);
+  check_band_limit(seed, b.ratio, b.zeta, b.vtol);
+  State state = state_from(seed.shaper);
+  while (options.impulses > 0 && state.n < options.impulses) state = split_largest(state);
+  state = continue_to_band(std::move(state), std::log(seed.ratio), b);
+  return Shaper("si", impulses_of(state, centre_rad_s), Shaper::Normalize::yes);
 }
 
 }  // namespace clearshape::shaping
