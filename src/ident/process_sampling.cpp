@@ -374,11 +374,21 @@ template <int NS>
   if (ks.dy0) row[col] = 1.0;
 }
 
+// Input with d + 2 leading zeros (the history before the start): lag j of sample k is
+// padded[k + 2 − j]; the same for the indicator of real samples (∂u/∂u0 = −1 there).
+void pad_input(std::span<const double> input, std::size_t d, std::vector<double>& padded, std::vector<double>& valid) {
+  padded.assign(input.size() + d + 2, 0.0);
+  valid.assign(input.size() + d + 2, 0.0);
+  for (std::size_t k = 0; k < input.size(); ++k) {
+    padded[k + d + 2] = input[k];
+    valid[k + d + 2] = 1.0;
+  }
+}
+
 template <int NS>
 bool run_kernel(const KernelInput& in, double* out, double* jac) {
   constexpr int n = NS;
   const std::size_t count = in.input.size();
-  const std::size_t d = in.model->delay_samples;
   KernelShape ks;
   ks.np = jac != nullptr ? static_cast<int>(in.directions.size()) : 0;
   ks.dx0 = jac != nullptr && in.d_x0;
@@ -388,13 +398,8 @@ bool run_kernel(const KernelInput& in, double* out, double* jac) {
   ks.zu_block = 1 + ks.np;
   KernelTables<NS> t;
   load_tables(in, ks.np, t);
-  // Input with d + 2 leading zeros (the history before the start): lag j of sample k is
-  // padded[k + 2 − j]; the same for the indicator of real samples (∂u/∂u0 = −1 there).
-  std::vector<double> padded(count + d + 2, 0.0), valid(count + d + 2, 0.0);
-  for (std::size_t k = 0; k < count; ++k) {
-    padded[k + d + 2] = in.input[k];
-    valid[k + d + 2] = 1.0;
-  }
+  std::vector<double> padded, valid;
+  pad_input(in.input, in.model->delay_samples, padded, valid);
   // State blocks: [x | z_0 … z_(np−1) | zu], each n wide; r = C Φᵏ for the x0 columns.
   constexpr int kMaxBlocks = kMaxParameters + 2;
   std::array<double, (n + 1) * kMaxBlocks> sa{}, sb{};
