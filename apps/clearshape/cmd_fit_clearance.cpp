@@ -37,6 +37,7 @@ struct FitClearanceOptions {
   std::string time_column, command_column, gyro_column = "link_rate_deg_s", gyro_unit = "deg/s";
   double link_inertia_kg_m2 = 5e-3, play_deg = 0.1, stiffness = 300.0, exponent = 1.5, damping = 0.1;
   double window_s = 2.0, link_wn_rad_s = 0.0, link_zeta = 0.0;
+  double envelope_window_s = 0.0;  // 0: the mean record alone
   std::string low_pass = "auto";
   int max_evaluations = 150;
   bool json = false;
@@ -76,10 +77,19 @@ double gyro_scale(const std::string& unit) {
   throw InvalidArgument(fmt::format("--gyro-unit '{}': allowed deg/s, rad/s, lsb", unit));
 }
 
-// The drive command of the first record and the link rate averaged over the records (as the study).
+// The samples before the command first leaves its initial value: the rest, whose gyro scatter is noise.
+std::size_t rest_samples(const std::vector<double>& command) {
+  std::size_t k = 0;
+  while (k < command.size() && command[k] == command.front()) ++k;
+  return k;
+}
+
+// The drive command of the first record and the link rate averaged over the records (as the
+// study); with an envelope window, the mean of the records' envelopes too.
 void read_records(const FitClearanceOptions& o, rig::CommandMode mode, study::ClearanceFitProblem& fp) {
   const std::string unit = mode == rig::CommandMode::position ? "deg" : "v";
   std::vector<double> sum;
+  std::vector<std::vector<double>> records;
   for (const auto& file : o.data) {
     const io::Table t = io::read_table(file);
     const std::string time = io::require_time_column(t, o.time_column);
@@ -98,8 +108,15 @@ void read_records(const FitClearanceOptions& o, rig::CommandMode mode, study::Cl
       throw InputError(file, 0, time, "every --data record must have the first one's sample time and length");
     }
     for (std::size_t k = 0; k < n; ++k) sum[k] += scale * rate[k] / static_cast<double>(o.data.size());
+    records.emplace_back(n);
+    for (std::size_t k = 0; k < n; ++k) records.back()[k] = scale * rate[k];
   }
   fp.measured_link_rate_deg_s = sum;
+  if (o.envelope_window_s > 0.0) {
+    fp.envelope_window_s = o.envelope_window_s;
+    fp.measured_link_rate_envelope_deg_s = study::mean_rate_envelope_deg_s(
+        records, sum.size(), o.envelope_window_s, fp.drive_command.sample_time_s, rest_samples(fp.drive_command.values));
+  }
 }
 
 std::vector<double> low_pass_grid(const std::string& spec) {
@@ -129,7 +146,9 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
                       {"start", angle ? rad_to_deg(q.start) : q.start},
                       {"free", q.free},
                       {"std", std::isfinite(q.std_error) ? json(q.std_error) : json(nullptr)},
-                      {"std_kind", q.name == "exponent" ? "absolute" : "relative (of log value)"},
+                      {"std_kind", q.name == "exponent"                          ? "absolute"
+                                   : q.name == "coulomb" || q.name == "viscous" ? "relative (of the value)"
+                                                                                : "relative (of log value)"},
                       {"identifiable", q.identifiable},
                       {"at_bound", q.at_bound}};
     if (q.free && q.at_bound) warnings.push_back(fmt::format("{} ended on its bound", q.name));
@@ -143,6 +162,8 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
       study::sensed_link_rate_deg_s(fp, study::simulate_drive_command(fit.start_model, fp.drive_command, fp.duration_s),
                                     fit.sensor_low_pass_hz));
   doc["rms_error_deg_s"] = fit.rms_error_deg_s;
+  doc["envelope_window_s"] = fp.measured_link_rate_envelope_deg_s.empty() ? 0.0 : fp.envelope_window_s;
+  doc["envelope_rms_error_deg_s"] = fit.envelope_rms_error_deg_s;
   doc["sensor_low_pass_hz"] = fit.sensor_low_pass_hz;
   doc["evaluations"] = fit.evaluations;
   doc["termination"] = fit.termination;
@@ -164,7 +185,7 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
 }
 
 void print_text(const json& doc) {
-  fmt::print("clearance fit (thesis §4.2, Eq. 4.3 F = K·δ^n + D·δ̇)\n\n");
+  fmt::print("clearance fit (thesis §4.2, Eq. 4.3 F = K·δ^n + D·δ̇; joint friction Eq. 2.9 c·tanh(φ̇/v_t) + b·φ̇)\n\n");
   fmt::print("  {:<10} {:>14} {:<10} {:>12} {:>10} {:>13} {:>9}\n", "parameter", "value", "unit", "start", "1σ", "identifiable", "at bound");
   for (const auto& [name, p] : doc["parameters"].items()) {
     std::string sigma = "fixed";
@@ -232,7 +253,12 @@ const bool registered = register_command(
        sub.add_option("--stiffness", o->stiffness, "K, N·m/rad^n (start value when fitted)")->capture_default_str();
        sub.add_option("--exponent", o->exponent, "n (start value when fitted)")->capture_default_str();
        sub.add_option("--damping", o->damping, "D, N·m·s/rad (start value when fitted)")->capture_default_str();
-       sub.add_option("--fit", o->fit, "Free parameters: of stiffness, damping, play, exponent")->capture_default_str();
+       sub.add_option("--fit", o->fit, "Free parameters: of stiffness, damping, play, exponent, coulomb, viscous (the joint's friction)")
+           ->capture_default_str();
+       sub.add_option("--envelope-window-s", o->envelope_window_s,
+                      "Also fit the records' mean link-rate envelope (moving RMS over this window, s, e.g. 0.05; "
+                      "0: off)")
+           ->check(CLI::Range(0.0, 10.0));
        sub.add_option("--link-wn", o->link_wn_rad_s, "The link's residual mode ωn, rad/s (start of K/J; `modes`)");
        sub.add_option("--link-zeta", o->link_zeta, "The link's residual mode ζ (start of D/J)");
        sub.add_option("--sensor-low-pass", o->low_pass, "Gyro low-pass: auto (ITG-3205 settings), none, or Hz")->capture_default_str();

@@ -1,18 +1,16 @@
 // Stage 4: the clearance model (thesis §4.2, Fig. 4.18–4.20): the identified drive plus a link on
-// a torsional play with the Eq. 4.3 contact law, whose parameters are fitted (clearance_fit.cpp)
-// so that the model's link rate matches the mean gyro record; the agreement is reported with
-// Eq. 4.1 as in the thesis (0.0067 speed / 0.0042 position).
+// a torsional play with the Eq. 4.3 contact law and the joint's friction (Eq. 2.9, regularized),
+// whose parameters are fitted (clearance_fit.cpp) so that the model's link rate matches the mean
+// gyro record; the agreement is reported with Eq. 4.1 as in the thesis (0.0067 speed / 0.0042
+// position). In three steps: plan the fit problem from the protocol and the runs → run the fit
+// and its reference models → tabulate (log, table 4.3-clearance, results section, figure).
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <future>
-#include <limits>
-#include <memory>
+#include <string>
+#include <vector>
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <nlopt.h>
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
@@ -26,22 +24,20 @@ namespace clearshape::study {
 
 namespace detail {
 
-void stage_clearance(Context& c) {
+namespace {
+
+// --- Plan: the fit problem (start model, the drive's command, the mean gyro record).
+struct ClearancePlan {
+  ClearanceFitProblem fp;
+  std::vector<double> measured;  ///< the mean gyro record (filtered with filter_gyro)
+};
+
+// The mean gyro record of the input's unshaped runs and the command the drive received (first run).
+void plan_records(Context& c, ClearancePlan& plan) {
   const auto& cl = c.p.clearance;
-  if (cl.input.empty() || !c.drive) {
-    c.log("clearance: skipped (no [clearance] or no identified drive)");
-    return;
-  }
   const auto& runs = c.unshaped_runs(cl.input);
   const Record& first = runs.front();
-  ClearanceFitProblem fp;
-  fp.start.mode = c.p.mode;
-  fp.start.drive = c.drive->model;
-  fp.start.link_inertia_kg_m2 = cl.link_inertia_kg_m2;
-  fp.start.play_rad = deg_to_rad(cl.play_deg);
-  fp.start.stiffness = cl.stiffness_n_m_per_rad_pow_n;
-  fp.start.exponent = cl.exponent;
-  fp.start.damping = cl.damping_n_m_s_per_rad;
+  ClearanceFitProblem& fp = plan.fp;
   fp.duration_s = std::min(cl.window_s, first.time_s.back());
   const std::size_t n = sample_count(fp.duration_s, first.sample_time_s);
   fp.drive_command.sample_time_s = first.sample_time_s;
@@ -57,9 +53,29 @@ void stage_clearance(Context& c) {
     measured = dsp::sosfilt(dsp::thesis_speed_filter(first.sample_time_s), measured);
   }
   fp.measured_link_rate_deg_s = measured;
+  plan.measured = std::move(measured);
+}
+
+ClearancePlan plan_clearance(Context& c) {
+  const auto& cl = c.p.clearance;
+  ClearancePlan plan;
+  ClearanceFitProblem& fp = plan.fp;
+  fp.start.mode = c.p.mode;
+  fp.start.drive = c.drive->model;
+  fp.start.link_inertia_kg_m2 = cl.link_inertia_kg_m2;
+  fp.start.play_rad = deg_to_rad(cl.play_deg);
+  fp.start.stiffness = cl.stiffness_n_m_per_rad_pow_n;
+  fp.start.exponent = cl.exponent;
+  fp.start.damping = cl.damping_n_m_s_per_rad;
+  plan_records(c, plan);
   for (const auto& f : cl.fit) {
     if (f == "damping" && !(cl.damping_n_m_s_per_rad > 0.0)) continue;  // log-parametrised
     fp.free.push_back(f);
+  }
+  // A fitted play comes with the joint's friction (Eq. 2.9): it decides how a link that leaves its
+  // flank crosses the play and where it stops.
+  if (std::find(fp.free.begin(), fp.free.end(), "play") != fp.free.end()) {
+    fp.free.insert(fp.free.end(), {"coulomb", "viscous"});
   }
   std::sort(fp.free.begin(), fp.free.end());
   fp.free.erase(std::unique(fp.free.begin(), fp.free.end()), fp.free.end());
@@ -75,48 +91,102 @@ void stage_clearance(Context& c) {
                   plant::GyroLowPass::hz42, plant::GyroLowPass::hz20, plant::GyroLowPass::hz10, plant::GyroLowPass::hz5}) {
     fp.sensor_low_pass_grid_hz.push_back(plant::bandwidth_hz(lp));
   }
+  return plan;
+}
 
-  const ClearanceFitResult fit = fit_clearance(fp);
-  const ClearanceModel& fitted = fit.model;
-  const ClearanceModel& start = fit.start_model;
-  // A rigid link (no play: link = motor) as the reference the contact model must beat.
-  ClearanceModel rigid = fitted;
-  rigid.play_rad = 0.0;
-  const auto sensed_rate = [&](const ClearanceModel& m) {
-    return sensed_link_rate_deg_s(fp, simulate_drive_command(m, fp.drive_command, fp.duration_s), fit.sensor_low_pass_hz);
-  };
-  const double rigid_agreement = clearance_agreement(measured, sensed_rate(rigid));
-  const double start_agreement = clearance_agreement(measured, sensed_rate(start));
+// --- Run: the fit, the agreement of its start and of a rigid link, and their descriptions.
+struct ClearanceRun {
+  ClearanceFitResult fit;
+  double rigid_agreement = 0.0;  ///< a rigid link (no play: link = motor), the reference to beat
+  double start_agreement = 0.0;
+  bool friction_fitted = false;        ///< the fit's free parameters included the joint's friction
+  bool friction_dropped = false;       ///< fitted, not determined by the record, refitted without
+  double dropped_coulomb_n_m = 0.0;    ///< the undetermined fit's Coulomb torque, its relative 1σ
+  double dropped_coulomb_std = 0.0;    ///< and its RMS error
+  double dropped_rms_deg_s = 0.0;
+  std::string status, grid_text, fitted_names, identifiable, weak;
+};
 
-  std::string grid_text;
+void describe_run(const ClearanceFitProblem& fp, ClearanceRun& run) {
+  const ClearanceFitResult& fit = run.fit;
   for (const auto& st : fit.starts) {
-    grid_text += fmt::format("{}n {} {:.3g}: RMS {:.4g} deg/s, {} ({} evaluations)", grid_text.empty() ? "" : "; ",
-                             st.exponent_free ? "free →" : "=", st.exponent, st.rms_error_deg_s, st.termination,
-                             st.evaluations);
+    run.grid_text += fmt::format("{}n {} {:.3g}: RMS {:.4g} deg/s, {} ({} evaluations)", run.grid_text.empty() ? "" : "; ",
+                                 st.exponent_free ? "free →" : "=", st.exponent, st.rms_error_deg_s, st.termination,
+                                 st.evaluations);
   }
-  const std::string status =
-      fp.free.empty()
-          ? std::string("not fitted (no free parameters)")
-          : fmt::format("NLopt BOBYQA: {} after {} model evaluations ({}){}", fit.termination, fit.evaluations,
-                        fit.converged ? "converged: step/function tolerance met" : "NOT converged",
-                        fit.starts.size() > 1 ? "; multi-start over the exponent" : "");
-  const std::string fitted_names = fp.free.empty() ? std::string("nothing") : fmt::format("{}", fmt::join(fp.free, ", "));
-  std::string identifiable, weak;
+  run.status = fp.free.empty()
+                   ? std::string("not fitted (no free parameters)")
+                   : fmt::format("NLopt BOBYQA: {} after {} model evaluations ({}){}", fit.termination, fit.evaluations,
+                                 fit.converged ? "converged: step/function tolerance met" : "NOT converged",
+                                 fit.starts.size() > 1 ? "; multi-start over the exponent" : "");
+  run.fitted_names = fp.free.empty() ? std::string("nothing") : fmt::format("{}", fmt::join(fp.free, ", "));
   for (const auto& q : fit.parameters) {
     if (!q.free) continue;
     const std::string item = q.name == "exponent" ? fmt::format("n ± {:.2g}", q.std_error)
                                                   : fmt::format("{} ± {:.2g} %", q.name, 100.0 * q.std_error);
-    (q.identifiable ? identifiable : weak) += fmt::format("{}{}{}", (q.identifiable ? identifiable : weak).empty() ? "" : ", ",
-                                                          item, q.at_bound ? " (at its bound)" : "");
+    std::string& list = q.identifiable ? run.identifiable : run.weak;
+    list += fmt::format("{}{}{}", list.empty() ? "" : ", ", item, q.at_bound ? " (at its bound)" : "");
   }
-  c.log(fmt::format("clearance: K = {:.4g}, D = {:.4g}, play = {:.4g}°, n = {:.3g}, Eq. 4.1 agreement {:.4f} ({})",
-                    fitted.stiffness, fitted.damping, rad_to_deg(fitted.play_rad), fitted.exponent, fit.agreement,
-                    status));
-  if (!fit.converged && !fp.free.empty()) {
-    c.log(fmt::format("clearance: warning: the contact fit did not converge ({}); raise [clearance] max_evaluations",
-                      fit.termination));
-  }
+}
 
+// The joint's friction is kept only where the record determines it: a Coulomb torque whose 1σ
+// exceeds its value is not told apart from 0 by the record, and the fit without friction (fewer
+// parameters, the same record) is the model.
+bool friction_determined(const ClearanceFitResult& fit) {
+  for (const auto& q : fit.parameters) {
+    if (q.name == "coulomb") return q.free && q.value > 0.0 && std::isfinite(q.std_error) && q.std_error < 1.0;
+  }
+  return false;
+}
+
+ClearanceRun run_clearance(ClearancePlan& plan) {
+  ClearanceFitProblem& fp = plan.fp;
+  ClearanceRun run;
+  run.fit = fit_clearance(fp);
+  run.friction_fitted = std::find(fp.free.begin(), fp.free.end(), "coulomb") != fp.free.end();
+  if (run.friction_fitted && !friction_determined(run.fit)) {
+    run.friction_dropped = true;
+    run.dropped_coulomb_n_m = run.fit.model.coulomb_n_m;
+    for (const auto& q : run.fit.parameters) {
+      if (q.name == "coulomb") run.dropped_coulomb_std = q.std_error;
+    }
+    run.dropped_rms_deg_s = run.fit.rms_error_deg_s;
+    std::erase_if(fp.free, [](const std::string& f) { return f == "coulomb" || f == "viscous"; });
+    run.fit = fit_clearance(fp);
+  }
+  ClearanceModel rigid = run.fit.model;
+  rigid.play_rad = 0.0;
+  const auto sensed_rate = [&](const ClearanceModel& m) {
+    return sensed_link_rate_deg_s(fp, simulate_drive_command(m, fp.drive_command, fp.duration_s), run.fit.sensor_low_pass_hz);
+  };
+  run.rigid_agreement = clearance_agreement(plan.measured, sensed_rate(rigid));
+  run.start_agreement = clearance_agreement(plan.measured, sensed_rate(run.fit.start_model));
+  describe_run(fp, run);
+  return run;
+}
+
+// --- Tabulate.
+void log_clearance(Context& c, const ClearancePlan& plan, const ClearanceRun& run) {
+  const ClearanceModel& fitted = run.fit.model;
+  const bool friction = fitted.coulomb_n_m > 0.0 || fitted.viscous_n_m_s_per_rad > 0.0 ||
+                        std::find(plan.fp.free.begin(), plan.fp.free.end(), "coulomb") != plan.fp.free.end();
+  c.log(fmt::format("clearance: K = {:.4g}, D = {:.4g}, play = {:.4g}°, n = {:.3g}{}, Eq. 4.1 agreement {:.4f} ({})",
+                    fitted.stiffness, fitted.damping, rad_to_deg(fitted.play_rad), fitted.exponent,
+                    friction ? fmt::format(", friction c = {:.3g} N·m, b = {:.3g} N·m·s/rad", fitted.coulomb_n_m,
+                                           fitted.viscous_n_m_s_per_rad)
+                             : std::string(),
+                    run.fit.agreement, run.status));
+  if (!run.fit.converged && !plan.fp.free.empty()) {
+    c.log(fmt::format("clearance: warning: the contact fit did not converge ({}); raise [clearance] max_evaluations",
+                      run.fit.termination));
+  }
+}
+
+json clearance_table(const Context& c, const ClearanceRun& run) {
+  const auto& cl = c.p.clearance;
+  const ClearanceFitResult& fit = run.fit;
+  const ClearanceModel& fitted = fit.model;
+  const ClearanceModel& start = fit.start_model;
   json table = make_table("4.3-clearance", "parameters",
                           fmt::format("Clearance model (Eq. 4.3) calibrated to the gyro record of the {}",
                                       c.p.input(cl.input).label), "");
@@ -132,11 +202,11 @@ void stage_clearance(Context& c) {
                  fit.rms_error_deg_s, fitted.stiffness / J, fitted.damping / J, fit.sensor_low_pass_hz,
                  fit.evaluations, fit.converged ? 1 : 0}}},
       {{"key", "start"}, {"label", c.link_mode.available ? "start (link mode, then K–D pre-fit and play scan)" : "start (protocol values, then K–D pre-fit and play scan)"},
-       {"ours", {start.stiffness, start.damping, start.exponent, rad_to_deg(start.play_rad), J, start_agreement,
+       {"ours", {start.stiffness, start.damping, start.exponent, rad_to_deg(start.play_rad), J, run.start_agreement,
                  fit.start_rms_error_deg_s, start.stiffness / J, start.damping / J, fit.sensor_low_pass_hz, null,
                  null}}},
       {{"key", "rigid"}, {"label", "rigid link (no play), for reference"},
-       {"ours", {null, null, null, 0.0, J, rigid_agreement, null, null, null, fit.sensor_low_pass_hz, null, null}}},
+       {"ours", {null, null, null, 0.0, J, run.rigid_agreement, null, null, null, fit.sensor_low_pass_hz, null, null}}},
       {{"key", "thesis"}, {"label", "thesis (units unstated)"},
        {"thesis", {cl.thesis_stiffness, cl.thesis_damping, 1.5, null, null, cl.thesis_agreement, null, null, null,
                    null, null, null}}}};
@@ -149,8 +219,8 @@ void stage_clearance(Context& c) {
       "(K/J = ω², D/J = 2ζω); for n ≠ 1 the stiffness is carried at the reference deflection {:.3g}° "
       "(K·δ_ref^(n−1) held). The model's link rate passes through the gyroscope's first-order low-pass at the "
       "ITG-3205 DLPF setting that explains the record best ({}; the thesis does not state its setting).",
-      fitted_names, status, grid_text.empty() ? std::string("none") : grid_text,
-      identifiable.empty() ? std::string("none") : identifiable, weak.empty() ? "" : "; weakly determined: " + weak,
+      run.fitted_names, run.status, run.grid_text.empty() ? std::string("none") : run.grid_text,
+      run.identifiable.empty() ? std::string("none") : run.identifiable, run.weak.empty() ? "" : "; weakly determined: " + run.weak,
       cl.filter_gyro ? " The gyro record passes through the 30 rad/s filter of §3.3 before the comparison: the "
                        "identified speed model contains that filter (§4.2), so its link rate is a filtered one; "
                        "the link's own oscillation is filtered in the record but not in the model, so K and D "
@@ -158,16 +228,17 @@ void stage_clearance(Context& c) {
                      : "",
       J, rad_to_deg(fit.reference_deflection_rad),
       fit.sensor_low_pass_hz > 0.0 ? fmt::format("{:g} Hz", fit.sensor_low_pass_hz) : std::string("none"));
-  c.tables.push_back(table);
-
-  json starts = json::array();
-  for (const auto& st : fit.starts) {
-    starts.push_back({{"exponent", st.exponent}, {"exponent_free", st.exponent_free},
-                      {"rms_error_deg_s", st.rms_error_deg_s}, {"evaluations", st.evaluations},
-                      {"termination", st.termination}});
+  if (run.friction_dropped) {
+    table["note"] = table["note"].get<std::string>() +
+                    fmt::format(" The joint's friction (Eq. 2.9) was fitted too (Coulomb {:.3g} N·m ± {:.0f} %, RMS {:.4g} "
+                                "deg/s), but its 1σ exceeds its value: this record does not determine it, so the model "
+                                "has none.",
+                                run.dropped_coulomb_n_m, 100.0 * run.dropped_coulomb_std, run.dropped_rms_deg_s);
   }
-  json low_pass_scan = json::array();
-  for (const auto& [hz, e] : fit.sensor_low_pass_scan) low_pass_scan.push_back({{"hz", hz}, {"rms_error_deg_s", e}});
+  return table;
+}
+
+json parameters_json(const ClearanceFitResult& fit) {
   json parameters = json::array();
   for (const auto& q : fit.parameters) {
     const bool deg = q.name == "play";
@@ -178,38 +249,66 @@ void stage_clearance(Context& c) {
                           {"free", q.free},
                           {"at_bound", q.at_bound},
                           {"std_error", std::isfinite(q.std_error) ? json(q.std_error) : json()},
-                          {"std_error_kind", q.name == "exponent" ? "absolute" : "relative (1σ of the log)"},
+                          {"std_error_kind", q.name == "exponent"                          ? "absolute"
+                                             : q.name == "coulomb" || q.name == "viscous" ? "relative (1σ / value)"
+                                                                                          : "relative (1σ of the log)"},
                           {"identifiable", q.identifiable}});
   }
-  c.sections["clearance"] = {{"stiffness_n_m_per_rad_pow_n", fitted.stiffness},
-                             {"damping_n_m_s_per_rad", fitted.damping},
-                             {"exponent", fitted.exponent},
-                             {"gyro_filtered", cl.filter_gyro},
-                             {"play_deg", rad_to_deg(fitted.play_rad)},
-                             {"coulomb_n_m", fitted.coulomb_n_m},
-                             {"viscous_n_m_s_per_rad", fitted.viscous_n_m_s_per_rad},
-                             {"friction_regularization_rad_s", fitted.friction_regularization_rad_s},
-                             {"link_inertia_kg_m2", J},
-                             {"stiffness_over_inertia", fitted.stiffness / J},
-                             {"damping_over_inertia_1_s", fitted.damping / J},
-                             {"agreement", fit.agreement},
-                             {"start_agreement", start_agreement},
-                             {"rigid_agreement", rigid_agreement},
-                             {"rms_error_deg_s", fit.rms_error_deg_s},
-                             {"reference_deflection_deg", rad_to_deg(fit.reference_deflection_rad)},
-                             {"gyro_low_pass_hz", fit.sensor_low_pass_hz},
-                             {"gyro_low_pass_scan", low_pass_scan},
-                             {"evaluations", fit.evaluations},
-                             {"termination", fit.termination},
-                             {"converged", fit.converged},
-                             {"status", status},
-                             {"starts", starts},
-                             {"parameters", parameters}};
+  return parameters;
+}
 
-  // Figures 4.19/4.20.
-  const ModelResponse r = simulate_drive_command(fitted, fp.drive_command, fp.duration_s);
+json clearance_section(const Context& c, const ClearanceRun& run) {
+  const ClearanceFitResult& fit = run.fit;
+  const ClearanceModel& fitted = fit.model;
+  const double J = fitted.link_inertia_kg_m2;
+  json starts = json::array();
+  for (const auto& st : fit.starts) {
+    starts.push_back({{"exponent", st.exponent}, {"exponent_free", st.exponent_free},
+                      {"rms_error_deg_s", st.rms_error_deg_s}, {"evaluations", st.evaluations},
+                      {"termination", st.termination}});
+  }
+  json low_pass_scan = json::array();
+  for (const auto& [hz, e] : fit.sensor_low_pass_scan) low_pass_scan.push_back({{"hz", hz}, {"rms_error_deg_s", e}});
+  return {{"stiffness_n_m_per_rad_pow_n", fitted.stiffness},
+          {"damping_n_m_s_per_rad", fitted.damping},
+          {"exponent", fitted.exponent},
+          {"gyro_filtered", c.p.clearance.filter_gyro},
+          {"play_deg", rad_to_deg(fitted.play_rad)},
+          {"coulomb_n_m", fitted.coulomb_n_m},
+          {"viscous_n_m_s_per_rad", fitted.viscous_n_m_s_per_rad},
+          {"friction_regularization_rad_s", fitted.friction_regularization_rad_s},
+          {"friction_fit", {{"fitted", run.friction_fitted},
+                            {"kept", !run.friction_dropped},
+                            {"dropped_coulomb_n_m", run.friction_dropped ? json(run.dropped_coulomb_n_m) : json()},
+                            {"dropped_coulomb_rel_std", run.friction_dropped && std::isfinite(run.dropped_coulomb_std)
+                                                            ? json(run.dropped_coulomb_std) : json()},
+                            {"dropped_rms_error_deg_s", run.friction_dropped ? json(run.dropped_rms_deg_s) : json()}}},
+          {"link_inertia_kg_m2", J},
+          {"stiffness_over_inertia", fitted.stiffness / J},
+          {"damping_over_inertia_1_s", fitted.damping / J},
+          {"agreement", fit.agreement},
+          {"start_agreement", run.start_agreement},
+          {"rigid_agreement", run.rigid_agreement},
+          {"rms_error_deg_s", fit.rms_error_deg_s},
+          {"reference_deflection_deg", rad_to_deg(fit.reference_deflection_rad)},
+          {"gyro_low_pass_hz", fit.sensor_low_pass_hz},
+          {"gyro_low_pass_scan", low_pass_scan},
+          {"evaluations", fit.evaluations},
+          {"termination", fit.termination},
+          {"converged", fit.converged},
+          {"status", run.status},
+          {"starts", starts},
+          {"parameters", parameters_json(fit)}};
+}
+
+// Figures 4.19/4.20: the model's link rate (through the gyro's low-pass) against the mean gyro.
+void clearance_figure(Context& c, const ClearancePlan& plan, const ClearanceRun& run) {
+  const auto& cl = c.p.clearance;
+  const ClearanceFitResult& fit = run.fit;
+  const ModelResponse r = simulate_drive_command(fit.model, plan.fp.drive_command, plan.fp.duration_s);
   std::vector<double> time(r.time_s.begin(), r.time_s.end());
-  std::vector<double> model_rate_deg_s = sensed_link_rate_deg_s(fp, r, fit.sensor_low_pass_hz);
+  std::vector<double> model_rate_deg_s = sensed_link_rate_deg_s(plan.fp, r, fit.sensor_low_pass_hz);
+  std::vector<double> measured = plan.measured;
   const std::size_t m = std::min({time.size(), model_rate_deg_s.size(), measured.size()});
   time.resize(m);
   model_rate_deg_s.resize(m);
@@ -226,7 +325,22 @@ void stage_clearance(Context& c) {
                        {"y_label", "link rate (deg/s)"},
                        {"series", {{{"column", "gyro_mean_deg_s"}, {"label", "experiment (mean gyro)"}},
                                    {{"column", "model_link_rate_deg_s"}, {"label", "model with clearance (through the gyro's low-pass)"}}}}});
-  c.model = fitted;  // the model of the simulated tests (stage 5)
+}
+
+}  // namespace
+
+void stage_clearance(Context& c) {
+  if (c.p.clearance.input.empty() || !c.drive) {
+    c.log("clearance: skipped (no [clearance] or no identified drive)");
+    return;
+  }
+  ClearancePlan plan = plan_clearance(c);
+  const ClearanceRun run = run_clearance(plan);
+  log_clearance(c, plan, run);
+  c.tables.push_back(clearance_table(c, run));
+  c.sections["clearance"] = clearance_section(c, run);
+  clearance_figure(c, plan, run);
+  c.model = run.fit.model;  // the model of the simulated tests (stage 5)
 }
 
 }  // namespace detail

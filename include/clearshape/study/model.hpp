@@ -68,8 +68,17 @@ struct ClearanceFitProblem {
   ClearanceModel start;  ///< drive, link inertia (fixed) and the values of fixed parameters
   UniformSeries drive_command;                    ///< what the drive received (command_applied)
   std::vector<double> measured_link_rate_deg_s;  ///< on the command's grid, from t = 0
+  /// Robust to the run-to-run variation (optional, empty: unused): the mean over the runs of each
+  /// run's link-rate envelope (mean_rate_envelope_deg_s), on the command's grid. Runs whose
+  /// impacts fall at different times average to a smeared record, which least squares explains
+  /// best with a link that stops at once (too much friction); their envelopes do not cancel.
+  /// When given, the objective's mean square adds envelope_weight × the envelope's.
+  std::vector<double> measured_link_rate_envelope_deg_s;
+  double envelope_window_s = 0.05;  ///< the envelope's moving-RMS window
+  double envelope_weight = 1.0;
   double duration_s = 2.0;
-  std::vector<std::string> free{"stiffness", "damping"};  ///< of stiffness, damping, play, exponent
+  /// Of stiffness, damping, play, exponent, coulomb, viscous (the joint's friction, Eq. 2.9).
+  std::vector<std::string> free{"stiffness", "damping"};
   /// The link's identified residual mode (0: unknown): start K/J = ω² and D/J = 2ζω (linear
   /// flank, then mapped to each exponent at the reference deflection); otherwise `start`'s K, D.
   double link_natural_frequency_rad_s = 0.0;
@@ -106,7 +115,7 @@ struct ClearanceParameter {
 struct ClearanceFitStart {
   double exponent = 0.0;
   bool exponent_free = false;
-  double rms_error_deg_s = 0.0;
+  double rms_error_deg_s = 0.0;  ///< the search objective's RMS (record and envelope, if any)
   int evaluations = 0;
   std::string termination;  ///< NLopt result name
 };
@@ -114,8 +123,9 @@ struct ClearanceFitStart {
 struct ClearanceFitResult {
   ClearanceModel model;
   ClearanceModel start_model;        ///< the data-derived start (first grid exponent)
-  double rms_error_deg_s = 0.0;
-  double start_rms_error_deg_s = 0.0;
+  double rms_error_deg_s = 0.0;      ///< of the link rate (with an envelope: that part alone)
+  double envelope_rms_error_deg_s = 0.0;  ///< of the envelope (0: no envelope record)
+  double start_rms_error_deg_s = 0.0;  ///< the search objective's at the start
   double agreement = 0.0;            ///< Eq. 4.1: RMS(model − measured) / range(measured)
   double reference_deflection_rad = 0.0;  ///< K_ref = K·δ_ref^(n−1) is the fitted stiffness variable
   double sensor_low_pass_hz = 0.0;   ///< the chosen sensor bandwidth (0: none)
@@ -139,6 +149,16 @@ ClearanceFitResult fit_clearance(const ClearanceFitProblem& problem);
 /// The unit of a fitted parameter's value as the outputs write it (the play in deg): "N·m/rad^n",
 /// "N·m·s/rad", "deg", "1", "N·m" (coulomb), "N·m·s/rad" (viscous); "" for an unknown name.
 std::string clearance_parameter_unit(const std::string& name);
+
+/// A link rate's envelope: the centred moving RMS over window_s (the window cut at the record's
+/// ends), with `noise_variance` ((deg/s)²) removed and floored at 0.
+std::vector<double> rate_envelope_deg_s(const std::vector<double>& rate, double window_s, double sample_time_s,
+                                        double noise_variance = 0.0);
+
+/// The mean envelope of several records over their first `samples` samples, each with its own
+/// rest noise removed: the variance of its first `rest_samples` samples (0: none).
+std::vector<double> mean_rate_envelope_deg_s(const std::vector<std::vector<double>>& records, std::size_t samples,
+                                             double window_s, double sample_time_s, std::size_t rest_samples);
 
 /// The sensor's first-order low-pass of `clearance_fit`, in place (0: no filtering).
 void apply_sensor_low_pass(std::vector<double>& rate, double bandwidth_hz, double sample_time_s);
