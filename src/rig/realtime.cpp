@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <thread>
 
 #include <fmt/format.h>
@@ -208,87 +209,111 @@ RunStatistics RealtimeRunner::end() {
   return out;
 }
 
-RunStatistics RealtimeRunner::run(std::uint64_t cycles, const Sink& sink, const StatusFn& status) {
-  State& s = *state_;
-  auto warn = [this](const std::string& text) {
-    if (options_.warn) {
-      options_.warn(text);
-    } else {
-      fmt::print(stderr, "clearshape: warning: {}\n", text);
-    }
-  };
-  s.sched_fifo = false;
-  s.memory_locked = false;
-  if (options_.realtime_scheduling) {
-    if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
-      s.memory_locked = true;
-    } else {
-      warn(fmt::format("memory not locked (mlockall: {}); page faults may delay the loop", std::strerror(errno)));
-    }
+namespace {
+
+void warn(const RealtimeOptions& o, const std::string& text) {
+  if (o.warn) {
+    o.warn(text);
+  } else {
+    fmt::print(stderr, "clearshape: warning: {}\n", text);
   }
-  // The loop thread is made and set up (scheduling, its stack locked) before the rig is
-  // activated, so that its first cycle follows activation at once: a rig that paces itself (the
-  // board, a wall-clock SimRig) starts its clock at activation, and the schedule starts there too.
+}
+
+std::string fifo_refused(int error) {
+  return fmt::format("real-time scheduling not permitted (SCHED_FIFO: {}); the loop runs at normal priority",
+                     std::strerror(error));
+}
+
+// mlockall when real-time scheduling is asked for; a warning (the same loop) when refused.
+bool lock_memory(const RealtimeOptions& o) {
+  if (!o.realtime_scheduling) return false;
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) return true;
+  warn(o, fmt::format("memory not locked (mlockall: {}); page faults may delay the loop", std::strerror(errno)));
+  return false;
+}
+
+// Shared by the loop thread and the logger while a run starts and goes.
+struct Handshake {
   std::atomic<bool> done{false};
   std::atomic<int> phase{0};  // 0: wait, 1: run, 2: give up (activation failed)
-  int sched_error = 0;
-  std::thread loop([&] {
-    if (options_.realtime_scheduling) {
-      sched_param p{};
-      p.sched_priority = options_.priority;
-      sched_error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
-      s.sched_fifo = sched_error == 0;
-    }
-    while (phase.load(std::memory_order_acquire) == 0) {
-      const timespec pause{0, 20'000};
-      nanosleep(&pause, nullptr);
-    }
-    if (phase.load(std::memory_order_acquire) == 1) {
-      for (std::uint64_t k = 0; k < cycles; ++k) {
-        if (!cycle()) break;
-      }
-    }
-    done.store(true, std::memory_order_release);
-  });
-  try {
-    begin();
-  } catch (...) {
-    phase.store(2, std::memory_order_release);
-    loop.join();
-    if (s.memory_locked) munlockall();
-    throw;
+  int sched_error = 0;        // pthread_setschedparam's result in the loop thread
+};
+
+// The loop thread: SCHED_FIFO when asked, then it waits for the go and runs `cycles` cycles
+// (until one fails).
+void run_loop(RealtimeRunner& runner, const RealtimeOptions& o, std::uint64_t cycles, Handshake& h,
+              std::atomic<bool>& sched_fifo) noexcept {
+  if (o.realtime_scheduling) {
+    sched_param p{};
+    p.sched_priority = o.priority;
+    h.sched_error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
+    sched_fifo = h.sched_error == 0;
   }
-  phase.store(1, std::memory_order_release);
-  // The logger: drain the ring into the sink; the status callback about every interval.
-  const auto interval_ns = static_cast<std::int64_t>(options_.status_interval_s * 1e9);
+  while (h.phase.load(std::memory_order_acquire) == 0) {
+    const timespec pause{0, 20'000};
+    nanosleep(&pause, nullptr);
+  }
+  if (h.phase.load(std::memory_order_acquire) == 1) {
+    for (std::uint64_t k = 0; k < cycles; ++k) {
+      if (!runner.cycle()) break;
+    }
+  }
+  h.done.store(true, std::memory_order_release);
+}
+
+void drain(RealtimeRunner& runner, const RealtimeRunner::Sink& sink) {
+  LogRecord r;
+  while (runner.pop(r)) sink(r);
+}
+
+// The logger: drains the ring into the sink until the loop is done, calls `status` about every
+// interval and warns once the loop has run if SCHED_FIFO was refused. Returns whether it warned.
+bool log_until_done(RealtimeRunner& runner, const RealtimeOptions& o, const Handshake& h,
+                    const std::atomic<std::uint64_t>& ran, const RealtimeRunner::Sink& sink,
+                    const RealtimeRunner::StatusFn& status) {
+  const auto interval_ns = static_cast<std::int64_t>(o.status_interval_s * 1e9);
   std::int64_t next_status = monotonic_ns() + interval_ns;
   bool warned = false;
-  LogRecord r;
-  auto drain = [&] {
-    while (pop(r)) sink(r);
-  };
-  while (!done.load(std::memory_order_acquire)) {
-    drain();
-    if (!warned && options_.realtime_scheduling && s.cycles.load(std::memory_order_acquire) > 0) {
+  while (!h.done.load(std::memory_order_acquire)) {
+    drain(runner, sink);
+    if (!warned && o.realtime_scheduling && ran.load(std::memory_order_acquire) > 0) {
       warned = true;
-      if (sched_error != 0) {
-        warn(fmt::format("real-time scheduling not permitted (SCHED_FIFO: {}); the loop runs at normal priority",
-                         std::strerror(sched_error)));
-      }
+      if (h.sched_error != 0) warn(o, fifo_refused(h.sched_error));
     }
     if (status && monotonic_ns() >= next_status) {
-      status(statistics());
+      status(runner.statistics());
       next_status += interval_ns;
     }
     const timespec pause{0, 2'000'000};
     nanosleep(&pause, nullptr);
   }
-  loop.join();
-  drain();
-  if (!warned && options_.realtime_scheduling && sched_error != 0) {
-    warn(fmt::format("real-time scheduling not permitted (SCHED_FIFO: {}); the loop runs at normal priority",
-                     std::strerror(sched_error)));
+  return warned;
+}
+
+}  // namespace
+
+RunStatistics RealtimeRunner::run(std::uint64_t cycles, const Sink& sink, const StatusFn& status) {
+  State& s = *state_;
+  s.sched_fifo = false;
+  s.memory_locked = lock_memory(options_);
+  // The loop thread is made and set up (scheduling, its stack locked) before the rig is
+  // activated, so that its first cycle follows activation at once: a rig that paces itself (the
+  // board, a wall-clock SimRig) starts its clock at activation, and the schedule starts there too.
+  Handshake h;
+  std::thread loop([&] { run_loop(*this, options_, cycles, h, s.sched_fifo); });
+  try {
+    begin();
+  } catch (...) {
+    h.phase.store(2, std::memory_order_release);
+    loop.join();
+    if (s.memory_locked) munlockall();
+    throw;
   }
+  h.phase.store(1, std::memory_order_release);
+  const bool warned = log_until_done(*this, options_, h, s.cycles, sink, status);
+  loop.join();
+  drain(*this, sink);
+  if (!warned && options_.realtime_scheduling && h.sched_error != 0) warn(options_, fifo_refused(h.sched_error));
   const std::uint64_t ran = s.cycles.load(std::memory_order_acquire);
   if (ran < cycles) {
     s.stopped_by = fmt::format("the rig's read failed at cycle {} ({})", ran - 1, to_string(s.failed_read));
