@@ -24,6 +24,7 @@
 #include "clearshape/signal/parameters.hpp"
 #include "command.hpp"
 #include "clearance_model_json.hpp"
+#include "recommend_clearance_aware.hpp"
 #include "recommend_model.hpp"
 #include "recommend_plot.hpp"
 #include "signal_options.hpp"
@@ -53,6 +54,7 @@ struct RecommendState {
   CLI::Option* move_duration_option = nullptr;
   CLI::Option* move_rate_option = nullptr;
   CLI::Option* initial_play_option = nullptr;
+  bool clearance_aware = false;  // --clearance-aware: also design on the model (study/clearance_aware.hpp)
 };
 
 std::vector<std::string> split(const std::string& text) {
@@ -151,7 +153,8 @@ nlohmann::ordered_json number_or_null(double v) { return std::isfinite(v) ? nloh
 
 void print_json_result(const RecommendState& st, const std::vector<advise::MeasuredSpectrum>& spectra,
                        const advise::ModeEstimation& est, const advise::Recommendation& r, const advise::RecommendOptions& o,
-                       const std::optional<MovePrediction>& pred) {
+                       const std::optional<MovePrediction>& pred,
+                       const std::optional<ClearanceAwareCandidate>& ca) {
   auto doc = io::make_document();
   doc["command"] = "recommend";
   nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
@@ -200,6 +203,21 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
                                                                       : nlohmann::ordered_json(nullptr);
     cands.push_back(j);
   }
+  if (ca) {  // beside the linear candidates: designed on the model, not from a mode
+    nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
+    for (const auto& i : ca->shaper.impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
+    cands.push_back({{"name", "clearance-aware"},
+                     {"available", true},
+                     {"note", "designed by simulation on the model for the move (not ranked by remaining vibration)"},
+                     {"duration_s", ca->shaper.duration_s()},
+                     {"max_duration_s", ca->max_duration_s},
+                     {"bound_source", ca->bound_source},
+                     {"impulses", impulses},
+                     {"predicted_md", ca->predicted_md},
+                     {"design_worst_md", ca->design_worst_md_deg},
+                     {"evaluations", ca->evaluations},
+                     {"design_time_s", ca->design_time_s}});
+  }
   doc["candidates"] = cands;
   if (pred) {
     doc["model"] = {{"file", st.model},
@@ -231,7 +249,8 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
 }
 
 void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const advise::ModeEstimation& est,
-                 const advise::Recommendation& r, const std::optional<MovePrediction>& pred) {
+                 const advise::Recommendation& r, const std::optional<MovePrediction>& pred,
+                 const std::optional<ClearanceAwareCandidate>& ca) {
   for (const auto& s : spectra) {
     fmt::print("input  {} ({}, {}): {} bins, resolution {:.3g} Hz{}\n", s.source, advise::to_string(s.format), s.column,
                s.frequency_hz.size(), s.resolution_hz, s.segments > 0 ? fmt::format(", {} Welch segments", s.segments) : "");
@@ -262,6 +281,12 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     fmt::print("{:<10} {:>18} {:>10.2f} {:>12.2f} {:>12.2f} {:>10}{}{}\n", c.name, f, 1000.0 * c.duration_s, 100.0 * c.remaining_worst,
                100.0 * c.remaining_nominal, c.within_budget ? "ok" : "over", pred ? fmt::format(" {:>13.5g}", *pred->md[k]) : std::string(),
                mark);
+  }
+  if (ca) {
+    fmt::print("{:<10} {:>18} {:>10.2f} {:>12} {:>12} {:>10} {:>13.5g}\n", "clearance-aware", "(model)", 1000.0 * ca->shaper.duration_s(),
+               "-", "-", "-", ca->predicted_md);
+    fmt::print("           designed on the model for the move ({} evaluations, {:.2f} s; bound {:.4g} s: {})\n", ca->evaluations,
+               ca->design_time_s, ca->max_duration_s, ca->bound_source);
   }
   fmt::print("\nrecommended: {}\n", r.chosen ? r.candidates[*r.chosen].name : std::string("none"));
   fmt::print("reason: {}\n", r.reason);
@@ -305,6 +330,9 @@ void run_recommend(const RecommendState& st) {
   const advise::RecommendOptions o = options(st);
   const bool move_given = st.move_option->count() > 0 || st.move_duration_option->count() > 0 || st.move_rate_option->count() > 0 ||
                           st.initial_play_option->count() > 0;
+  if (st.clearance_aware && st.model.empty()) {
+    throw InvalidArgument("--clearance-aware needs --model FIT.json and a --move step (the design runs on the model)");
+  }
   if (st.model.empty() && move_given) {
     throw InvalidArgument("--move, --move-duration-s, --move-rate-hz and --initial-play need --model FIT.json");
   }
@@ -332,6 +360,7 @@ void run_recommend(const RecommendState& st) {
   if (st.from_option->count() == 0 && !est.free_decay_used) print_window_hints(spectra);
   advise::Recommendation r = advise::recommend(spectra, est.modes, o);
   std::optional<MovePrediction> pred;
+  std::optional<ClearanceAwareCandidate> ca;
   if (!st.model.empty()) {
     const IdentifiedClearanceModel m = read_clearance_model_json(st.model);
     const signal::Signal move = st.move_options.build(st.move);
@@ -343,13 +372,14 @@ void run_recommend(const RecommendState& st) {
     }
     pred->move_parameters = parameters.dump();
     apply_predicted_md(r, *pred, o.vibration_tolerance);
+    if (st.clearance_aware) ca = design_for_move(m.model, move, *pred, r, o.max_delay_s);
   }
   if (!r.chosen) fmt::print(stderr, "clearshape recommend: warning: no recommendation: {}\n", r.reason);
   if (!st.plot.empty()) write_recommend_plot(st.plot, spectra, r);
   if (st.json) {
-    print_json_result(st, spectra, est, r, o, pred);
+    print_json_result(st, spectra, est, r, o, pred, ca);
   } else {
-    print_table(spectra, est, r, pred);
+    print_table(spectra, est, r, pred, ca);
     if (!st.plot.empty()) fmt::print("plot: {}\n", st.plot);
   }
 }
@@ -399,6 +429,9 @@ void setup(CLI::App& sub) {
   st->move_rate_option = sub.add_option("--move-rate-hz", st->move_rate_hz, "Sample rate of the move's simulation, Hz")->capture_default_str();
   st->initial_play_option = sub.add_option("--initial-play", st->initial_play, "Where the link rests in the play at the start, φ(0)/β in [-1, 1]")
                                 ->capture_default_str();
+  sub.add_flag("--clearance-aware", st->clearance_aware,
+               "With --model and a --move step: also design the clearance-aware shaper on the model (study/clearance_aware.hpp, "
+               "no longer than ZVDD for the first mode) and predict its MD; about 1–3 s");
   sub.callback([st] { run_recommend(*st); });
 }
 

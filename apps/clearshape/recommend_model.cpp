@@ -57,6 +57,12 @@ MovePrediction predict_mean_deviations(const study::ClearanceModel& model, const
   return p;
 }
 
+double predict_shaped_md(const study::ClearanceModel& model, const signal::Signal& move, const MovePrediction& p,
+                         const shaping::Shaper& shaper) {
+  const UniformSeries command = signal::sample(move, 1.0 / p.sample_time_s, p.duration_s);
+  return md_of(model, shaping::shape_offline(shaper, command, false), p.duration_s, p.initial_play_fraction);
+}
+
 void apply_predicted_md(advise::Recommendation& r, const MovePrediction& p, double vibration_tolerance) {
   if (!r.chosen) return;
   const auto& c = r.candidates;

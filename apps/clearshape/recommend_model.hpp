@@ -33,6 +33,11 @@ MovePrediction predict_mean_deviations(const study::ClearanceModel& model, const
                                        double duration_s, double sample_time_s, double initial_play_fraction,
                                        const advise::Recommendation& recommendation);
 
+/// Eq. 5.1 on `model` of the move shaped by `shaper`, sampled as `prediction` was: the number
+/// predict_mean_deviations gives a candidate with that shaper.
+double predict_shaped_md(const study::ClearanceModel& model, const signal::Signal& move, const MovePrediction& prediction,
+                         const shaping::Shaper& shaper);
+
 /// The tie rule: among the candidates the recommendation's rule ties (available, inside the
 /// budget, worst-case remaining vibration within `vibration_tolerance` of the least of those),
 /// the one with the least predicted MD wins (predicted MDs within 1 % of each other: the shorter).
