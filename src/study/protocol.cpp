@@ -1,3 +1,5 @@
+// A study protocol read from TOML: one parser per table, each key validated with its file, line and
+// key path (protocol.hpp lists the tables); protocol_json.cpp writes it back as JSON.
 #include "clearshape/study/protocol.hpp"
 
 #include <algorithm>
@@ -198,25 +200,11 @@ void check_pairing(const TomlSection& t, std::string_view key, const std::string
   }
 }
 
-}  // namespace
+// One function per protocol table: each reads its keys (defaults as documented in protocol.hpp),
+// validates them against what the earlier tables defined, and rejects any other key with the
+// file, line and key path (TomlSection::fail, finish).
 
-Protocol parse_protocol(std::string_view text, const std::filesystem::path& source) {
-  const std::string file = source.string();
-  toml::table root;
-  try {
-    root = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "",
-                     std::string(e.description()));
-  }
-  const TomlSection top(root, "", file);
-  Protocol p;
-  p.source = source;
-  const std::string format = top.text("format");
-  if (format != kProtocolFormat) {
-    top.fail("format", fmt::format("is '{}'; this clearshape reads '{}'", format, kProtocolFormat));
-  }
-
+void parse_study(const TomlSection& top, Protocol& p) {
   const auto study = top.table("study");
   if (!study) top.fail("", "missing table [study]");
   p.name = study->text("name");
@@ -236,32 +224,39 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
                                    fmt::join(rig::kBuiltinTruthNames, ", ")));
   }
   study->finish("name, title, mode, seed, sample_rate_hz, record_s, repetitions, rig");
+}
 
-  if (const auto m = top.table("measure")) {
-    const std::string s = m->text("md_signal", p.mode == rig::CommandMode::position
-                                                   ? "link_angle_deg" : "link_rate_deg_s");
-    if (s == "link_angle_deg") {
-      p.measure.md_signal = MdSignal::link_angle_deg;
-    } else if (s == "link_rate_deg_s") {
-      p.measure.md_signal = MdSignal::link_rate_deg_s;
-    } else {
-      m->fail("md_signal", fmt::format("'{}' is not a signal; allowed: link_angle_deg, link_rate_deg_s", s));
-    }
-    p.measure.bias_window_s = m->positive("bias_window_s", 0.4);
-    p.measure.md_final_window_fraction = m->positive("md_final_window_fraction", 0.2);
-    if (p.measure.md_final_window_fraction > 1.0) m->fail("md_final_window_fraction", "must be in (0, 1]");
-    m->finish("md_signal, bias_window_s, md_final_window_fraction");
-  } else {
+void parse_measure(const TomlSection& top, Protocol& p) {
+  const auto m = top.table("measure");
+  if (!m) {
     p.measure.md_signal = p.mode == rig::CommandMode::position ? MdSignal::link_angle_deg
                                                                : MdSignal::link_rate_deg_s;
+    return;
   }
-
-  if (const auto sh = top.table("shaping")) {
-    p.shaping.grid_hz = sh->number("grid_hz", 0.0);
-    if (p.shaping.grid_hz < 0.0) sh->fail("grid_hz", "must be >= 0 (0 = keep the designed impulse times)");
-    sh->finish("grid_hz");
+  const std::string s = m->text("md_signal", p.mode == rig::CommandMode::position
+                                                 ? "link_angle_deg" : "link_rate_deg_s");
+  if (s == "link_angle_deg") {
+    p.measure.md_signal = MdSignal::link_angle_deg;
+  } else if (s == "link_rate_deg_s") {
+    p.measure.md_signal = MdSignal::link_rate_deg_s;
+  } else {
+    m->fail("md_signal", fmt::format("'{}' is not a signal; allowed: link_angle_deg, link_rate_deg_s", s));
   }
+  p.measure.bias_window_s = m->positive("bias_window_s", 0.4);
+  p.measure.md_final_window_fraction = m->positive("md_final_window_fraction", 0.2);
+  if (p.measure.md_final_window_fraction > 1.0) m->fail("md_final_window_fraction", "must be in (0, 1]");
+  m->finish("md_signal, bias_window_s, md_final_window_fraction");
+}
 
+void parse_shaping(const TomlSection& top, Protocol& p) {
+  const auto sh = top.table("shaping");
+  if (!sh) return;
+  p.shaping.grid_hz = sh->number("grid_hz", 0.0);
+  if (p.shaping.grid_hz < 0.0) sh->fail("grid_hz", "must be >= 0 (0 = keep the designed impulse times)");
+  sh->finish("grid_hz");
+}
+
+void parse_inputs(const TomlSection& top, Protocol& p) {
   for (const auto& t : top.tables("input")) {
     InputSpec in = parse_input(t, p.mode);
     for (const auto& other : p.inputs) {
@@ -275,181 +270,210 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
     p.inputs.push_back(std::move(in));
   }
   if (p.inputs.empty()) top.fail("", "no [[input]] defined");
+}
 
-  if (const auto c = top.table("consistency")) {
-    p.consistency.table = c->text("table", "4.1");
-    p.consistency.inputs = c->texts("inputs");
-    for (const auto& name : p.consistency.inputs) check_input(p, *c, "inputs", name);
-    p.consistency.signal = c->text("signal", p.mode == rig::CommandMode::position ? "motor_angle_deg"
-                                                                                  : "motor_speed_deg_s");
-    if (p.consistency.signal != "motor_angle_deg" && p.consistency.signal != "motor_speed_deg_s") {
-      c->fail("signal", "allowed: motor_angle_deg, motor_speed_deg_s");
-    }
-    if (const auto th = c->table("thesis")) {
-      for (const auto& key : th->keys()) {
-        check_input(p, *th, key, key);
-        const auto col = th->table(key);
-        p.consistency.thesis[key] = parse_column(*col, "values", "mean", col->text("label", key));
-        col->finish("label, values, mean");
-      }
-    }
-    c->finish("table, inputs, signal, thesis");
+void parse_consistency(const TomlSection& top, Protocol& p) {
+  const auto c = top.table("consistency");
+  if (!c) return;
+  p.consistency.table = c->text("table", "4.1");
+  p.consistency.inputs = c->texts("inputs");
+  for (const auto& name : p.consistency.inputs) check_input(p, *c, "inputs", name);
+  p.consistency.signal = c->text("signal", p.mode == rig::CommandMode::position ? "motor_angle_deg"
+                                                                                : "motor_speed_deg_s");
+  if (p.consistency.signal != "motor_angle_deg" && p.consistency.signal != "motor_speed_deg_s") {
+    c->fail("signal", "allowed: motor_angle_deg, motor_speed_deg_s");
   }
-
-  if (const auto s = top.table("identification")) {
-    p.identification.structure = s->text("structure", "P3UZ");
-    p.identification.inputs = s->texts("inputs");
-    for (const auto& name : p.identification.inputs) check_input(p, *s, "inputs", name);
-    p.identification.speed_chain = s->text("speed_chain", "causal");
-    if (p.identification.speed_chain != "causal" && p.identification.speed_chain != "zero-phase") {
-      s->fail("speed_chain", "allowed: causal, zero-phase");
+  if (const auto th = c->table("thesis")) {
+    for (const auto& key : th->keys()) {
+      check_input(p, *th, key, key);
+      const auto col = th->table(key);
+      p.consistency.thesis[key] = parse_column(*col, "values", "mean", col->text("label", key));
+      col->finish("label, values, mean");
     }
-    if (const auto th = s->table("thesis")) {
-      auto& m = p.identification.thesis;
-      m.selected_input = th->text("selected_input", "");
-      m.kp = th->number("kp");
-      m.tz_s = th->number("tz_s");
-      m.zeta = th->number("zeta");
-      m.tw_s = th->number("tw_s");
-      m.tp3_s = th->number("tp3_s");
-      th->finish("selected_input, kp, tz_s, zeta, tw_s, tp3_s");
-    }
-    s->finish("structure, inputs, speed_chain, thesis");
   }
+  c->finish("table, inputs, signal, thesis");
+}
 
-  if (const auto s = top.table("link_mode")) {
-    p.link_mode.input = s->text("input");
-    check_input(p, *s, "input", p.link_mode.input);
-    p.link_mode.start = s->text("start", "after-settling");
-    if (p.link_mode.start != "after-settling" && p.link_mode.start != "after-command") {
-      s->fail("start", "allowed: after-settling, after-command");
-    }
-    p.link_mode.settle_after_move_s = s->number("settle_after_move_s", 0.05);
-    p.link_mode.window_s = s->positive("window_s", 1.5);
-    p.link_mode.max_damping_ratio = s->positive("max_damping_ratio", 0.7);
-    s->finish("input, start, settle_after_move_s, window_s, max_damping_ratio");
+void parse_identification(const TomlSection& top, Protocol& p) {
+  const auto s = top.table("identification");
+  if (!s) return;
+  p.identification.structure = s->text("structure", "P3UZ");
+  p.identification.inputs = s->texts("inputs");
+  for (const auto& name : p.identification.inputs) check_input(p, *s, "inputs", name);
+  p.identification.speed_chain = s->text("speed_chain", "causal");
+  if (p.identification.speed_chain != "causal" && p.identification.speed_chain != "zero-phase") {
+    s->fail("speed_chain", "allowed: causal, zero-phase");
   }
-
-  if (const auto s = top.table("clearance")) {
-    auto& c = p.clearance;
-    c.input = s->text("input");
-    check_input(p, *s, "input", c.input);
-    c.exponent = s->positive("exponent", 1.5);
-    c.link_inertia_kg_m2 = s->positive("link_inertia_kg_m2", 5e-3);
-    c.play_deg = s->positive("play_deg", 0.1);
-    c.stiffness_n_m_per_rad_pow_n = s->positive("stiffness_n_m_per_rad_pow_n", 1e4);
-    c.damping_n_m_s_per_rad = s->number("damping_n_m_s_per_rad", 300.0);
-    if (c.damping_n_m_s_per_rad < 0.0) s->fail("damping_n_m_s_per_rad", "must be >= 0");
-    c.fit = s->texts("fit");
-    for (const auto& f : c.fit) {
-      if (f != "stiffness" && f != "damping" && f != "play" && f != "exponent") {
-        s->fail("fit", fmt::format("'{}' cannot be fitted; allowed: stiffness, damping, play, exponent", f));
-      }
-    }
-    c.filter_gyro = s->boolean("filter_gyro", false);
-    c.window_s = s->positive("window_s", 2.0);
-    c.max_evaluations = static_cast<int>(s->integer("max_evaluations", 150, 1, 100000));
-    if (const auto th = s->table("thesis")) {
-      c.thesis_stiffness = th->number("stiffness", 0.0);
-      c.thesis_damping = th->number("damping", 0.0);
-      c.thesis_agreement = th->number("agreement", 0.0);
-      th->finish("stiffness, damping, agreement");
-    }
-    s->finish("input, exponent, link_inertia_kg_m2, play_deg, stiffness_n_m_per_rad_pow_n, "
-              "damping_n_m_s_per_rad, fit, filter_gyro, window_s, max_evaluations, thesis");
+  if (const auto th = s->table("thesis")) {
+    auto& m = p.identification.thesis;
+    m.selected_input = th->text("selected_input", "");
+    m.kp = th->number("kp");
+    m.tz_s = th->number("tz_s");
+    m.zeta = th->number("zeta");
+    m.tw_s = th->number("tw_s");
+    m.tp3_s = th->number("tp3_s");
+    th->finish("selected_input, kp, tz_s, zeta, tw_s, tp3_s");
   }
+  s->finish("structure, inputs, speed_chain, thesis");
+}
 
-  if (const auto s = top.table("simulation")) {
-    auto& m = p.simulation;
-    m.inputs = s->texts("inputs");
-    for (const auto& name : m.inputs) check_input(p, *s, "inputs", name);
-    m.shapers = s->texts("shapers");
-    for (const auto& name : m.shapers) check_shaper(*s, "shapers", name, false);
-    m.mode_sources = s->texts("mode_sources");
-    for (const auto& src : m.mode_sources) check_mode_source(*s, "mode_sources", src);
-    m.record_s = s->positive("record_s", p.record_s);
-    s->finish("inputs, shapers, mode_sources, record_s");
+void parse_link_mode(const TomlSection& top, Protocol& p) {
+  const auto s = top.table("link_mode");
+  if (!s) return;
+  p.link_mode.input = s->text("input");
+  check_input(p, *s, "input", p.link_mode.input);
+  p.link_mode.start = s->text("start", "after-settling");
+  if (p.link_mode.start != "after-settling" && p.link_mode.start != "after-command") {
+    s->fail("start", "allowed: after-settling, after-command");
   }
+  p.link_mode.settle_after_move_s = s->number("settle_after_move_s", 0.05);
+  p.link_mode.window_s = s->positive("window_s", 1.5);
+  p.link_mode.max_damping_ratio = s->positive("max_damping_ratio", 0.7);
+  s->finish("input, start, settle_after_move_s, window_s, max_damping_ratio");
+}
 
-  if (const auto s = top.table("rig_tests")) {
-    for (const auto& t : s->tables("table")) {
-      RigTable table;
-      table.id = t.text("id");
-      table.title = t.text("title", table.id);
-      table.input = t.text("input");
-      check_input(p, t, "input", table.input);
-      for (const auto& c : t.tables("column")) {
-        RigColumn col;
-        col.shaper = c.text("shaper", "none");
-        check_shaper(c, "shaper", col.shaper, true);
-        if (col.shaper != "none") {
-          col.mode_source = c.text("mode_source");
-          check_mode_source(c, "mode_source", col.mode_source);
-          check_pairing(c, "mode_source", col.shaper, col.mode_source);
-        }
-        col.label = c.text("label", col.key());
-        col.thesis = parse_column(c, "thesis", "thesis_mean", col.label);
-        for (const auto& other : table.columns) {
-          if (other.key() == col.key()) c.fail("shaper", fmt::format("column '{}' appears twice", col.key()));
-        }
-        c.finish("shaper, mode_source, label, thesis, thesis_mean");
-        table.columns.push_back(std::move(col));
-      }
-      if (table.columns.empty()) t.fail("column", "a table needs at least one [[rig_tests.table.column]]");
-      for (const auto& other : p.rig_tests.tables) {
-        if (other.id == table.id) t.fail("id", fmt::format("table '{}' is defined twice", table.id));
-      }
-      t.finish("id, title, input, column");
-      p.rig_tests.tables.push_back(std::move(table));
+void parse_clearance(const TomlSection& top, Protocol& p) {
+  const auto s = top.table("clearance");
+  if (!s) return;
+  auto& c = p.clearance;
+  c.input = s->text("input");
+  check_input(p, *s, "input", c.input);
+  c.exponent = s->positive("exponent", 1.5);
+  c.link_inertia_kg_m2 = s->positive("link_inertia_kg_m2", 5e-3);
+  c.play_deg = s->positive("play_deg", 0.1);
+  c.stiffness_n_m_per_rad_pow_n = s->positive("stiffness_n_m_per_rad_pow_n", 1e4);
+  c.damping_n_m_s_per_rad = s->number("damping_n_m_s_per_rad", 300.0);
+  if (c.damping_n_m_s_per_rad < 0.0) s->fail("damping_n_m_s_per_rad", "must be >= 0");
+  c.fit = s->texts("fit");
+  for (const auto& f : c.fit) {
+    if (f != "stiffness" && f != "damping" && f != "play" && f != "exponent") {
+      s->fail("fit", fmt::format("'{}' cannot be fitted; allowed: stiffness, damping, play, exponent", f));
     }
-    for (const auto& t : s->tables("summary")) {
-      RigSummary sum;
-      sum.id = t.text("id");
-      sum.title = t.text("title", sum.id);
-      sum.kind = t.text("kind");
-      if (sum.kind != "combine" && sum.kind != "improvement") t.fail("kind", "allowed: combine, improvement");
-      sum.tables = t.texts("tables");
-      for (const auto& id : sum.tables) {
-        const bool found = std::any_of(p.rig_tests.tables.begin(), p.rig_tests.tables.end(),
-                                       [&](const RigTable& x) { return x.id == id; });
-        if (!found) t.fail("tables", fmt::format("refers to table '{}', which is not defined", id));
-      }
-      sum.column = t.text("column", "");
-      if (sum.kind == "improvement") {
-        if (sum.column.empty()) t.fail("column", "an improvement summary names the shaped column");
-        for (const auto& id : sum.tables) {
-          const auto& table = p.table(id);
-          const bool has = std::any_of(table.columns.begin(), table.columns.end(),
-                                       [&](const RigColumn& c) { return c.key() == sum.column; });
-          const bool has_none = std::any_of(table.columns.begin(), table.columns.end(),
-                                            [&](const RigColumn& c) { return c.key() == "none"; });
-          if (!has || !has_none) {
-            t.fail("column", fmt::format("table '{}' needs columns 'none' and '{}'", id, sum.column));
-          }
-        }
-      }
-      sum.thesis = t.numbers("thesis");
-      if (!sum.thesis.empty() && sum.thesis.size() != sum.tables.size()) {
-        t.fail("thesis", "needs one value per table");
-      }
-      t.finish("id, title, kind, tables, column, thesis");
-      p.rig_tests.summaries.push_back(std::move(sum));
+  }
+  c.filter_gyro = s->boolean("filter_gyro", false);
+  c.window_s = s->positive("window_s", 2.0);
+  c.max_evaluations = static_cast<int>(s->integer("max_evaluations", 150, 1, 100000));
+  if (const auto th = s->table("thesis")) {
+    c.thesis_stiffness = th->number("stiffness", 0.0);
+    c.thesis_damping = th->number("damping", 0.0);
+    c.thesis_agreement = th->number("agreement", 0.0);
+    th->finish("stiffness, damping, agreement");
+  }
+  s->finish("input, exponent, link_inertia_kg_m2, play_deg, stiffness_n_m_per_rad_pow_n, "
+            "damping_n_m_s_per_rad, fit, filter_gyro, window_s, max_evaluations, thesis");
+}
+
+void parse_simulation(const TomlSection& top, Protocol& p) {
+  const auto s = top.table("simulation");
+  if (!s) return;
+  auto& m = p.simulation;
+  m.inputs = s->texts("inputs");
+  for (const auto& name : m.inputs) check_input(p, *s, "inputs", name);
+  m.shapers = s->texts("shapers");
+  for (const auto& name : m.shapers) check_shaper(*s, "shapers", name, false);
+  m.mode_sources = s->texts("mode_sources");
+  for (const auto& src : m.mode_sources) check_mode_source(*s, "mode_sources", src);
+  m.record_s = s->positive("record_s", p.record_s);
+  s->finish("inputs, shapers, mode_sources, record_s");
+}
+
+// [[rig_tests.table.column]]: one column of a rig table, unique in `table`.
+RigColumn parse_rig_column(const TomlSection& c, const RigTable& table) {
+  RigColumn col;
+  col.shaper = c.text("shaper", "none");
+  check_shaper(c, "shaper", col.shaper, true);
+  if (col.shaper != "none") {
+    col.mode_source = c.text("mode_source");
+    check_mode_source(c, "mode_source", col.mode_source);
+    check_pairing(c, "mode_source", col.shaper, col.mode_source);
+  }
+  col.label = c.text("label", col.key());
+  col.thesis = parse_column(c, "thesis", "thesis_mean", col.label);
+  for (const auto& other : table.columns) {
+    if (other.key() == col.key()) c.fail("shaper", fmt::format("column '{}' appears twice", col.key()));
+  }
+  c.finish("shaper, mode_source, label, thesis, thesis_mean");
+  return col;
+}
+
+// [[rig_tests.table]]: a rig table of `p` (the tables before it already in p.rig_tests).
+RigTable parse_rig_table(const TomlSection& t, const Protocol& p) {
+  RigTable table;
+  table.id = t.text("id");
+  table.title = t.text("title", table.id);
+  table.input = t.text("input");
+  check_input(p, t, "input", table.input);
+  for (const auto& c : t.tables("column")) table.columns.push_back(parse_rig_column(c, table));
+  if (table.columns.empty()) t.fail("column", "a table needs at least one [[rig_tests.table.column]]");
+  for (const auto& other : p.rig_tests.tables) {
+    if (other.id == table.id) t.fail("id", fmt::format("table '{}' is defined twice", table.id));
+  }
+  t.finish("id, title, input, column");
+  return table;
+}
+
+// An improvement summary's tables need the unshaped column and the shaped one it names.
+void check_improvement_columns(const TomlSection& t, const Protocol& p, const RigSummary& sum) {
+  if (sum.column.empty()) t.fail("column", "an improvement summary names the shaped column");
+  for (const auto& id : sum.tables) {
+    const auto& table = p.table(id);
+    const bool has = std::any_of(table.columns.begin(), table.columns.end(),
+                                 [&](const RigColumn& c) { return c.key() == sum.column; });
+    const bool has_none = std::any_of(table.columns.begin(), table.columns.end(),
+                                      [&](const RigColumn& c) { return c.key() == "none"; });
+    if (!has || !has_none) {
+      t.fail("column", fmt::format("table '{}' needs columns 'none' and '{}'", id, sum.column));
     }
-    s->finish("table, summary");
   }
+}
 
-  if (const auto q = top.table("quick")) {
-    auto& r = p.quick_reduction;
-    r.repetitions = static_cast<int>(q->integer("repetitions", 3, 2, 1000));
-    r.record_s = q->positive("record_s", 3.0);
-    r.simulation_inputs = q->texts("simulation_inputs");
-    for (const auto& name : r.simulation_inputs) check_input(p, *q, "simulation_inputs", name);
-    r.simulation_shapers = q->texts("simulation_shapers");
-    for (const auto& name : r.simulation_shapers) check_shaper(*q, "simulation_shapers", name, false);
-    r.clearance_max_evaluations = static_cast<int>(q->integer("clearance_max_evaluations", 40, 1, 100000));
-    q->finish("repetitions, record_s, simulation_inputs, simulation_shapers, clearance_max_evaluations");
+// [[rig_tests.summary]]: a summary of rig tables already parsed.
+RigSummary parse_rig_summary(const TomlSection& t, const Protocol& p) {
+  RigSummary sum;
+  sum.id = t.text("id");
+  sum.title = t.text("title", sum.id);
+  sum.kind = t.text("kind");
+  if (sum.kind != "combine" && sum.kind != "improvement") t.fail("kind", "allowed: combine, improvement");
+  sum.tables = t.texts("tables");
+  for (const auto& id : sum.tables) {
+    const bool found = std::any_of(p.rig_tests.tables.begin(), p.rig_tests.tables.end(),
+                                   [&](const RigTable& x) { return x.id == id; });
+    if (!found) t.fail("tables", fmt::format("refers to table '{}', which is not defined", id));
   }
+  sum.column = t.text("column", "");
+  if (sum.kind == "improvement") check_improvement_columns(t, p, sum);
+  sum.thesis = t.numbers("thesis");
+  if (!sum.thesis.empty() && sum.thesis.size() != sum.tables.size()) {
+    t.fail("thesis", "needs one value per table");
+  }
+  t.finish("id, title, kind, tables, column, thesis");
+  return sum;
+}
 
+void parse_rig_tests(const TomlSection& top, Protocol& p) {
+  const auto s = top.table("rig_tests");
+  if (!s) return;
+  for (const auto& t : s->tables("table")) p.rig_tests.tables.push_back(parse_rig_table(t, p));
+  for (const auto& t : s->tables("summary")) p.rig_tests.summaries.push_back(parse_rig_summary(t, p));
+  s->finish("table, summary");
+}
+
+void parse_quick(const TomlSection& top, Protocol& p) {
+  const auto q = top.table("quick");
+  if (!q) return;
+  auto& r = p.quick_reduction;
+  r.repetitions = static_cast<int>(q->integer("repetitions", 3, 2, 1000));
+  r.record_s = q->positive("record_s", 3.0);
+  r.simulation_inputs = q->texts("simulation_inputs");
+  for (const auto& name : r.simulation_inputs) check_input(p, *q, "simulation_inputs", name);
+  r.simulation_shapers = q->texts("simulation_shapers");
+  for (const auto& name : r.simulation_shapers) check_shaper(*q, "simulation_shapers", name, false);
+  r.clearance_max_evaluations = static_cast<int>(q->integer("clearance_max_evaluations", 40, 1, 100000));
+  q->finish("repetitions, record_s, simulation_inputs, simulation_shapers, clearance_max_evaluations");
+}
+
+// Every input's last move must start inside the record (Eq. 5.1 needs its steady state there).
+void check_moves_in_record(const Protocol& p, const std::string& file) {
   for (const auto& in : p.inputs) {
     if (in.last_move_start_s >= p.record_s) {
       throw InputError(file, 0, "input " + in.name,
@@ -457,6 +481,39 @@ Protocol parse_protocol(std::string_view text, const std::filesystem::path& sour
                                    in.last_move_start_s, p.record_s));
     }
   }
+}
+
+}  // namespace
+
+Protocol parse_protocol(std::string_view text, const std::filesystem::path& source) {
+  const std::string file = source.string();
+  toml::table root;
+  try {
+    root = toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "",
+                     std::string(e.description()));
+  }
+  const TomlSection top(root, "", file);
+  Protocol p;
+  p.source = source;
+  const std::string format = top.text("format");
+  if (format != kProtocolFormat) {
+    top.fail("format", fmt::format("is '{}'; this clearshape reads '{}'", format, kProtocolFormat));
+  }
+  // In this order: a table may refer to what an earlier one defined (inputs, rig tables).
+  parse_study(top, p);
+  parse_measure(top, p);
+  parse_shaping(top, p);
+  parse_inputs(top, p);
+  parse_consistency(top, p);
+  parse_identification(top, p);
+  parse_link_mode(top, p);
+  parse_clearance(top, p);
+  parse_simulation(top, p);
+  parse_rig_tests(top, p);
+  parse_quick(top, p);
+  check_moves_in_record(p, file);
   top.finish("format, study, measure, shaping, input, consistency, identification, link_mode, clearance, "
              "simulation, rig_tests, quick");
   return p;
@@ -479,134 +536,6 @@ Protocol quick_variant(const Protocol& protocol) {
   p.clearance.max_evaluations = std::min(p.clearance.max_evaluations, r.clearance_max_evaluations);
   p.clearance.window_s = std::min(p.clearance.window_s, p.record_s);
   return p;
-}
-
-namespace {
-json column_json(const ThesisColumn& c) {
-  json j;
-  j["label"] = c.label;
-  j["values"] = c.values;
-  j["mean"] = c.mean ? json(*c.mean) : json(nullptr);
-  return j;
-}
-}  // namespace
-
-json to_json(const Protocol& p) {
-  json j;
-  j["format"] = kProtocolFormat;
-  j["source"] = p.source.filename().string();
-  j["name"] = p.name;
-  j["title"] = p.title;
-  j["mode"] = rig::to_string(p.mode);
-  j["command_unit"] = p.command_unit();
-  j["seed"] = p.seed;
-  j["sample_rate_hz"] = p.sample_rate_hz;
-  j["record_s"] = p.record_s;
-  j["repetitions"] = p.repetitions;
-  if (p.rig != "thesis") j["rig"] = p.rig;  // absent for the default (older hashes unchanged)
-  j["quick"] = p.quick;
-  j["measure"] = {{"md_signal", to_string(p.measure.md_signal)},
-                  {"bias_window_s", p.measure.bias_window_s},
-                  {"md_final_window_fraction", p.measure.md_final_window_fraction}};
-  j["shaping"] = {{"grid_hz", p.shaping.grid_hz}};
-  json inputs = json::array();
-  for (const auto& in : p.inputs) {
-    json i;
-    i["name"] = in.name;
-    i["label"] = in.label;
-    for (const auto& [k, v] : in.parameters.items()) i[k] = v;
-    i["last_move_start_s"] = in.last_move_start_s;
-    inputs.push_back(i);
-  }
-  j["inputs"] = inputs;
-  json cons;
-  cons["table"] = p.consistency.table;
-  cons["inputs"] = p.consistency.inputs;
-  cons["signal"] = p.consistency.signal;
-  json th = json::object();
-  for (const auto& [k, v] : p.consistency.thesis) th[k] = column_json(v);
-  cons["thesis"] = th;
-  j["consistency"] = cons;
-  const auto& id = p.identification;
-  j["identification"] = {{"structure", id.structure},
-                         {"inputs", id.inputs},
-                         {"speed_chain", id.speed_chain},
-                         {"thesis",
-                          {{"selected_input", id.thesis.selected_input},
-                           {"kp", id.thesis.kp},
-                           {"tz_s", id.thesis.tz_s},
-                           {"zeta", id.thesis.zeta},
-                           {"tw_s", id.thesis.tw_s},
-                           {"tp3_s", id.thesis.tp3_s}}}};
-  j["link_mode"] = {{"input", p.link_mode.input},
-                    {"start", p.link_mode.start},
-                    {"settle_after_move_s", p.link_mode.settle_after_move_s},
-                    {"window_s", p.link_mode.window_s},
-                    {"max_damping_ratio", p.link_mode.max_damping_ratio}};
-  const auto& c = p.clearance;
-  j["clearance"] = {{"input", c.input},
-                    {"exponent", c.exponent},
-                    {"link_inertia_kg_m2", c.link_inertia_kg_m2},
-                    {"play_deg", c.play_deg},
-                    {"stiffness_n_m_per_rad_pow_n", c.stiffness_n_m_per_rad_pow_n},
-                    {"damping_n_m_s_per_rad", c.damping_n_m_s_per_rad},
-                    {"fit", c.fit},
-                    {"filter_gyro", c.filter_gyro},
-                    {"window_s", c.window_s},
-                    {"max_evaluations", c.max_evaluations},
-                    {"thesis",
-                     {{"stiffness", c.thesis_stiffness},
-                      {"damping", c.thesis_damping},
-                      {"agreement", c.thesis_agreement}}}};
-  j["simulation"] = {{"inputs", p.simulation.inputs},
-                     {"shapers", p.simulation.shapers},
-                     {"mode_sources", p.simulation.mode_sources},
-                     {"record_s", p.simulation.record_s}};
-  json tables = json::array();
-  for (const auto& t : p.rig_tests.tables) {
-    json tj;
-    tj["id"] = t.id;
-    tj["title"] = t.title;
-    tj["input"] = t.input;
-    json cols = json::array();
-    for (const auto& col : t.columns) {
-      cols.push_back({{"key", col.key()},
-                      {"shaper", col.shaper},
-                      {"mode_source", col.mode_source},
-                      {"label", col.label},
-                      {"thesis", column_json(col.thesis)}});
-    }
-    tj["columns"] = cols;
-    tables.push_back(tj);
-  }
-  json sums = json::array();
-  for (const auto& s : p.rig_tests.summaries) {
-    sums.push_back({{"id", s.id},
-                    {"title", s.title},
-                    {"kind", s.kind},
-                    {"tables", s.tables},
-                    {"column", s.column},
-                    {"thesis", s.thesis}});
-  }
-  j["rig_tests"] = {{"tables", tables}, {"summaries", sums}};
-  return j;
-}
-
-std::string protocol_hash(const Protocol& protocol, std::string_view rig_description) {
-  // FNV-1a 64 (Fowler, Noll, Vo): a stable content hash, not a cryptographic one.
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  auto feed = [&h](std::string_view s) {
-    for (const unsigned char ch : s) {
-      h ^= ch;
-      h *= 0x100000001b3ULL;
-    }
-  };
-  json j = to_json(protocol);
-  j.erase("source");
-  feed(j.dump());
-  feed("\n");
-  feed(rig_description);
-  return fmt::format("{:016x}", h);
 }
 
 }  // namespace clearshape::study
