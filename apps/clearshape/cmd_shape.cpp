@@ -393,25 +393,32 @@ const bool registered = register_command(
            "  clearshape shape --method zvd -f 3.3 -z 0.29 -i run.csv --column command_deg -o shaped.csv\n"
            "  clearshape shape --method zvd -f 10 -z 0.1 --export c-header --sample-time 0.001 -o zvd.h\n"
            "  clearshape shape --method mzv -f 42.5 -z 0.1 --export klipper\n"
-           "  clearshape shape --method clearance-aware --model fit.json --moves 5,10,20 --max-duration-s 0.3");
+           "  clearshape shape --method clearance-aware --model fit.json --moves 5,10,20 --max-duration-s 0.3\n"
+           "  clearshape shape --method take-up --model fit.json --moves 5,10,20");
        auto ca = std::make_shared<ClearanceAwareOptions>();
        add_clearance_aware_options(sub, *ca);
        sub.callback([st, ca] {
-         if (st->shaper.method == "clearance-aware") {
+         const std::string& method = st->shaper.method;
+         if (method == "clearance-aware" || method == "take-up") {  // designed on a clearance model
            if (given(st->export_option) || !st->input.empty()) {  // never silently ignored
-             throw InvalidArgument("shape: --method clearance-aware designs and prints impulses; export or apply them "
-                                   "with --method custom --impulses T:A,… (the impulses it printed)");
+             throw InvalidArgument(fmt::format("shape: --method {} designs and prints impulses; export or apply them "
+                                               "with --method custom --impulses T:A,… (the impulses it printed)",
+                                               method));
            }
            const ShaperOptions& o = st->shaper;
            const double f_hz = given(o.frequency_option) ? o.frequency_hz
                                : given(o.wn_option)     ? o.wn_rad_s / (2.0 * M_PI)
                                                         : 0.0;
-           run_clearance_aware(*ca, f_hz, o.zeta, st->json);
+           if (method == "take-up") {
+             run_take_up(*ca, f_hz, o.zeta, st->json);
+           } else {
+             run_clearance_aware(*ca, f_hz, o.zeta, st->json);
+           }
            return;
          }
          if (clearance_aware_options_given(*ca)) {
            throw InvalidArgument("shape: --model, --moves, --max-duration-s, --max-evaluations and --threads apply "
-                                 "to --method clearance-aware");
+                                 "to --method clearance-aware (and the first three to take-up)");
          }
          run_shape(*st);
        });

@@ -41,58 +41,77 @@ bool clearance_aware_options_given(const ClearanceAwareOptions& o) {
   return false;
 }
 
-void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, double zeta, bool json) {
+IdentifiedClearanceModel read_design_model(const ClearanceAwareOptions& o, const std::string& method) {
   if (o.model.empty()) {
-    throw InvalidArgument("shape: --method clearance-aware needs --model FILE (fit-clearance --json output or a "
-                          "study's results.json)");
+    throw InvalidArgument(fmt::format("shape: --method {} needs --model FILE (fit-clearance --json output or a "
+                                      "study's results.json)", method));
   }
-  if (o.moves.empty()) throw InvalidArgument("shape: --method clearance-aware needs --moves A1,A2,… (deg)");
+  if (o.moves.empty()) throw InvalidArgument(fmt::format("shape: --method {} needs --moves A1,A2,… (deg)", method));
+  return read_clearance_model_json(o.model);
+}
+
+double design_duration_bound(const ClearanceAwareOptions& o, const IdentifiedClearanceModel& identified,
+                             double frequency_hz, double zeta, const std::string& method, std::string& source) {
+  if (o.max_duration_option != nullptr && o.max_duration_option->count() > 0) {
+    require_in_closed("--max-duration-s", o.max_duration_s, 1e-3, 5.0);
+    source = "--max-duration-s";
+    return o.max_duration_s;
+  }
+  std::optional<shaping::Mode> mode;
+  if (frequency_hz > 0.0) {
+    mode = shaping::Mode::from_hz(frequency_hz, zeta);
+    source = "ZVDD of --frequency-hz/--zeta";
+  } else if (identified.link_frequency_hz && identified.link_damping_ratio) {
+    mode = shaping::Mode::from_hz(*identified.link_frequency_hz, *identified.link_damping_ratio);
+    source = "ZVDD of the model file's link mode";
+  } else {
+    throw InvalidArgument(fmt::format("shape: --method {} needs a duration bound: --max-duration-s S, or "
+                                      "--frequency-hz/--zeta of the linear shaper's mode (ZVDD's duration)", method));
+  }
+  shaping::DesignRequest zvdd;
+  zvdd.method = shaping::Method::zvdd;
+  zvdd.mode = *mode;
+  return shaping::design(zvdd).duration_s();
+}
+
+std::string custom_impulses_argument(const shaping::Shaper& shaper) {
+  std::string out;
+  for (const auto& p : shaper.impulses()) {
+    out += fmt::format("{}{:.9g}:{:.12g}", out.empty() ? "" : ",", p.time_s, p.amplitude);
+  }
+  return out;
+}
+
+nlohmann::ordered_json design_document(const ClearanceAwareOptions& o, const std::string& method, double max_duration_s,
+                                       const std::string& bound_source) {
+  auto doc = io::make_document();
+  doc["command"] = "shape";
+  doc["method"] = method;
+  doc["model_file"] = o.model;
+  doc["moves_deg"] = o.moves;
+  doc["max_duration_s"] = max_duration_s;
+  doc["max_duration_source"] = bound_source;
+  return doc;
+}
+
+void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, double zeta, bool json) {
+  const IdentifiedClearanceModel identified = read_design_model(o, "clearance-aware");
   if (o.max_evaluations < 10) throw_invalid("--max-evaluations", o.max_evaluations, ">= 10");
   if (o.threads < 0 || o.threads > 256) throw_invalid("--threads", o.threads, "0 … 256 (0: all cores)");
-  const IdentifiedClearanceModel identified = read_clearance_model_json(o.model);
   study::ClearanceAwareRequest request;
   request.model = identified.model;
   request.moves = o.moves;
   request.max_evaluations = o.max_evaluations;
   request.threads = o.threads;
   std::string bound_source;
-  if (o.max_duration_option != nullptr && o.max_duration_option->count() > 0) {
-    require_in_closed("--max-duration-s", o.max_duration_s, 1e-3, 5.0);
-    request.max_duration_s = o.max_duration_s;
-    bound_source = "--max-duration-s";
-  } else {
-    std::optional<shaping::Mode> mode;
-    if (frequency_hz > 0.0) {
-      mode = shaping::Mode::from_hz(frequency_hz, zeta);
-      bound_source = "ZVDD of --frequency-hz/--zeta";
-    } else if (identified.link_frequency_hz && identified.link_damping_ratio) {
-      mode = shaping::Mode::from_hz(*identified.link_frequency_hz, *identified.link_damping_ratio);
-      bound_source = "ZVDD of the model file's link mode";
-    } else {
-      throw InvalidArgument("shape: --method clearance-aware needs a duration bound: --max-duration-s S, or "
-                            "--frequency-hz/--zeta of the linear shaper's mode (ZVDD's duration)");
-    }
-    shaping::DesignRequest zvdd;
-    zvdd.method = shaping::Method::zvdd;
-    zvdd.mode = *mode;
-    request.max_duration_s = shaping::design(zvdd).duration_s();
-  }
+  request.max_duration_s = design_duration_bound(o, identified, frequency_hz, zeta, "clearance-aware", bound_source);
   const auto begin = std::chrono::steady_clock::now();
   const study::ClearanceAwareResult r = study::design_clearance_aware(request);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
 
-  std::string impulses_arg;
-  for (const auto& p : r.shaper.impulses()) {
-    impulses_arg += fmt::format("{}{:.9g}:{:.12g}", impulses_arg.empty() ? "" : ",", p.time_s, p.amplitude);
-  }
+  const std::string impulses_arg = custom_impulses_argument(r.shaper);
   if (json) {
-    auto doc = io::make_document();
-    doc["command"] = "shape";
-    doc["method"] = "clearance-aware";
-    doc["model_file"] = o.model;
-    doc["moves_deg"] = o.moves;
-    doc["max_duration_s"] = request.max_duration_s;
-    doc["max_duration_source"] = bound_source;
+    auto doc = design_document(o, "clearance-aware", request.max_duration_s, bound_source);
     nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
     for (const auto& p : r.shaper.impulses()) impulses.push_back({{"t", p.time_s}, {"a", p.amplitude}});
     doc["impulses"] = impulses;

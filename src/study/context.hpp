@@ -90,6 +90,12 @@ void stage_rig_tests(Context& c);
 /// sections.clearance_aware).
 void ensure_clearance_aware(Context& c);
 
+/// The take-up profile (study/take_up.hpp) for a rig table's input — a step or double step — on
+/// the fitted clearance model, no longer than ZVDD for the link mode on the update grid
+/// (results.json sections.take_up.<input>); nullopt + reason when it cannot be designed, else
+/// `reason` describes the design.
+std::optional<shaping::Shaper> take_up_for(Context& c, const InputSpec& in, std::string& reason);
+
 /// Designs `method` for a mode source; nullopt + reason when it cannot be designed.
 std::optional<shaping::Shaper> design_for(const Context& c, const std::string& method,
                                           const std::string& mode_source, std::string& reason);

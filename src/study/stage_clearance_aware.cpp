@@ -1,5 +1,6 @@
 // The clearance-aware shaper of a study (study/clearance_aware.hpp): designed once, before the
-// simulated tests and the rig tests that use it, on the study's fitted clearance model.
+// simulated tests and the rig tests that use it, on the study's fitted clearance model. The
+// take-up profile of a rig table (study/take_up.hpp): designed per table, for its input's move.
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -10,6 +11,7 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/study/clearance_aware.hpp"
+#include "clearshape/study/take_up.hpp"
 #include "context.hpp"
 
 namespace clearshape::study::detail {
@@ -100,6 +102,62 @@ void ensure_clearance_aware(Context& c) {
   } catch (const std::exception& e) {
     c.clearance_aware_note = fmt::format("design failed: {}", e.what());
     c.log("clearance-aware: " + c.clearance_aware_note);
+  }
+}
+
+std::optional<shaping::Shaper> take_up_for(Context& c, const InputSpec& in, std::string& reason) {
+  if (!c.model) {
+    reason = "no fitted clearance model (stage 3 did not run)";
+    return std::nullopt;
+  }
+  if (!c.link_mode.available) {
+    reason = "no link mode: the duration bound is ZVDD's for the link mode";
+    return std::nullopt;
+  }
+  TakeUpRequest r;
+  r.model = *c.model;
+  double rise_s = 0.0;
+  if (const auto* s = in.signal.get_if<signal::Step>()) {
+    r.moves = {s->amplitude};
+    rise_s = s->rise_s;
+  } else if (const auto* d = in.signal.get_if<signal::DoubleStep>()) {
+    r.moves = {d->amplitude};  // both steps take this profile (the shaper is one per input)
+    rise_s = d->rise_s;
+  } else {
+    reason = "take-up is designed for step and double-step inputs";
+    return std::nullopt;
+  }
+  if (c.p.shaping.grid_hz > 0.0) r.grid_s = 1.0 / c.p.shaping.grid_hz;
+  shaping::DesignRequest zvdd;
+  zvdd.method = shaping::Method::zvdd;
+  zvdd.mode = c.link_mode.mode;
+  // ZVDD's added delay as the rig runs it: its last impulse on the update grid.
+  r.max_duration_s = std::min(5.0, std::round(shaping::design(zvdd).duration_s() / r.grid_s) * r.grid_s);
+  try {
+    const TakeUpResult d = design_take_up(r);
+    const TakeUpMove& m = d.moves.front();
+    const bool smeared = rise_s > r.grid_s + 1e-9;
+    reason = fmt::format(
+        "take-up for {:g} deg on the fitted clearance model (play {:.4g} deg, Coulomb {:.3g} N·m): slots {:.4g} deg/s; "
+        "link leaves the rear flank at {:.4f} s, meets the braking flank at {:.4f} s{}",
+        m.move_deg, r.model.play_rad * 180.0 / M_PI, r.model.coulomb_n_m, fmt::join(m.slot_velocity_deg_s, "/"),
+        m.separation_s, m.contact_s,
+        smeared ? fmt::format("; the input's {:g} s rise spreads the profile over more updates (no longer a take-up)",
+                              rise_s)
+                : "");
+    json section = take_up_move_json(m);
+    section["max_duration_s"] = r.max_duration_s;
+    section["coulomb_n_m"] = r.model.coulomb_n_m;
+    section["flank_keeping_deceleration_rad_s2"] = d.flank_keeping_deceleration_rad_s2;
+    section["flank_keeping_move_time_s"] = d.flank_keeping_move_time_s.front();
+    section["input_rise_s"] = rise_s;
+    c.sections["take_up"][in.name] = section;
+    c.log("take-up: " + reason);
+    return m.shaper;
+  } catch (const std::exception& e) {
+    reason = fmt::format("take-up design failed: {}", e.what());
+    c.log(reason);
+    return std::nullopt;
   }
 }
 

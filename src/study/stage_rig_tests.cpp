@@ -47,7 +47,10 @@ RigTestPlan plan_rig_tests(Context& c) {
     const UniformSeries command = c.command_of(in, c.p.record_s);
     for (const auto& col : table.columns) {
       PlannedColumn pl{&table, &col, std::nullopt, "", plan.requests.size()};
-      if (col.shaper != "none") {
+      if (col.shaper == kTakeUpShaper) {  // per input: the profile depends on the move
+        pl.shaper = take_up_for(c, in, pl.note);
+        if (!pl.shaper) pl.note = "identity shaper (runs unshaped): " + pl.note;
+      } else if (col.shaper != "none") {
         pl.shaper = design_for(c, col.shaper, col.mode_source, pl.note);
         if (!pl.shaper) pl.note = "identity shaper (runs unshaped): " + pl.note;
       }

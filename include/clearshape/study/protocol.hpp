@@ -147,9 +147,13 @@ struct SimulationStage {
 /// fitted clearance model (mode source "clearance-model") for the amplitudes of the protocol's
 /// rig-test steps, at most as long as ZVDD for the link mode.
 inline constexpr std::string_view kClearanceAwareShaper = "clearance-aware";
+/// The shaper name of a take-up profile (study/take_up.hpp), rig tests only: designed on the
+/// fitted clearance model (mode source "clearance-model") for each table's input move, at most
+/// as long as ZVDD for the link mode on the update grid.
+inline constexpr std::string_view kTakeUpShaper = "take-up";
 
 struct RigColumn {
-  std::string shaper = "none";  ///< "none", a shaping method name or "clearance-aware"
+  std::string shaper = "none";  ///< "none", a shaping method name, "clearance-aware" or "take-up"
   std::string mode_source;      ///< "drive-model" | "link-mode" | "clearance-model" (empty for none)
   std::string label;
   ThesisColumn thesis;          ///< empty values when the thesis has no such column

@@ -32,6 +32,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "clearshape/shaping/shaper.hpp"
 #include "clearshape/study/model.hpp"
 
@@ -83,6 +85,11 @@ struct TakeUpResult {
 /// for the profile (the dip would need a negative velocity: |θ| below ≈ 4β + v_s·T), with the
 /// shortest move the request allows.
 TakeUpResult design_take_up(const TakeUpRequest& request);
+
+/// A move's design as the outputs write it (results.json sections.take_up, `shape --json`):
+/// move_deg, impulses [{t, a}], slot_velocity_deg_s, separation_s, contact_s, link_rate_deg_s,
+/// take_up_deg, contact_relative_rate_deg_s, overtake_deg_s, reversal_deg_s.
+nlohmann::ordered_json take_up_move_json(const TakeUpMove& move);
 
 /// The motor rate (deg/s) of `drive` (position mode: command deg → motor deg, the same transfer
 /// maps command rate to motor rate) under slot velocities held for `grid_s` each from t = 0,
