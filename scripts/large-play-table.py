@@ -7,7 +7,8 @@ Runs (or reuses the finished runs of) studies/large-play-position.toml on the la
 with its run-to-run variation. From each results.json: the mean Eq. 5.1 MD (link angle, deg) of
 the unshaped trials and of ZVDD, EI, SI (from the link mode the study identified on that rig)
 and the clearance-aware shaper (designed on the clearance model the study fitted on that rig),
-the improvement 1 − MD/MD_unshaped and the added delay (the shaper's last impulse). The peak
+and the take-up profile (designed per input on the same model), the improvement 1 − MD/MD_unshaped
+and the added delay (the shaper's last impulse). The peak
 contact torque and the impact count (contact onsets) are hidden from a rig's sensors: they come
 from one nominal, noise-free `clearshape simulate --rig <rig>` of the same input with the same
 shaper impulses (the link starting in the middle of the play).
@@ -23,7 +24,7 @@ import tempfile
 
 RIGS = [("large-play", "out/large-play-position"), ("thesis", "out/large-play-position-thesis-rig")]
 COLUMNS = [("none", "unshaped"), ("zvdd@link-mode", "ZVDD"), ("ei@link-mode", "EI"), ("si@link-mode", "SI"),
-           ("clearance-aware@clearance-model", "clearance-aware")]
+           ("clearance-aware@clearance-model", "clearance-aware"), ("take-up@clearance-model", "take-up")]
 BEGIN, END = "<!-- large-play-table:begin -->", "<!-- large-play-table:end -->"
 
 
@@ -107,6 +108,15 @@ def main():
                              + f"; bound {ca['max_duration_s']:.3f} s; worst MD on the fitted model "
                              f"{ca['worst_md_deg']:.4f} deg (unshaped {ca['worst_unshaped_md_deg']:.4f}); "
                              f"{ca['evaluations']} evaluations.")
+            for name, tu in res["sections"].get("take_up", {}).items():
+                lines.append(f"take-up for {name} on the {rig} rig: slots "
+                             + "/".join(f"{v:.1f}" for v in tu["slot_velocity_deg_s"])
+                             + f" deg/s (impulses " + ", ".join(f"{i['a']:.3f}" for i in tu["impulses"])
+                             + f"); the link leaves the rear flank at {tu['separation_s']:.4f} s and meets the braking "
+                             f"flank at {tu['contact_s']:.4f} s; Coulomb {tu['coulomb_n_m']:.3g} N·m "
+                             + (f"(flank keeping would take {tu['flank_keeping_move_time_s']:.3g} s)."
+                                if tu.get("flank_keeping_move_time_s") is not None
+                                else "(no friction fitted: flank keeping cannot hold the link)."))
             cl = res["sections"]["clearance"]
             lm = res["sections"]["link_mode"]
             lines.append(f"Fitted on this rig: play {cl['play_deg']:.4f} deg, K {cl['stiffness_n_m_per_rad_pow_n']:.4g}, "
