@@ -151,38 +151,10 @@ std::string shape_command(const advise::CandidateResult& c, const advise::Recomm
 
 nlohmann::ordered_json number_or_null(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); }
 
-void print_json_result(const RecommendState& st, const std::vector<advise::MeasuredSpectrum>& spectra,
-                       const advise::ModeEstimation& est, const advise::Recommendation& r, const advise::RecommendOptions& o,
-                       const std::optional<MovePrediction>& pred,
-                       const std::optional<ClearanceAwareCandidate>& ca) {
-  auto doc = io::make_document();
-  doc["command"] = "recommend";
-  nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
-  for (const auto& s : spectra) {
-    inputs.push_back({{"file", s.source},
-                      {"format", std::string(advise::to_string(s.format))},
-                      {"column", s.column},
-                      {"samples", s.series ? nlohmann::ordered_json(s.series->size()) : nlohmann::ordered_json(nullptr)},
-                      {"sample_rate_hz", s.series ? nlohmann::ordered_json(1.0 / s.series->sample_time_s) : nlohmann::ordered_json(nullptr)},
-                      {"window_s", s.series ? nlohmann::ordered_json({s.series->start_s, s.series->end_s()}) : nlohmann::ordered_json(nullptr)},
-                      {"segments", s.segments},
-                      {"resolution_hz", s.resolution_hz},
-                      {"bins", s.frequency_hz.size()}});
-  }
-  doc["inputs"] = inputs;
-  nlohmann::ordered_json modes = nlohmann::ordered_json::array(), spectral = nlohmann::ordered_json::array();
-  for (const auto& m : r.modes) modes.push_back(mode_json(m));
-  for (const auto& m : est.spectral_modes) spectral.push_back(mode_json(m));
-  doc["modes"] = modes;
-  doc["spectral_modes"] = spectral;
-  doc["free_decay"] = {{"used", est.free_decay_used}, {"fit_percent", est.free_decay_fit_percent}, {"note", est.note}};
-  doc["scoring"] = {{"measure", "remaining = sum(max(V*P - thr, 0)) / sum(max(P - thr, 0)), thr = threshold_fraction * max P"},
-                    {"threshold_fraction", o.threshold_fraction},
-                    {"design_damping", r.design_damping},
-                    {"test_damping_ratios", r.test_damping_ratios},
-                    {"frequency_scales", r.frequency_scales},
-                    {"max_delay_s", number_or_null(o.max_delay_s)},
-                    {"vibration_tolerance", o.vibration_tolerance}};
+// Every candidate as the JSON lists it: the linear ones (with their predicted MD given a model),
+// then the clearance-aware design when it was asked for.
+nlohmann::ordered_json candidates_json(const advise::Recommendation& r, const std::optional<MovePrediction>& pred,
+                                       const std::optional<ClearanceAwareCandidate>& ca) {
   nlohmann::ordered_json cands = nlohmann::ordered_json::array();
   for (const auto& c : r.candidates) {
     nlohmann::ordered_json j{{"name", c.name}, {"available", c.available}, {"note", c.note}};
@@ -218,7 +190,42 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
                      {"evaluations", ca->evaluations},
                      {"design_time_s", ca->design_time_s}});
   }
-  doc["candidates"] = cands;
+  return cands;
+}
+
+void print_json_result(const RecommendState& st, const std::vector<advise::MeasuredSpectrum>& spectra,
+                       const advise::ModeEstimation& est, const advise::Recommendation& r, const advise::RecommendOptions& o,
+                       const std::optional<MovePrediction>& pred,
+                       const std::optional<ClearanceAwareCandidate>& ca) {
+  auto doc = io::make_document();
+  doc["command"] = "recommend";
+  nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
+  for (const auto& s : spectra) {
+    inputs.push_back({{"file", s.source},
+                      {"format", std::string(advise::to_string(s.format))},
+                      {"column", s.column},
+                      {"samples", s.series ? nlohmann::ordered_json(s.series->size()) : nlohmann::ordered_json(nullptr)},
+                      {"sample_rate_hz", s.series ? nlohmann::ordered_json(1.0 / s.series->sample_time_s) : nlohmann::ordered_json(nullptr)},
+                      {"window_s", s.series ? nlohmann::ordered_json({s.series->start_s, s.series->end_s()}) : nlohmann::ordered_json(nullptr)},
+                      {"segments", s.segments},
+                      {"resolution_hz", s.resolution_hz},
+                      {"bins", s.frequency_hz.size()}});
+  }
+  doc["inputs"] = inputs;
+  nlohmann::ordered_json modes = nlohmann::ordered_json::array(), spectral = nlohmann::ordered_json::array();
+  for (const auto& m : r.modes) modes.push_back(mode_json(m));
+  for (const auto& m : est.spectral_modes) spectral.push_back(mode_json(m));
+  doc["modes"] = modes;
+  doc["spectral_modes"] = spectral;
+  doc["free_decay"] = {{"used", est.free_decay_used}, {"fit_percent", est.free_decay_fit_percent}, {"note", est.note}};
+  doc["scoring"] = {{"measure", "remaining = sum(max(V*P - thr, 0)) / sum(max(P - thr, 0)), thr = threshold_fraction * max P"},
+                    {"threshold_fraction", o.threshold_fraction},
+                    {"design_damping", r.design_damping},
+                    {"test_damping_ratios", r.test_damping_ratios},
+                    {"frequency_scales", r.frequency_scales},
+                    {"max_delay_s", number_or_null(o.max_delay_s)},
+                    {"vibration_tolerance", o.vibration_tolerance}};
+  doc["candidates"] = candidates_json(r, pred, ca);
   if (pred) {
     doc["model"] = {{"file", st.model},
                     {"move", st.move},
