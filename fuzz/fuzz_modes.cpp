@@ -11,7 +11,7 @@
 // Budget: kIterations Levenberg–Marquardt iterations per fit (the CLI default is 200). Every
 // stage still runs — Welch decimation, ERA, amplitudes, LM refinement, covariance, ranking for
 // modes; candidate search, LM, covariance and fit metrics for identify — but one execution costs
-// ~3 ms instead of ~30 ms under ASan, so 10^6 executions fit in hours, not days. Ceres/glog is
+// ~7 ms of CPU instead of ~30 ms under ASan (measured on a corpus of 1,758 inputs). Ceres/glog is
 // kept quiet as in the CLI (its per-step "Error in evaluating the ResidualBlock" reports are
 // the solver rejecting a step, not a finding).
 #include <algorithm>

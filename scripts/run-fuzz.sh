@@ -16,7 +16,7 @@ for target in csv protocol rig_config impulses modes; do
   mkdir -p "$work"
   log="$build/fuzz_$target.log"
   extra=()
-  # modes: at most 128 samples per record (fuzz/fuzz_modes.cpp), so one execution stays near 3 ms
+  # modes: at most 128 samples per record (fuzz/fuzz_modes.cpp), about 7 ms of CPU per execution
   [[ $target == modes ]] && extra=(-max_len=257)
   "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -runs="$runs" -timeout=10 -print_final_stats=1 \
     "${extra[@]}" -artifact_prefix="$build/artifacts/${target}-" "$work" "$root/fuzz/corpus/$target" > "$log" 2>&1
