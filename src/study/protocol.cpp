@@ -13,6 +13,7 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/rig/builtin_truths.hpp"
+#include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/signal/parameters.hpp"
 #include "toml_reader.hpp"
@@ -217,6 +218,19 @@ void parse_study(const TomlSection& top, Protocol& p) {
   p.seed = static_cast<std::uint64_t>(study->integer("seed", 1, 0, INT64_MAX));
   p.sample_rate_hz = study->positive("sample_rate_hz", 1000.0);
   p.record_s = study->positive("record_s", 5.0);
+  // The limits every run applies (rig::SimRigOptions, core's sampled-series cap), checked here so
+  // that a study never creates its folder for a rate or a record length no run accepts.
+  try {
+    rig::SimRigOptions rate;
+    rate.sample_rate_hz = p.sample_rate_hz;
+    rate.validate();
+  } catch (const InvalidArgument& e) {
+    study->fail("sample_rate_hz", e.what());
+  }
+  if (p.record_s * p.sample_rate_hz > 1e9) {
+    study->fail("record_s", fmt::format("{} s at {} Hz is {:.3g} samples per record; allowed: at most 1e9",
+                                        p.record_s, p.sample_rate_hz, p.record_s * p.sample_rate_hz));
+  }
   p.repetitions = static_cast<int>(study->integer("repetitions", 10, 2, 1000));
   p.rig = study->text("rig", "thesis");
   if (!rig::is_builtin_truth(p.rig)) {

@@ -116,6 +116,22 @@ TEST(DataSafetyCli, FreshStudyKeepsTheUsersFilesAndRemovesStaleTemporaries) {
   EXPECT_TRUE(fs::exists(d / "outputs.json"));
 }
 
+// Case 8: a protocol value no run accepts is refused before the study creates anything, with the
+// file, line and key (it used to fail at the first run, leaving out/, data/ and runs/ behind).
+TEST(DataSafetyCli, AProtocolValueNoRunAcceptsIsRefusedBeforeAnythingIsWritten) {
+  const fs::path d = temp_dir("late");
+  std::string text = read(studies() / "thesis-position.toml");
+  const std::size_t at = text.find("sample_rate_hz = 1000.0");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 23, "sample_rate_hz = 0.001 ");
+  std::ofstream(d / "p.toml") << text;
+  const auto r = run_cli("study " + (d / "p.toml").string() + " --quick --out " + (d / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("p.toml:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("study.sample_rate_hz"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "out")) << "the study created its folder before refusing the protocol";
+}
+
 TEST(DataSafetyCli, CeresLoggingIsQuietUnlessVerbose) {
   const fs::path d = temp_dir("glog");
   ASSERT_EQ(run_cli("simulate --duration 1 -o " + (d / "run.csv").string()).exit_code, 0);

@@ -101,6 +101,25 @@ TEST(Protocol, UnknownKeyNamesFileLineAndKey) {
   EXPECT_NE(e2.find("mini.toml:12"), std::string::npos) << e2;
 }
 
+// Issue 11, case 8: a rate or record length that no run accepts was found by the first run, after
+// the study had created its folders, and reported without file, line or key.
+TEST(Protocol, RunLimitsAreCheckedWhenTheProtocolIsRead) {
+  const auto with = [](const std::string& lines) {
+    std::string text = kMinimal;
+    text.insert(text.find("[[input]]"), lines);
+    return text;
+  };
+  const std::string e = error_of(with("sample_rate_hz = 0.001\n"));
+  EXPECT_NE(e.find("mini.toml:5"), std::string::npos) << e;
+  EXPECT_NE(e.find("study.sample_rate_hz"), std::string::npos) << e;
+  EXPECT_NE(e.find("[1, 100000]"), std::string::npos) << e;
+  EXPECT_NE(error_of(with("sample_rate_hz = 1e12\n")).find("study.sample_rate_hz"), std::string::npos);
+  const std::string e2 = error_of(with("sample_rate_hz = 100000.0\nrecord_s = 20000.0\n"));
+  EXPECT_NE(e2.find("study.record_s"), std::string::npos) << e2;
+  EXPECT_NE(e2.find("at most 1e9"), std::string::npos) << e2;
+  EXPECT_EQ(error_of(with("sample_rate_hz = 100000.0\nrecord_s = 10000.0\n")), "");  // exactly 1e9: accepted
+}
+
 TEST(Protocol, UnitSuffixMustMatchTheMode) {
   std::string text = kMinimal;
   text.replace(text.find("amplitude_deg"), 13, "amplitude_v");
