@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -139,4 +140,25 @@ TEST(DataSafetyCli, CeresLoggingIsQuietUnlessVerbose) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find("InitGoogleLogging"), std::string::npos) << r.err.substr(0, 400);
   EXPECT_LT(r.err.size(), 4000u) << r.err.substr(0, 400);
+}
+
+// Case 9 with an input that makes Ceres log: a P1D fit to a sinusoid drives the time constant
+// negative, and Ceres reports every non-finite Jacobian ("Error in evaluating the ResidualBlock",
+// ~150 kB here). --verbose shows those reports, so the quiet run's check can fail.
+TEST(DataSafetyCli, CeresResidualBlockReportsAppearOnlyWithVerbose) {
+  const fs::path d = temp_dir("glog_flood");
+  {
+    std::ofstream csv(d / "osc.csv");
+    csv << "time_s,u,y\n";
+    for (int k = 0; k < 1000; ++k) csv << k * 1e-3 << ",1," << std::sin(300.0 * k * 1e-3) << "\n";
+  }
+  const std::string cmd = "identify --data " + (d / "osc.csv").string() + " --input-column u --output-column y --model P1D";
+  const auto quiet = run_cli(cmd);
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.err.substr(0, 400);
+  EXPECT_EQ(quiet.err.find("ResidualBlock"), std::string::npos) << quiet.err.substr(0, 400);
+  EXPECT_EQ(quiet.err.find("InitGoogleLogging"), std::string::npos) << quiet.err.substr(0, 400);
+  EXPECT_LT(quiet.err.size(), 4000u);
+  const auto verbose = run_cli(cmd + " --verbose");
+  ASSERT_EQ(verbose.exit_code, 0);
+  EXPECT_NE(verbose.err.find("ResidualBlock"), std::string::npos) << "the input no longer makes Ceres log";
 }
