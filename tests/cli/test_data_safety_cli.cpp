@@ -77,6 +77,17 @@ TEST(DataSafetyCli, NonFiniteAndNegativeOptionValuesAreRefusedByName) {
   r = run_cli("simulate --noise-seed -1 --duration 0.1");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--noise-seed: -1 is negative"), std::string::npos) << r.err;
+  // The other wrapped counts of the report, and a message that named the internal truth.clearance_rad.
+  r = run_cli("identify --data in.csv --input-column u --output-column y --model P1 --starts -1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--starts: -1 is negative"), std::string::npos) << r.err;
+  r = run_cli("modes --data in.csv --column y --from-sample -5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--from-sample: -5 is negative"), std::string::npos) << r.err;
+  r = run_cli("simulate --clearance-deg -1 --duration 0.1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--clearance-deg"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("clearance_rad"), std::string::npos) << r.err;
 }
 
 TEST(DataSafetyCli, UnknownSubcommandIsNamed) {
