@@ -275,17 +275,11 @@ void write_data_csv(const Context& c, const std::string& name, const std::vector
 
 }  // namespace detail
 
-StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
-  if (!options.source && !options.rig.make) {
-    throw InvalidArgument("StudyOptions.rig.make is empty; give a rig factory or a run source");
-  }
-  detail::Context c(protocol, options);
-  detail::prepare_output_folder(c.out, options.fresh, [&c](const std::string& line) { c.log(line); });
-  std::filesystem::create_directories(c.data_dir);
-  c.log(fmt::format("study '{}' ({} mode{}), protocol hash {}, rig {}, {} parallel run(s), out {}",
-                    protocol.name, rig::to_string(protocol.mode), protocol.quick ? ", quick" : "",
-                    c.hash, c.source->description(), c.threads, c.out.string()));
+namespace {
 
+// Plan → run → tabulate of every stage, in order, each timed; a stage that needs runs the source
+// lacks is skipped (results.json "skipped_stages").
+void run_stages(detail::Context& c, const Protocol& protocol) {
   using Stage = void (*)(detail::Context&);
   const std::pair<const char*, Stage> stages[] = {
       {"consistency", detail::stage_consistency},   {"identification", detail::stage_identification},
@@ -302,8 +296,25 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
     c.log(fmt::format("stage {} finished in {:.1f} s ({} run(s) executed, {} reused)", name, st.seconds,
                       st.runs_executed, st.runs_reused));
   }
+}
 
-  StudyResult result;
+json units_json(const Protocol& protocol) {
+  return {{"time", "s"},
+          {"command", protocol.command_unit()},
+          {"motor_angle", "deg"},
+          {"motor_speed", "deg/s"},
+          {"link_rate", "deg/s"},
+          {"link_angle", "deg"},
+          {"mean_deviation", protocol.measure.md_signal == MdSignal::link_angle_deg ? "deg" : "deg/s"},
+          {"consistency_error", "dimensionless (Eq. 4.1)"},
+          {"improvement", "%"},
+          {"natural_frequency", "rad/s"},
+          {"contact_stiffness", "N·m/rad^n"},
+          {"contact_damping", "N·m·s/rad"}};
+}
+
+// results.json: the study, its rig and protocol, the stages' sections and tables.
+json results_document(const detail::Context& c, const Protocol& protocol) {
   json doc = io::make_document();
   doc["results_schema_version"] = kResultsSchemaVersion;
   doc["study"] = {{"name", protocol.name},
@@ -315,34 +326,17 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
                   {"rig", c.source->description()}};
   doc["rig"] = {{"kind", c.source->kind()}, {"description", c.source->description()}};
   doc["protocol"] = to_json(protocol);
-  doc["units"] = {{"time", "s"},
-                  {"command", protocol.command_unit()},
-                  {"motor_angle", "deg"},
-                  {"motor_speed", "deg/s"},
-                  {"link_rate", "deg/s"},
-                  {"link_angle", "deg"},
-                  {"mean_deviation", protocol.measure.md_signal == MdSignal::link_angle_deg ? "deg" : "deg/s"},
-                  {"consistency_error", "dimensionless (Eq. 4.1)"},
-                  {"improvement", "%"},
-                  {"natural_frequency", "rad/s"},
-                  {"contact_stiffness", "N·m/rad^n"},
-                  {"contact_damping", "N·m·s/rad"}};
+  doc["units"] = units_json(protocol);
   doc["ambiguities"] = detail::ambiguities(protocol, c.source->kind());
   doc["skipped_stages"] = c.skipped;
   doc["sections"] = c.sections;
   doc["tables"] = c.tables;
   doc["figures_index"] = "figures.json";
-  result.results = doc;
-  result.tables_markdown = detail::render_tables_markdown(doc);
-  json figs = io::make_document();
-  figs["study"] = protocol.name;
-  figs["figures"] = c.figures;
-  result.figures = figs;
-  result.timing = c.timing;
+  return doc;
+}
 
-  io::write_json(c.out / "results.json", result.results);
-  io::write_text_atomic(c.out / "tables.md", result.tables_markdown);
-  io::write_json(c.out / "figures.json", result.figures);
+// timing.json: seconds and runs per stage, their total, the parallel runs.
+json timing_document(const detail::Context& c) {
   json timing = io::make_document();
   json stages_json = json::array();
   double total = 0.0;
@@ -354,10 +348,42 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
   timing["stages"] = stages_json;
   timing["total_s"] = total;
   timing["parallel_runs"] = c.threads;
-  io::write_json(c.out / "timing.json", timing);
+  return timing;
+}
+
+void write_study_outputs(detail::Context& c, const StudyResult& result) {
+  io::write_json(c.out / "results.json", result.results);
+  io::write_text_atomic(c.out / "tables.md", result.tables_markdown);
+  io::write_json(c.out / "figures.json", result.figures);
+  io::write_json(c.out / "timing.json", timing_document(c));
   detail::write_outputs_manifest(c.out, c.data_written);
   c.log(fmt::format("done in {:.1f} s: {}, {}, {}", c.elapsed_s(), (c.out / "results.json").string(),
                     (c.out / "tables.md").string(), (c.out / "figures.json").string()));
+}
+
+}  // namespace
+
+StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
+  if (!options.source && !options.rig.make) {
+    throw InvalidArgument("StudyOptions.rig.make is empty; give a rig factory or a run source");
+  }
+  detail::Context c(protocol, options);
+  detail::prepare_output_folder(c.out, options.fresh, [&c](const std::string& line) { c.log(line); });
+  std::filesystem::create_directories(c.data_dir);
+  c.log(fmt::format("study '{}' ({} mode{}), protocol hash {}, rig {}, {} parallel run(s), out {}",
+                    protocol.name, rig::to_string(protocol.mode), protocol.quick ? ", quick" : "",
+                    c.hash, c.source->description(), c.threads, c.out.string()));
+  run_stages(c, protocol);
+
+  StudyResult result;
+  result.results = results_document(c, protocol);
+  result.tables_markdown = detail::render_tables_markdown(result.results);
+  json figs = io::make_document();
+  figs["study"] = protocol.name;
+  figs["figures"] = c.figures;
+  result.figures = figs;
+  result.timing = c.timing;
+  write_study_outputs(c, result);
   return result;
 }
 
