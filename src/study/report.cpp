@@ -10,103 +10,127 @@
 
 namespace clearshape::study::detail {
 
+namespace {
+
+// One settled ambiguity: the question, how the study settles it, and why.
+struct Ambiguities {
+  json list = json::array();
+  void add(const char* id, const char* question, std::string settled, const char* why) {
+    list.push_back({{"id", id}, {"question", question}, {"settled", std::move(settled)}, {"why", why}});
+  }
+};
+
+// What Eq. 5.1 is computed on, and from where.
+void add_measure_ambiguities(Ambiguities& a, bool position) {
+  a.add("md-signal", "On which signal is the mean deviation (Eq. 5.1) computed?",
+        position ? "Position mode: on the link angle in degrees, the gyro rate integrated after its bias "
+                   "(mean at rest before the move) is removed."
+                 : "Speed mode: on the link rate in deg/s from the gyroscope.",
+        "The thesis does not say. Position mode: Fig. 5.19 plots the link's angular position, the "
+        "unshaped MDs grow in proportion to the step (0.085, 0.141, 0.303 deg for 5, 10, 20 deg), and "
+        "the shaped MDs (0.007–0.073) lie below the gyro's rate-noise floor (about 0.1–0.2 deg/s) but "
+        "above the integrated-angle floor. Speed mode: the controlled quantity is a speed and the "
+        "angle has no steady state.");
+  a.add("md-start", "Where does the steady state of Eq. 5.1 begin?",
+        fmt::format("At the first sample, after the start of the input's last move, where the response meets "
+                    "its own steady-state mean: it crosses M, or it enters a band of ±{:g} % of the last move "
+                    "around M and stays inside for {:g} s, whichever comes first; M and the start are iterated "
+                    "to a fixed point (metrics/mean_deviation.hpp). Every trial records which rule decided "
+                    "(start_rule in the rig tables of results.json).",
+                    100.0 * metrics::MeanDeviationOptions{}.band_move_fraction,
+                    metrics::MeanDeviationOptions{}.band_dwell_s),
+        "§5.1.2: 'the first coincide point of the system response and the mean data is taken as a start "
+        "point'. A ringing response crosses its mean on its first swing; a well-shaped one approaches "
+        "from one side and, on the smooth integrated gyro angle, may cross only when the gyro's drift "
+        "carries it over M seconds later, leaving Eq. 5.1 a fraction of a second of record — so "
+        "'coincide' is read as agreement within a small share of the move, the order of a settling tolerance.");
+}
+
+// Which mode the shapers are designed for, what the identification sees, units, the gyro filter.
+void add_model_ambiguities(Ambiguities& a, bool position) {
+  a.add("which-mode", "Which mode are the shapers designed for?",
+        "Both, side by side: the drive model's ωn = 1/Tw, ζ = Zeta (the thesis's choice, §3.3) and the "
+        "link's residual mode identified from the gyro's free response (docs/design.md §2). The tables name "
+        "the source of every shaped column.",
+        "The position-mode drive model has ζ = 0.9968: its ZV-family shapers collapse to one impulse and "
+        "cannot give the published improvement; the vibration that matters is the link's.");
+  a.add("identification-data", "What are the identification input and output?",
+        position ? "Input: the position the driver received (the 30 Hz pulse train — a ramp for a step, "
+                   "§4.1.2), output: the encoder angle."
+                 : "Input: the D/A output (V), output: the encoder angle differentiated and filtered by the "
+                   "4th-order 30 rad/s Butterworth (§3.3), causal as a real-time chain; the filter is part "
+                   "of the identified model (§4.2).",
+        "The thesis identified 'angular position input and angular position output' (position) and "
+        "notes that the speed-mode model includes the low-pass filter.");
+  a.add("model-selection", "How is the best model chosen?",
+        "Each input's model is simulated on every input's record (fit %, zero initial state); the model "
+        "with the best mean fit on the other records is selected.",
+        "§4.2: every identified transfer function is tested on every input; the thesis selected the step model.");
+  a.add("contact-units", "In which units are the contact parameters?",
+        "Torsional play: K in N·m/rad^n, D in N·m·s/rad, δ in rad; the model's link inertia is fixed "
+        "(only K/J and D/J are identifiable from the gyro).",
+        "The thesis gives K and D without units (docs/design.md §2).");
+  a.add("gyro-filter", "Which digital low-pass did the thesis's gyroscope use?",
+        "The clearance fit compares the model's link rate through each ITG-3205 DLPF setting (none, "
+        "256 … 5 Hz, first order) with the mean gyro record and keeps the setting that fits best "
+        "(gyro_low_pass_hz in results.json).",
+        "The thesis names the ITG-3205 but not its DLPF_CFG; left out, the filter's lag alone costs "
+        "more Eq. 4.1 agreement than the whole published figure (0.0042 position).");
+  a.add("input-timing", "What exactly were the inputs?",
+        position ? "Moves start at 0.5 s (after a rest window for the gyro bias); a step is a ramp over one "
+                   "30 Hz pulse update, the 56 deg 'low jerk' step a ramp over 0.1 s (three updates), and "
+                   "the '16 deg double step' is read as two steps of 16 deg 0.5 s apart."
+                 : "The speed-mode inputs' amplitudes (in V) and timing are in the protocol and are ours.",
+        "The thesis gives the experimental amplitudes (Appendix B) but not the timing, the rise of the "
+        "low-jerk step or the spacing and size of the double step.");
+}
+
+// What rig gave the runs (RunSource::kind).
+void add_rig_ambiguity(Ambiguities& a, std::string_view rig_kind) {
+  if (rig_kind == "simulated-large-play") {
+    a.add("rig-truth", "What is the simulated rig?",
+          "rig::SimRig with the built-in large-play truth (docs/large-play.md): the calibrated thesis rig's "
+          "drive, sensors and run-to-run variation with a 1 deg steel pin in a bored aluminium link — Hertz "
+          "stiffness from the materials and geometry (Eq. 2.5–2.6, n = 1.5), Flores restitution dissipation "
+          "(e = 0.6), bearing friction. It is not fitted to any measurement: the thesis's numbers beside ours "
+          "are for scale only; the study never reads the truth, and the shaped results are predictions.",
+          "The thesis's rig plays 0.03 deg at its calibration (truth.hpp); this rig asks what its method "
+          "does where the play dominates (issue 12).");
+  } else if (rig_kind == "simulated-config") {
+    a.add("rig-truth", "What is the simulated rig?",
+          "rig::SimRig with the truth of the rig configuration given to --rig-config (results.json "
+          "rig.description names the file and its hash). That truth is not calibrated to the thesis: the "
+          "thesis's numbers beside ours are for scale only and are not scored; the study never reads the "
+          "truth, and the shaped results are predictions.",
+          "A what-if rig: its play, contact and inertia are the configuration's, not the thesis's rig's.");
+  } else if (rig_kind.rfind("simulated", 0) == 0) {
+    a.add("rig-truth", "What is the simulated rig?",
+          "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
+          "unshaped responses reproduce the thesis's unshaped ('without IS') means, the spread of its trials and "
+          "the repeatability of Tables 4.1–4.2 (seeded run-to-run variation, rig/variation.hpp); "
+          "the study never reads that truth, and the shaped results are predictions.",
+          "docs/design.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
+  } else {
+    a.add("rig-truth", "What rig gave the runs?",
+          rig_kind == "physical"
+              ? "A physical rig over its serial link (rig::SerialRig; results.json rig.description): every run, "
+                "shaped or not, is a measurement of that rig, not a calibrated prediction; a run that lost a "
+                "sample was refused. Only the simulated tests (stage 5) are predictions of the identified model."
+              : "Runs recorded elsewhere (the recordings manifest): every run is a measurement of the rig that "
+                "recorded it, not a calibrated prediction. Only the simulated tests (stage 5) are predictions.",
+          "The rig is not the thesis's: its numbers are compared with the thesis's, not fitted to them.");
+  }
+}
+
+}  // namespace
+
 json ambiguities(const Protocol& p, std::string_view rig_kind) {
   const bool position = p.mode == rig::CommandMode::position;
-  json a = json::array();
-  auto add = [&a](const char* id, const char* question, std::string settled, const char* why) {
-    a.push_back({{"id", id}, {"question", question}, {"settled", std::move(settled)}, {"why", why}});
-  };
-  add("md-signal", "On which signal is the mean deviation (Eq. 5.1) computed?",
-      position ? "Position mode: on the link angle in degrees, the gyro rate integrated after its bias "
-                 "(mean at rest before the move) is removed."
-               : "Speed mode: on the link rate in deg/s from the gyroscope.",
-      "The thesis does not say. Position mode: Fig. 5.19 plots the link's angular position, the "
-      "unshaped MDs grow in proportion to the step (0.085, 0.141, 0.303 deg for 5, 10, 20 deg), and "
-      "the shaped MDs (0.007–0.073) lie below the gyro's rate-noise floor (about 0.1–0.2 deg/s) but "
-      "above the integrated-angle floor. Speed mode: the controlled quantity is a speed and the "
-      "angle has no steady state.");
-  add("md-start", "Where does the steady state of Eq. 5.1 begin?",
-      fmt::format("At the first sample, after the start of the input's last move, where the response meets "
-                  "its own steady-state mean: it crosses M, or it enters a band of ±{:g} % of the last move "
-                  "around M and stays inside for {:g} s, whichever comes first; M and the start are iterated "
-                  "to a fixed point (metrics/mean_deviation.hpp). Every trial records which rule decided "
-                  "(start_rule in the rig tables of results.json).",
-                  100.0 * metrics::MeanDeviationOptions{}.band_move_fraction,
-                  metrics::MeanDeviationOptions{}.band_dwell_s),
-      "§5.1.2: 'the first coincide point of the system response and the mean data is taken as a start "
-      "point'. A ringing response crosses its mean on its first swing; a well-shaped one approaches "
-      "from one side and, on the smooth integrated gyro angle, may cross only when the gyro's drift "
-      "carries it over M seconds later, leaving Eq. 5.1 a fraction of a second of record — so "
-      "'coincide' is read as agreement within a small share of the move, the order of a settling tolerance.");
-  add("which-mode", "Which mode are the shapers designed for?",
-      "Both, side by side: the drive model's ωn = 1/Tw, ζ = Zeta (the thesis's choice, §3.3) and the "
-      "link's residual mode identified from the gyro's free response (docs/design.md §2). The tables name "
-      "the source of every shaped column.",
-      "The position-mode drive model has ζ = 0.9968: its ZV-family shapers collapse to one impulse and "
-      "cannot give the published improvement; the vibration that matters is the link's.");
-  add("identification-data", "What are the identification input and output?",
-      position ? "Input: the position the driver received (the 30 Hz pulse train — a ramp for a step, "
-                 "§4.1.2), output: the encoder angle."
-               : "Input: the D/A output (V), output: the encoder angle differentiated and filtered by the "
-                 "4th-order 30 rad/s Butterworth (§3.3), causal as a real-time chain; the filter is part "
-                 "of the identified model (§4.2).",
-      "The thesis identified 'angular position input and angular position output' (position) and "
-      "notes that the speed-mode model includes the low-pass filter.");
-  add("model-selection", "How is the best model chosen?",
-      "Each input's model is simulated on every input's record (fit %, zero initial state); the model "
-      "with the best mean fit on the other records is selected.",
-      "§4.2: every identified transfer function is tested on every input; the thesis selected the step model.");
-  add("contact-units", "In which units are the contact parameters?",
-      "Torsional play: K in N·m/rad^n, D in N·m·s/rad, δ in rad; the model's link inertia is fixed "
-      "(only K/J and D/J are identifiable from the gyro).",
-      "The thesis gives K and D without units (docs/design.md §2).");
-  add("gyro-filter", "Which digital low-pass did the thesis's gyroscope use?",
-      "The clearance fit compares the model's link rate through each ITG-3205 DLPF setting (none, "
-      "256 … 5 Hz, first order) with the mean gyro record and keeps the setting that fits best "
-      "(gyro_low_pass_hz in results.json).",
-      "The thesis names the ITG-3205 but not its DLPF_CFG; left out, the filter's lag alone costs "
-      "more Eq. 4.1 agreement than the whole published figure (0.0042 position).");
-  add("input-timing", "What exactly were the inputs?",
-      position ? "Moves start at 0.5 s (after a rest window for the gyro bias); a step is a ramp over one "
-                 "30 Hz pulse update, the 56 deg 'low jerk' step a ramp over 0.1 s (three updates), and "
-                 "the '16 deg double step' is read as two steps of 16 deg 0.5 s apart."
-               : "The speed-mode inputs' amplitudes (in V) and timing are in the protocol and are ours.",
-      "The thesis gives the experimental amplitudes (Appendix B) but not the timing, the rise of the "
-      "low-jerk step or the spacing and size of the double step.");
-  if (rig_kind == "simulated-large-play") {
-    add("rig-truth", "What is the simulated rig?",
-        "rig::SimRig with the built-in large-play truth (docs/large-play.md): the calibrated thesis rig's "
-        "drive, sensors and run-to-run variation with a 1 deg steel pin in a bored aluminium link — Hertz "
-        "stiffness from the materials and geometry (Eq. 2.5–2.6, n = 1.5), Flores restitution dissipation "
-        "(e = 0.6), bearing friction. It is not fitted to any measurement: the thesis's numbers beside ours "
-        "are for scale only; the study never reads the truth, and the shaped results are predictions.",
-        "The thesis's rig plays 0.03 deg at its calibration (truth.hpp); this rig asks what its method "
-        "does where the play dominates (issue 12).");
-  } else if (rig_kind == "simulated-config") {
-    add("rig-truth", "What is the simulated rig?",
-        "rig::SimRig with the truth of the rig configuration given to --rig-config (results.json "
-        "rig.description names the file and its hash). That truth is not calibrated to the thesis: the "
-        "thesis's numbers beside ours are for scale only and are not scored; the study never reads the "
-        "truth, and the shaped results are predictions.",
-        "A what-if rig: its play, contact and inertia are the configuration's, not the thesis's rig's.");
-  } else if (rig_kind.rfind("simulated", 0) == 0) {
-    add("rig-truth", "What is the simulated rig?",
-        "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
-        "unshaped responses reproduce the thesis's unshaped ('without IS') means, the spread of its trials and "
-        "the repeatability of Tables 4.1–4.2 (seeded run-to-run variation, rig/variation.hpp); "
-        "the study never reads that truth, and the shaped results are predictions.",
-        "docs/design.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
-  } else {
-    add("rig-truth", "What rig gave the runs?",
-        rig_kind == "physical"
-            ? "A physical rig over its serial link (rig::SerialRig; results.json rig.description): every run, "
-              "shaped or not, is a measurement of that rig, not a calibrated prediction; a run that lost a "
-              "sample was refused. Only the simulated tests (stage 5) are predictions of the identified model."
-            : "Runs recorded elsewhere (the recordings manifest): every run is a measurement of the rig that "
-              "recorded it, not a calibrated prediction. Only the simulated tests (stage 5) are predictions.",
-        "The rig is not the thesis's: its numbers are compared with the thesis's, not fitted to them.");
-  }
-  return a;
+  Ambiguities a;
+  add_measure_ambiguities(a, position);
+  add_model_ambiguities(a, position);
+  add_rig_ambiguity(a, rig_kind);
+  return a.list;
 }
 
 namespace {
@@ -132,69 +156,65 @@ void row(std::ostringstream& out, const std::vector<std::string>& cells) {
   out << "\n";
 }
 
-void render_table(std::ostringstream& out, const json& t) {
-  out << fmt::format("### Table {} — {}\n\n", t.at("id").get<std::string>(), t.at("title").get<std::string>());
-  const std::string unit = t.value("unit", std::string());
-  if (!unit.empty()) out << fmt::format("Unit: {}.\n\n", unit);
-  const json& cols = t.at("columns");
-  const json rows = t.value("row_labels", json::array());
-  const std::string kind = t.value("kind", std::string());
+// One printed column of a table: a table column's "ours" or "thesis" values.
+struct Cell {
+  const json* col;
+  const char* key;
+};
+
+// The printed columns of a table and their header (ours and thesis side by side).
+struct TableLayout {
   std::vector<std::string> header{""};
-  struct Cell {
-    const json* col;
-    const char* key;
-  };
   std::vector<Cell> cells;
+};
+
+TableLayout layout_of(const json& cols) {
+  TableLayout l;
   for (const auto& col : cols) {
     const std::string label = col.value("label", col.value("key", std::string()));
     if (has_values(col, "ours")) {
-      header.push_back(cols.size() > 1 || has_values(col, "thesis") ? label + " — ours" : label);
-      cells.push_back({&col, "ours"});
+      l.header.push_back(cols.size() > 1 || has_values(col, "thesis") ? label + " — ours" : label);
+      l.cells.push_back({&col, "ours"});
     }
     if (has_values(col, "thesis")) {
-      header.push_back(label + " — thesis");
-      cells.push_back({&col, "thesis"});
+      l.header.push_back(label + " — thesis");
+      l.cells.push_back({&col, "thesis"});
     }
   }
-  row(out, header);
-  std::vector<std::string> sep(header.size(), "---");
-  row(out, sep);
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    std::vector<std::string> line{rows[r].is_string() ? rows[r].get<std::string>() : rows[r].dump()};
-    for (const auto& c : cells) {
-      const json& v = c.col->at(c.key);
-      line.push_back(r < v.size() ? num(v[r]) : "");
-    }
-    row(out, line);
+  return l;
+}
+
+// The mean row (and, for a table of trials, the std and improvement rows) under the values.
+void render_summary_rows(std::ostringstream& out, const std::string& kind, const json& rows, const TableLayout& l) {
+  if (kind != "consistency" && kind != "mean-deviation") return;
+  std::vector<std::string> mean{"**mean**"};
+  std::vector<std::string> sd{"std (ours)"};
+  std::vector<std::string> imp{"improvement %"};
+  bool any_imp = false;
+  for (const auto& c : l.cells) {
+    const bool ours = std::string(c.key) == "ours";
+    mean.push_back("**" + num(c.col->value(ours ? "ours_mean" : "thesis_mean", json(nullptr))) + "**");
+    sd.push_back(ours ? num(c.col->value("ours_std", json(nullptr))) : "");
+    const char* ik = ours ? "improvement_percent" : "thesis_improvement_percent";
+    if (c.col->contains(ik)) any_imp = true;
+    imp.push_back(num(c.col->value(ik, json(nullptr))));
   }
-  if (kind == "consistency" || kind == "mean-deviation") {
-    std::vector<std::string> mean{"**mean**"};
-    std::vector<std::string> sd{"std (ours)"};
-    std::vector<std::string> imp{"improvement %"};
-    bool any_imp = false;
-    for (const auto& c : cells) {
-      const bool ours = std::string(c.key) == "ours";
-      mean.push_back("**" + num(c.col->value(ours ? "ours_mean" : "thesis_mean", json(nullptr))) + "**");
-      sd.push_back(ours ? num(c.col->value("ours_std", json(nullptr))) : "");
-      const char* ik = ours ? "improvement_percent" : "thesis_improvement_percent";
-      if (c.col->contains(ik)) any_imp = true;
-      imp.push_back(num(c.col->value(ik, json(nullptr))));
-    }
-    if (kind == "mean-deviation" && rows.size() > 0 && rows[0].is_string() && rows[0].get<std::string>() == "1") {
-      row(out, mean);
-      row(out, sd);
-      if (any_imp) row(out, imp);
-    } else if (kind == "consistency") {
-      row(out, mean);
-    }
+  if (kind == "mean-deviation" && rows.size() > 0 && rows[0].is_string() && rows[0].get<std::string>() == "1") {
+    row(out, mean);
+    row(out, sd);
+    if (any_imp) row(out, imp);
+  } else if (kind == "consistency") {
+    row(out, mean);
   }
-  out << "\n";
+}
+
+// Each column's note, then where we differ: means and improvements next to the thesis's.
+void render_column_notes(std::ostringstream& out, const json& cols) {
   for (const auto& col : cols) {
     if (col.contains("note")) {
       out << fmt::format("- {}: {}\n", col.value("label", std::string()), col.at("note").get<std::string>());
     }
   }
-  // Where we differ: means and improvements next to the thesis's.
   for (const auto& col : cols) {
     const json om = col.value("ours_mean", json(nullptr));
     const json tm = col.value("thesis_mean", json(nullptr));
@@ -210,6 +230,28 @@ void render_table(std::ostringstream& out, const json& t) {
                          num(ti));
     }
   }
+}
+
+void render_table(std::ostringstream& out, const json& t) {
+  out << fmt::format("### Table {} — {}\n\n", t.at("id").get<std::string>(), t.at("title").get<std::string>());
+  const std::string unit = t.value("unit", std::string());
+  if (!unit.empty()) out << fmt::format("Unit: {}.\n\n", unit);
+  const json& cols = t.at("columns");
+  const json rows = t.value("row_labels", json::array());
+  const TableLayout l = layout_of(cols);
+  row(out, l.header);
+  row(out, std::vector<std::string>(l.header.size(), "---"));
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    std::vector<std::string> line{rows[r].is_string() ? rows[r].get<std::string>() : rows[r].dump()};
+    for (const auto& c : l.cells) {
+      const json& v = c.col->at(c.key);
+      line.push_back(r < v.size() ? num(v[r]) : "");
+    }
+    row(out, line);
+  }
+  render_summary_rows(out, t.value("kind", std::string()), rows, l);
+  out << "\n";
+  render_column_notes(out, cols);
   if (t.contains("note")) out << "\n" << t.at("note").get<std::string>() << "\n";
   out << "\n";
 }
