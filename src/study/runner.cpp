@@ -157,6 +157,51 @@ UniformSeries Context::command_of(const InputSpec& input, double record_s) const
   return signal::sample(input.signal, p.sample_rate_hz, record_s);
 }
 
+namespace {
+
+// Obtains the pending requests from the run source on `threads` workers (the caller is one),
+// writing each run's record as it finishes; the first error stops the rest and is rethrown.
+void obtain_pending(Context& c, const std::vector<RunRequest>& requests, const std::vector<std::size_t>& pending,
+                    std::vector<std::optional<Record>>& found, const std::string& stage) {
+  std::filesystem::create_directories(c.runs_dir);
+  std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> done{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  auto worker = [&]() {
+    while (true) {
+      const std::size_t j = next.fetch_add(1);
+      if (j >= pending.size()) return;
+      {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (error) return;
+      }
+      const RunRequest& req = requests[pending[j]];
+      try {
+        const auto t0 = std::chrono::steady_clock::now();
+        ObtainedRun obtained = c.source->obtain(req);
+        Record& rec = obtained.record;
+        write_record(c.runs_dir, rec, req, c.hash, c.source->description(), obtained.counters);
+        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const std::size_t d = done.fetch_add(1) + 1;
+        c.log(fmt::format("{}: {} done in {:.2f} s ({}/{})", stage, req.id, dt, d, pending.size()));
+        found[pending[j]] = std::move(rec);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  const int n = std::min<int>(c.threads, static_cast<int>(pending.size()));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
 std::vector<Record> Context::run_all(const std::vector<RunRequest>& requests, const std::string& stage) {
   std::vector<std::optional<Record>> found(requests.size());
   std::vector<std::size_t> pending;
@@ -171,43 +216,7 @@ std::vector<Record> Context::run_all(const std::vector<RunRequest>& requests, co
     timing.back().runs_executed += static_cast<int>(pending.size());
   }
   if (reused > 0) log(fmt::format("{}: reused {} finished run(s) from {}", stage, reused, runs_dir.string()));
-  if (!pending.empty()) {
-    std::filesystem::create_directories(runs_dir);
-    std::atomic<std::size_t> next{0};
-    std::atomic<std::size_t> done{0};
-    std::mutex error_mutex;
-    std::exception_ptr error;
-    auto worker = [&]() {
-      while (true) {
-        const std::size_t j = next.fetch_add(1);
-        if (j >= pending.size()) return;
-        {
-          const std::lock_guard<std::mutex> lock(error_mutex);
-          if (error) return;
-        }
-        const RunRequest& req = requests[pending[j]];
-        try {
-          const auto t0 = std::chrono::steady_clock::now();
-          ObtainedRun obtained = source->obtain(req);
-          Record& rec = obtained.record;
-          write_record(runs_dir, rec, req, hash, source->description(), obtained.counters);
-          const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          const std::size_t d = done.fetch_add(1) + 1;
-          log(fmt::format("{}: {} done in {:.2f} s ({}/{})", stage, req.id, dt, d, pending.size()));
-          found[pending[j]] = std::move(rec);
-        } catch (...) {
-          const std::lock_guard<std::mutex> lock(error_mutex);
-          if (!error) error = std::current_exception();
-        }
-      }
-    };
-    const int n = std::min<int>(threads, static_cast<int>(pending.size()));
-    std::vector<std::thread> pool;
-    for (int t = 1; t < n; ++t) pool.emplace_back(worker);
-    worker();
-    for (auto& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
-  }
+  if (!pending.empty()) obtain_pending(*this, requests, pending, found, stage);
   std::vector<Record> records;
   records.reserve(found.size());
   for (auto& r : found) records.push_back(std::move(*r));
