@@ -1,5 +1,6 @@
 // SerialRig's configuration side: options, the handshake and the lifecycle (configuration time:
 // may allocate, block and throw). The real-time side is serial_rig_loop.cpp.
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <thread>
@@ -164,6 +165,96 @@ struct Session {
   }
 };
 
+// CONFIGURE's payload (wire_protocol.h: mode, gyro settings, rates, watchdog, the DAC's safe code).
+using ConfigurePayload = std::array<std::uint8_t, CS_CONFIGURE_BYTES>;
+
+// HELLO, repeated until HELLO_ACK: an Arduino resets when its port opens and spends a second in
+// its boot loader.
+cs_frame await_hello_ack(Session& s) {
+  std::uint8_t hello[CS_HELLO_BYTES];
+  cs_put_u16(hello, CS_WIRE_VERSION);
+  std::optional<cs_frame> ack;
+  int hellos = 0;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(s.o.handshake_timeout_s);
+  while (!ack && std::chrono::steady_clock::now() < give_up) {
+    s.send(CS_MSG_HELLO, hello, CS_HELLO_BYTES);
+    ++hellos;
+    const double left = std::chrono::duration<double>(give_up - std::chrono::steady_clock::now()).count();
+    ack = s.await(CS_MSG_HELLO_ACK, std::min(0.25, std::max(left, 0.0)));
+  }
+  if (!ack) {
+    throw RuntimeError(fmt::format(
+        "serial port {}: no HELLO_ACK within {} s ({} HELLO sent; {} bytes and {} corrupted frames received); "
+        "expected the clearshape firmware (wire protocol v{}) at {} baud: flash firmware/ (docs/hardware.md), "
+        "check the baud rate and that no other program holds the port",
+        s.o.port, s.o.handshake_timeout_s, hellos, s.bytes_seen, s.m.decoder.corrupted, CS_WIRE_VERSION, s.o.baud));
+  }
+  return *ack;
+}
+
+// The board's identity from HELLO_ACK; a wrong length or wire version throws.
+BoardInfo parse_hello_ack(const cs_frame& ack, const SerialRigOptions& o) {
+  if (ack.length != CS_HELLO_ACK_BYTES) {
+    throw RuntimeError(fmt::format("serial port {}: HELLO_ACK has {} bytes, expected {}; flash the firmware of this "
+                                   "release (firmware/, docs/hardware.md)", o.port, ack.length, CS_HELLO_ACK_BYTES));
+  }
+  BoardInfo b;
+  b.wire_version = cs_get_u16(ack.payload + 0);
+  b.firmware_major = ack.payload[2];
+  b.firmware_minor = ack.payload[3];
+  b.firmware_patch = cs_get_u16(ack.payload + 4);
+  b.encoder_lines_hint = cs_get_u16(ack.payload + 6);
+  b.capabilities = cs_get_u32(ack.payload + 8);
+  b.cpu_hz = cs_get_u32(ack.payload + 12);
+  if (b.wire_version != CS_WIRE_VERSION) {
+    throw RuntimeError(fmt::format("serial port {}: the board speaks wire protocol v{} (firmware {}), this host expects "
+                                   "v{}; flash firmware/ of this release onto the board (docs/hardware.md)",
+                                   o.port, b.wire_version, b.firmware_version(), CS_WIRE_VERSION));
+  }
+  return b;
+}
+
+// The encoder and gyroscope always; pulses (position mode) or the DAC (speed mode).
+void require_capabilities(const BoardInfo& b, const SerialRigOptions& o) {
+  const std::uint32_t needed = CS_CAP_ENCODER_QUADRATURE | CS_CAP_GYRO_ITG3205 |
+                               (o.mode == CommandMode::position ? CS_CAP_PULSE_AB : CS_CAP_DAC_MCP4725);
+  if ((b.capabilities & needed) != needed) {
+    throw RuntimeError(fmt::format("serial port {}: the board (firmware {}) lacks capabilities 0x{:02x} that {} mode "
+                                   "needs (it has 0x{:02x}); flash firmware/ with them enabled (docs/hardware.md)",
+                                   o.port, b.firmware_version(), needed & ~b.capabilities, to_string(o.mode),
+                                   b.capabilities));
+  }
+}
+
+ConfigurePayload configure_payload(const SerialRigOptions& o) {
+  ConfigurePayload config{};
+  config[0] = o.mode == CommandMode::position ? CS_MODE_POSITION : CS_MODE_SPEED;
+  config[1] = static_cast<std::uint8_t>(o.gyro_fs_sel);
+  config[2] = static_cast<std::uint8_t>(o.gyro_dlpf_cfg);
+  cs_put_u16(config.data() + 4, static_cast<std::uint16_t>(o.sample_rate_hz));
+  cs_put_u16(config.data() + 6, static_cast<std::uint16_t>(o.update_rate_hz));
+  cs_put_u32(config.data() + 8, o.max_pulse_rate_hz);
+  cs_put_u16(config.data() + 12, static_cast<std::uint16_t>(o.watchdog_ms));
+  bool clipped = false;
+  cs_put_u16(config.data() + 14, volts_to_dac_code(0.0, o.dac_min_v, o.dac_max_v, clipped));
+  return config;
+}
+
+// SELFTEST and its result (the gyroscope's WHO_AM_I and reading at rest, the DAC's answer).
+BoardInfo::SelfTest run_selftest(Session& s) {
+  s.send(CS_MSG_SELFTEST, nullptr, 0);
+  const auto result = s.await(CS_MSG_SELFTEST_RESULT, s.o.handshake_timeout_s);
+  if (!result || result->length != CS_SELFTEST_RESULT_BYTES) {
+    throw RuntimeError(fmt::format("serial port {}: no SELFTEST_RESULT within {} s", s.o.port, s.o.handshake_timeout_s));
+  }
+  BoardInfo::SelfTest t;
+  t.gyro_who_am_i = result->payload[0];
+  t.gyro_ok = result->payload[1] != 0;
+  t.dac_ok = result->payload[2] != 0;
+  t.gyro_raw_at_rest = cs_get_i16(result->payload + 4);
+  return t;
+}
+
 }  // namespace
 
 SerialRig::SerialRig(const SerialRigOptions& options) : options_(options) {}
@@ -182,80 +273,11 @@ void SerialRig::on_configure() {
   m->port.flush_input();
   cs_decoder_reset(&m->decoder);
   Session s{options_, *m};
-
-  // HELLO, repeated: an Arduino resets when its port opens and spends a second in its boot loader.
-  std::uint8_t hello[CS_HELLO_BYTES];
-  cs_put_u16(hello, CS_WIRE_VERSION);
-  std::optional<cs_frame> ack;
-  int hellos = 0;
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.handshake_timeout_s);
-  while (!ack && std::chrono::steady_clock::now() < give_up) {
-    s.send(CS_MSG_HELLO, hello, CS_HELLO_BYTES);
-    ++hellos;
-    const double left = std::chrono::duration<double>(give_up - std::chrono::steady_clock::now()).count();
-    ack = s.await(CS_MSG_HELLO_ACK, std::min(0.25, std::max(left, 0.0)));
-  }
-  if (!ack) {
-    throw RuntimeError(fmt::format(
-        "serial port {}: no HELLO_ACK within {} s ({} HELLO sent; {} bytes and {} corrupted frames received); "
-        "expected the clearshape firmware (wire protocol v{}) at {} baud: flash firmware/ (docs/hardware.md), "
-        "check the baud rate and that no other program holds the port",
-        options_.port, options_.handshake_timeout_s, hellos, s.bytes_seen, m->decoder.corrupted, CS_WIRE_VERSION,
-        options_.baud));
-  }
-  if (ack->length != CS_HELLO_ACK_BYTES) {
-    throw RuntimeError(fmt::format("serial port {}: HELLO_ACK has {} bytes, expected {}; flash the firmware of this "
-                                   "release (firmware/, docs/hardware.md)", options_.port, ack->length, CS_HELLO_ACK_BYTES));
-  }
-  BoardInfo b;
-  b.wire_version = cs_get_u16(ack->payload + 0);
-  b.firmware_major = ack->payload[2];
-  b.firmware_minor = ack->payload[3];
-  b.firmware_patch = cs_get_u16(ack->payload + 4);
-  b.encoder_lines_hint = cs_get_u16(ack->payload + 6);
-  b.capabilities = cs_get_u32(ack->payload + 8);
-  b.cpu_hz = cs_get_u32(ack->payload + 12);
-  if (b.wire_version != CS_WIRE_VERSION) {
-    throw RuntimeError(fmt::format("serial port {}: the board speaks wire protocol v{} (firmware {}), this host expects "
-                                   "v{}; flash firmware/ of this release onto the board (docs/hardware.md)",
-                                   options_.port, b.wire_version, b.firmware_version(), CS_WIRE_VERSION));
-  }
-  const bool position = options_.mode == CommandMode::position;
-  const std::uint32_t needed = CS_CAP_ENCODER_QUADRATURE | CS_CAP_GYRO_ITG3205 |
-                               (position ? CS_CAP_PULSE_AB : CS_CAP_DAC_MCP4725);
-  if ((b.capabilities & needed) != needed) {
-    throw RuntimeError(fmt::format("serial port {}: the board (firmware {}) lacks capabilities 0x{:02x} that {} mode "
-                                   "needs (it has 0x{:02x}); flash firmware/ with them enabled (docs/hardware.md)",
-                                   options_.port, b.firmware_version(), needed & ~b.capabilities,
-                                   to_string(options_.mode), b.capabilities));
-  }
-
-  std::uint8_t config[CS_CONFIGURE_BYTES] = {};
-  config[0] = position ? CS_MODE_POSITION : CS_MODE_SPEED;
-  config[1] = static_cast<std::uint8_t>(options_.gyro_fs_sel);
-  config[2] = static_cast<std::uint8_t>(options_.gyro_dlpf_cfg);
-  cs_put_u16(config + 4, static_cast<std::uint16_t>(options_.sample_rate_hz));
-  cs_put_u16(config + 6, static_cast<std::uint16_t>(options_.update_rate_hz));
-  cs_put_u32(config + 8, options_.max_pulse_rate_hz);
-  cs_put_u16(config + 12, static_cast<std::uint16_t>(options_.watchdog_ms));
-  bool clipped = false;
-  cs_put_u16(config + 14, volts_to_dac_code(0.0, options_.dac_min_v, options_.dac_max_v, clipped));
-  s.request(CS_MSG_CONFIGURE, config, CS_CONFIGURE_BYTES);
-
-  if (options_.selftest) {
-    s.send(CS_MSG_SELFTEST, nullptr, 0);
-    const auto result = s.await(CS_MSG_SELFTEST_RESULT, options_.handshake_timeout_s);
-    if (!result || result->length != CS_SELFTEST_RESULT_BYTES) {
-      throw RuntimeError(fmt::format("serial port {}: no SELFTEST_RESULT within {} s", options_.port,
-                                     options_.handshake_timeout_s));
-    }
-    BoardInfo::SelfTest t;
-    t.gyro_who_am_i = result->payload[0];
-    t.gyro_ok = result->payload[1] != 0;
-    t.dac_ok = result->payload[2] != 0;
-    t.gyro_raw_at_rest = cs_get_i16(result->payload + 4);
-    b.selftest = t;
-  }
+  BoardInfo b = parse_hello_ack(await_hello_ack(s), options_);
+  require_capabilities(b, options_);
+  const ConfigurePayload config = configure_payload(options_);
+  s.request(CS_MSG_CONFIGURE, config.data(), CS_CONFIGURE_BYTES);
+  if (options_.selftest) b.selftest = run_selftest(s);
   board_ = b;
   impl_ = std::move(m);
 }
