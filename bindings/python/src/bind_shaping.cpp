@@ -92,9 +92,30 @@ py::array_t<double> shape(const sh::Shaper& shaper, const DoubleArray& values, d
   return to_array(sh::shape_offline(taps, input, extend).values);
 }
 
-}  // namespace
+// The impulse times (s) or amplitudes of a shaper as an array.
+py::array_t<double> impulse_field(const sh::Shaper& s, double sh::Impulse::*field) {
+  std::vector<double> values;
+  for (const auto& i : s.impulses()) values.push_back(i.*field);
+  return to_array(values);
+}
 
-void bind_shaping(py::module_& m) {
+// (ratios, V) of the sensitivity curve; actual_zeta, when given, differs from the design's.
+py::tuple sensitivity(const sh::Shaper& s, double frequency_hz, double zeta, double ratio_from, double ratio_to,
+                      std::size_t points, std::optional<double> actual_zeta) {
+  const sh::Mode design_mode = actual_mode(frequency_hz, zeta);
+  const auto curve = actual_zeta
+      ? sh::sensitivity_curve(s, design_mode, *actual_zeta, ratio_from, ratio_to, points)
+      : sh::sensitivity_curve(s, design_mode, ratio_from, ratio_to, points);
+  std::vector<double> r, v;
+  for (const auto& p : curve) {
+    r.push_back(p.frequency_ratio);
+    v.push_back(p.residual);
+  }
+  return py::make_tuple(to_array(r), to_array(v));
+}
+
+// shaper_methods() and the class Shaper.
+void bind_shaper(py::module_& m) {
   m.def("shaper_methods", [] {
     std::vector<std::string> names;
     for (auto n : sh::method_names()) names.emplace_back(n);
@@ -111,16 +132,10 @@ void bind_shaping(py::module_& m) {
            py::arg("method"), py::arg("impulses"), py::arg("normalize") = true,
            "A shaper from [(time_s, amplitude), …]; times >= 0, strictly increasing.")
       .def_property_readonly("method", &sh::Shaper::method, "Method name (zv, zvd, …; 'a*b' for two modes).")
-      .def_property_readonly("times_s", [](const sh::Shaper& s) {
-        std::vector<double> t;
-        for (const auto& i : s.impulses()) t.push_back(i.time_s);
-        return to_array(t);
-      }, "Impulse times (s).")
-      .def_property_readonly("amplitudes", [](const sh::Shaper& s) {
-        std::vector<double> a;
-        for (const auto& i : s.impulses()) a.push_back(i.amplitude);
-        return to_array(a);
-      }, "Impulse amplitudes (dimensionless, sum 1).")
+      .def_property_readonly("times_s", [](const sh::Shaper& s) { return impulse_field(s, &sh::Impulse::time_s); },
+                             "Impulse times (s).")
+      .def_property_readonly("amplitudes", [](const sh::Shaper& s) { return impulse_field(s, &sh::Impulse::amplitude); },
+                             "Impulse amplitudes (dimensionless, sum 1).")
       .def_property_readonly("duration_s", &sh::Shaper::duration_s, "Time of the last impulse: the delay the shaper adds (s).")
       .def_property_readonly("is_positive", &sh::Shaper::is_positive, "True when no amplitude is negative.")
       .def("__len__", &sh::Shaper::size)
@@ -128,7 +143,10 @@ void bind_shaping(py::module_& m) {
         return "<clearshape.Shaper " + s.method() + ", " + std::to_string(s.size()) + " impulses, " +
                std::to_string(s.duration_s()) + " s>";
       });
+}
 
+// design(): every method of shaping/design.hpp.
+void bind_design(py::module_& m) {
   m.def("design", &design, py::arg("method"), py::kw_only(), py::arg("frequency_hz") = py::none(),
         py::arg("wn_rad_s") = py::none(), py::arg("zeta") = 0.0, py::arg("vtol") = 0.05,
         py::arg("band_low_hz") = py::none(), py::arg("band_high_hz") = py::none(), py::arg("si_impulses") = 0,
@@ -142,26 +160,18 @@ in [0, 1). vtol: tolerated residual vibration for ei/ei2/ei3/si (0–1). si also
 band_low_hz, band_high_hz (and optionally si_impulses, si_points). custom takes
 impulses=[(t_s, amplitude), …]. second_frequency_hz/second_zeta convolve the same method
 designed for a second mode. Raises ValueError with the C++ message on a bad parameter.)doc");
+}
 
+// Robustness: residual_vibration (Eq. 2.19), sensitivity, insensitivity (shaping/residual.hpp).
+void bind_robustness(py::module_& m) {
   m.def("residual_vibration", [](const sh::Shaper& s, double frequency_hz, double zeta) {
     return sh::residual_vibration(s, actual_mode(frequency_hz, zeta));
   }, py::arg("shaper"), py::arg("frequency_hz"), py::arg("zeta"),
         "Residual vibration V (Eq. 2.19, 0–1, 1 = unshaped) of a mode at frequency_hz (Hz) and damping zeta.");
 
-  m.def("sensitivity", [](const sh::Shaper& s, double frequency_hz, double zeta, double ratio_from, double ratio_to,
-                          std::size_t points, std::optional<double> actual_zeta) {
-    const sh::Mode design_mode = actual_mode(frequency_hz, zeta);
-    const auto curve = actual_zeta
-        ? sh::sensitivity_curve(s, design_mode, *actual_zeta, ratio_from, ratio_to, points)
-        : sh::sensitivity_curve(s, design_mode, ratio_from, ratio_to, points);
-    std::vector<double> r, v;
-    for (const auto& p : curve) {
-      r.push_back(p.frequency_ratio);
-      v.push_back(p.residual);
-    }
-    return py::make_tuple(to_array(r), to_array(v));
-  }, py::arg("shaper"), py::arg("frequency_hz"), py::arg("zeta"), py::arg("ratio_from") = 0.0,
-        py::arg("ratio_to") = 2.0, py::arg("points") = 201, py::arg("actual_zeta") = py::none(),
+  m.def("sensitivity", &sensitivity, py::arg("shaper"), py::arg("frequency_hz"), py::arg("zeta"),
+        py::arg("ratio_from") = 0.0, py::arg("ratio_to") = 2.0, py::arg("points") = 201,
+        py::arg("actual_zeta") = py::none(),
         R"doc(Sensitivity curve: V(r) at `points` frequency ratios r = ω/ωn evenly spaced over
 [ratio_from, ratio_to] for the design mode (frequency_hz in Hz, zeta); actual_zeta sets a
 different actual damping. Returns (ratios, V), two arrays.)doc");
@@ -172,7 +182,10 @@ different actual damping. Returns (ratios, V), two arrays.)doc");
   }, py::arg("shaper"), py::arg("frequency_hz"), py::arg("zeta"), py::arg("vtol") = 0.05,
         py::arg("hump_tolerance") = 0.0,
         "The band of frequency ratios (r_low, r_high) around 1 where V <= vtol; its width is the insensitivity.");
+}
 
+// shape(): offline shaping of a whole array (shaping/apply.hpp).
+void bind_offline_shaping(py::module_& m) {
   m.def("shape", &shape, py::arg("shaper"), py::arg("values"), py::arg("sample_time_s"), py::arg("extend") = true,
         py::arg("discretization") = "linear", py::arg("frequency_hz") = py::none(), py::arg("zeta") = py::none(),
         R"doc(Shapes a command sampled every sample_time_s (s) offline: y(t) = Σ Aᵢ u(t − tᵢ), the input
@@ -180,7 +193,10 @@ linear between samples and held at its first value before the start. extend: the
 longer by the shaper's duration (input held at its last value). discretization 'exact'
 (Murphy & Watanabe) keeps V at the mode frequency_hz/zeta on the sample grid. Returns an array
 in the input's units.)doc");
+}
 
+// The class StreamingShaper (shaping/streaming.hpp).
+void bind_streaming_shaper(py::module_& m) {
   py::class_<sh::StreamingShaper>(m, "StreamingShaper",
                                   "Real-time shaping one sample at a time (equals shape() to rounding).")
       .def(py::init<const sh::Shaper&, double, double>(), py::arg("shaper"), py::arg("sample_time_s"),
@@ -196,6 +212,16 @@ in the input's units.)doc");
       .def("reset", &sh::StreamingShaper::reset, py::arg("value") = 0.0, "Refills the history with value.")
       .def_property_readonly("sample_time_s", &sh::StreamingShaper::sample_time_s)
       .def_property_readonly("tap_count", &sh::StreamingShaper::tap_count);
+}
+
+}  // namespace
+
+void bind_shaping(py::module_& m) {
+  bind_shaper(m);  // first: the functions below take and return Shaper
+  bind_design(m);
+  bind_robustness(m);
+  bind_offline_shaping(m);
+  bind_streaming_shaper(m);
 }
 
 }  // namespace clearshape::python
