@@ -3,6 +3,7 @@
 // a SimRig built from the truth (the run-to-run variation drawn per run, as the study records).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -92,9 +93,61 @@ py::dict simulate_rig(const DoubleArray& command, double sample_time_s, const st
   return d;
 }
 
-}  // namespace
+py::dict contact_dict(rg::RigTruth& t, const std::string& mode) {
+  const auto& c = contact_of(t, mode);
+  py::dict d;
+  d["model"] = std::string(rg::to_string(c.model));
+  d["stiffness"] = c.stiffness;
+  d["exponent"] = c.exponent;
+  d["damping"] = c.damping;
+  d["restitution"] = c.restitution;
+  return d;
+}
 
-void bind_simulation(py::module_& m) {
+void set_contact(rg::RigTruth& t, const std::string& mode, std::optional<double> stiffness,
+                 std::optional<double> damping, std::optional<double> exponent) {
+  auto& c = contact_of(t, mode);
+  if (stiffness) c.stiffness = *stiffness;
+  if (damping) c.damping = *damping;
+  if (exponent) c.exponent = *exponent;
+  c.validate();
+}
+
+py::dict variation_dict(const rg::RigTruth& t) {
+  const auto& v = t.variation;
+  py::dict d;
+  d["position_gain_rel_sigma"] = v.position_gain_rel_sigma;
+  d["speed_gain_rel_sigma"] = v.speed_gain_rel_sigma;
+  d["start_latency_max_s"] = v.start_latency_max_s;
+  d["analog_noise_v"] = v.analog_noise_v;
+  d["analog_offset_sigma_v"] = v.analog_offset_sigma_v;
+  d["flank_damping_rel_sigma"] = v.flank_damping_rel_sigma;
+  return d;
+}
+
+// Sets the σs a dict names (the others keep their values); an unknown key or a value out of
+// range changes nothing.
+void set_variation(rg::RigTruth& t, const py::dict& d) {
+  rg::RunVariation v = t.variation;
+  for (const auto& [key, value] : d) {
+    const auto k = key.cast<std::string>();
+    const double x = value.cast<double>();
+    if (k == "position_gain_rel_sigma") v.position_gain_rel_sigma = x;
+    else if (k == "speed_gain_rel_sigma") v.speed_gain_rel_sigma = x;
+    else if (k == "start_latency_max_s") v.start_latency_max_s = x;
+    else if (k == "analog_noise_v") v.analog_noise_v = x;
+    else if (k == "analog_offset_sigma_v") v.analog_offset_sigma_v = x;
+    else if (k == "flank_damping_rel_sigma") v.flank_damping_rel_sigma = x;
+    else throw InvalidArgument("variation." + k + " is not known; allowed: position_gain_rel_sigma, "
+                               "speed_gain_rel_sigma, start_latency_max_s, analog_noise_v, "
+                               "analog_offset_sigma_v, flank_damping_rel_sigma");
+  }
+  v.validate();
+  t.variation = v;
+}
+
+// The class RigTruth.
+void bind_rig_truth(py::module_& m) {
   py::class_<rg::RigTruth>(m, "RigTruth",
                            "The simulated rig's true parameters (SI units). thesis_truth() is the calibrated thesis rig.")
       .def(py::init<>())
@@ -106,55 +159,17 @@ void bind_simulation(py::module_& m) {
       .def_property("ground_viscous_n_m_s_per_rad", [](const rg::RigTruth& t) { return t.link.ground_viscous_n_m_s_per_rad; },
                     [](rg::RigTruth& t, double v) { t.link.ground_viscous_n_m_s_per_rad = v; },
                     "Link drag to the ground (N·m·s/rad).")
-      .def("contact", [](rg::RigTruth& t, const std::string& mode) {
-        const auto& c = contact_of(t, mode);
-        py::dict d;
-        d["model"] = std::string(rg::to_string(c.model));
-        d["stiffness"] = c.stiffness;
-        d["exponent"] = c.exponent;
-        d["damping"] = c.damping;
-        d["restitution"] = c.restitution;
-        return d;
-      }, py::arg("mode"), "The contact law of a mode: model, stiffness K (N·m/rad^n), exponent n, damping D (N·m·s/rad), restitution e.")
-      .def("set_contact", [](rg::RigTruth& t, const std::string& mode, std::optional<double> stiffness,
-                             std::optional<double> damping, std::optional<double> exponent) {
-        auto& c = contact_of(t, mode);
-        if (stiffness) c.stiffness = *stiffness;
-        if (damping) c.damping = *damping;
-        if (exponent) c.exponent = *exponent;
-        c.validate();
-      }, py::arg("mode"), py::kw_only(), py::arg("stiffness") = py::none(), py::arg("damping") = py::none(),
-         py::arg("exponent") = py::none(),
-         "Changes the contact law's stiffness K (N·m/rad^n), damping D (N·m·s/rad) or exponent n for a mode.")
-      .def_property("variation", [](const rg::RigTruth& t) {
-        const auto& v = t.variation;
-        py::dict d;
-        d["position_gain_rel_sigma"] = v.position_gain_rel_sigma;
-        d["speed_gain_rel_sigma"] = v.speed_gain_rel_sigma;
-        d["start_latency_max_s"] = v.start_latency_max_s;
-        d["analog_noise_v"] = v.analog_noise_v;
-        d["analog_offset_sigma_v"] = v.analog_offset_sigma_v;
-        d["flank_damping_rel_sigma"] = v.flank_damping_rel_sigma;
-        return d;
-      }, [](rg::RigTruth& t, const py::dict& d) {
-        rg::RunVariation v = t.variation;
-        for (const auto& [key, value] : d) {
-          const auto k = key.cast<std::string>();
-          const double x = value.cast<double>();
-          if (k == "position_gain_rel_sigma") v.position_gain_rel_sigma = x;
-          else if (k == "speed_gain_rel_sigma") v.speed_gain_rel_sigma = x;
-          else if (k == "start_latency_max_s") v.start_latency_max_s = x;
-          else if (k == "analog_noise_v") v.analog_noise_v = x;
-          else if (k == "analog_offset_sigma_v") v.analog_offset_sigma_v = x;
-          else if (k == "flank_damping_rel_sigma") v.flank_damping_rel_sigma = x;
-          else throw InvalidArgument("variation." + k + " is not known; allowed: position_gain_rel_sigma, "
-                                     "speed_gain_rel_sigma, start_latency_max_s, analog_noise_v, "
-                                     "analog_offset_sigma_v, flank_damping_rel_sigma");
-        }
-        v.validate();
-        t.variation = v;
-      }, "Run-to-run variation σs (dict; rig/variation.hpp). simulate() runs the nominal rig; simulate_rig() draws them.");
+      .def("contact", &contact_dict, py::arg("mode"),
+           "The contact law of a mode: model, stiffness K (N·m/rad^n), exponent n, damping D (N·m·s/rad), restitution e.")
+      .def("set_contact", &set_contact, py::arg("mode"), py::kw_only(), py::arg("stiffness") = py::none(),
+           py::arg("damping") = py::none(), py::arg("exponent") = py::none(),
+           "Changes the contact law's stiffness K (N·m/rad^n), damping D (N·m·s/rad) or exponent n for a mode.")
+      .def_property("variation", &variation_dict, &set_variation,
+                    "Run-to-run variation σs (dict; rig/variation.hpp). simulate() runs the nominal rig; simulate_rig() draws them.");
+}
 
+// The built-in truths by name: truth_names(), truth(name), thesis_truth(), uncalibrated_truth().
+void bind_truths(py::module_& m) {
   m.def("truth_names", [] {
     std::vector<std::string> names;
     for (auto n : rg::kBuiltinTruthNames) names.emplace_back(n);
@@ -170,7 +185,10 @@ void bind_simulation(py::module_& m) {
   m.def("thesis_truth", &rg::thesis_rig_truth, "The built-in truth: the calibrated thesis rig (2β = 0.032°).");
   m.def("uncalibrated_truth", &rg::uncalibrated_thesis_rig_prior,
         "The physical prior the calibration starts from (2β = 1.0°).");
+}
 
+// simulate() (the nominal rig, rig::simulate_run) and simulate_rig() (a run recorded from a SimRig).
+void bind_runs(py::module_& m) {
   m.def("simulate", &simulate, py::arg("command"), py::arg("sample_time_s"), py::arg("mode") = "position",
         py::arg("truth") = rg::thesis_rig_truth(), py::arg("duration_s") = 5.0, py::arg("output_rate_hz") = 1000.0,
         py::arg("initial_play_fraction") = 0.0, py::arg("seed") = 1, py::arg("sensor_noise") = true,
@@ -191,6 +209,14 @@ rig draws its run-to-run variation and the initial play from `seed`. command: sa
 sample_time_s (s) in command units — position mode deg, speed mode V. Returns a dict of
 arrays: time_s, command, command_applied, encoder_counts, motor_angle_deg, gyro_raw,
 link_rate_deg_s (the gyroscope), flags.)doc");
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  bind_rig_truth(m);  // first: the defaults of simulate() and simulate_rig() are RigTruths
+  bind_truths(m);
+  bind_runs(m);
 }
 
 }  // namespace clearshape::python
