@@ -31,13 +31,15 @@ bench: build
 	@bash scripts/run-bench.sh $(BUILD_DIR)
 
 # The Python module is left out of the sanitizer trees: an ASan-built extension loads only into
-# a Python started with libasan preloaded.
+# a Python started with libasan preloaded. So is the package suite (-LE package): it checks the
+# shipped Release artifacts — a .deb that must hold that Python module, and a consumer project
+# linked against the installed static libraries without the sanitizer runtime.
 test-sanitize: deps
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCLEARSHAPE_SANITIZE=ON \
 	  -DCLEARSHAPE_BUILD_BENCHMARKS=OFF -DCLEARSHAPE_BUILD_PYTHON=OFF > build-asan.configure.log 2>&1 || (cat build-asan.configure.log; exit 1)
 	@cmake --build build-asan -j $(JOBS)
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --test-dir build-asan --output-on-failure -j $(JOBS)
+	  ctest --test-dir build-asan --output-on-failure -j $(JOBS) -LE package
 
 fuzz: deps
 	@bash scripts/install-deps.sh --fuzz
