@@ -176,6 +176,7 @@ void check_input(const Protocol& p, const TomlSection& t, std::string_view key, 
 void check_shaper(const TomlSection& t, std::string_view key, const std::string& name, bool allow_none) {
   if (allow_none && name == "none") return;
   if (name == kClearanceAwareShaper) return;  // designed on the fitted model (clearance_aware.hpp)
+  if (allow_none && name == kTakeUpShaper) return;  // rig tests only: per input (take_up.hpp)
   try {
     const auto method = shaping::method_from_string(name);
     if (method == shaping::Method::custom) {
@@ -195,8 +196,8 @@ void check_mode_source(const TomlSection& t, std::string_view key, const std::st
 
 // clearance-aware is designed on the fitted clearance model, every other shaper on a mode.
 void check_pairing(const TomlSection& t, std::string_view key, const std::string& shaper, const std::string& source) {
-  if ((shaper == kClearanceAwareShaper) != (source == "clearance-model")) {
-    t.fail(key, fmt::format("shaper '{}' with mode source '{}': clearance-aware goes with clearance-model and "
+  if ((shaper == kClearanceAwareShaper || shaper == kTakeUpShaper) != (source == "clearance-model")) {
+    t.fail(key, fmt::format("shaper '{}' with mode source '{}': clearance-aware and take-up go with clearance-model and "
                             "the linear shapers with drive-model or link-mode", shaper, source));
   }
 }
