@@ -120,7 +120,11 @@ shaper = "none"
   const auto p = st::parse_protocol(head + "shaper = \"clearance-aware\"\nmode_source = \"clearance-model\"\n", "mini.toml");
   EXPECT_EQ(p.rig, "large-play");
   EXPECT_EQ(p.rig_tests.tables.at(0).columns.at(1).key(), "clearance-aware@clearance-model");
+  // The take-up profile (take_up.hpp) pairs the same way, in rig tests.
+  const auto t = st::parse_protocol(head + "shaper = \"take-up\"\nmode_source = \"clearance-model\"\n", "mini.toml");
+  EXPECT_EQ(t.rig_tests.tables.at(0).columns.at(1).key(), "take-up@clearance-model");
   for (const std::string bad : {"shaper = \"clearance-aware\"\nmode_source = \"link-mode\"\n",
+                                "shaper = \"take-up\"\nmode_source = \"link-mode\"\n",
                                 "shaper = \"zvdd\"\nmode_source = \"clearance-model\"\n"}) {
     try {
       (void)st::parse_protocol(head + bad, "mini.toml");

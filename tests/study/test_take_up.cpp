@@ -13,7 +13,6 @@
 #include "clearshape/core/units.hpp"
 #include "clearshape/metrics/mean_deviation.hpp"
 #include "clearshape/shaping/apply.hpp"
-#include "clearshape/study/protocol.hpp"
 #include "clearshape/study/take_up.hpp"
 
 namespace cs = clearshape;
@@ -213,33 +212,4 @@ TEST(TakeUp, RefusesWhatItCannotDesign) {
   r.model.mode = cs::rig::CommandMode::position;
   r.model.play_rad = 0.0;
   EXPECT_THROW((void)st::design_take_up(r), cs::InvalidArgument);
-}
-
-TEST(TakeUp, AProtocolRigColumnTakesItWithTheClearanceModelOnly) {
-  const std::string head = R"(format = "clearshape-study-protocol/1"
-[study]
-name = "mini"
-mode = "position"
-[[input]]
-name = "step"
-type = "step"
-amplitude_deg = 10.0
-start_s = 0.5
-[[rig_tests.table]]
-id = "B.1"
-title = "take-up"
-input = "step"
-[[rig_tests.table.column]]
-shaper = "none"
-[[rig_tests.table.column]]
-shaper = "take-up"
-)";
-  const auto p = st::parse_protocol(head + "mode_source = \"clearance-model\"\n", "mini.toml");
-  EXPECT_EQ(p.table("B.1").columns.at(1).key(), "take-up@clearance-model");
-  try {
-    (void)st::parse_protocol(head + "mode_source = \"link-mode\"\n", "mini.toml");
-    FAIL() << "take-up from the link mode was accepted";
-  } catch (const cs::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("take-up"), std::string::npos) << e.what();
-  }
 }
