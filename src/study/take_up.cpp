@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Core>
+#include <ceres/tiny_solver.h>
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
@@ -96,86 +98,105 @@ struct Attempt {
   TakeUpMove move;
 };
 
-Attempt solve(const TakeUpRequest& r, double move_deg, double lead) {
-  const double theta = std::abs(move_deg);
-  const double play = rad_to_deg(r.model.play_rad);
-  const double alpha = rad_to_deg(flank_keeping_deceleration_rad_s2(r.model));
-  const double T = r.grid_s;
-  const auto sub = static_cast<int>(std::ceil(T / 1e-4));
-  const double dt = T / sub;
-  const std::size_t lead_slots = lead > 0.0 ? 1 : 0;
-  const double horizon = (static_cast<double>(lead_slots) + 3.0 + 6.0) * T + 10.0 * r.model.drive.delay_s();
-  const auto slots_of = [&](const std::array<double, 2>& x) {
+// The two conditions of a take-up (header) as residuals of the carry and dip velocities x:
+// tangency at contact (relative to the move's mean rate θ/T) and the take-up equal to the play.
+struct TakeUpConditions {
+  using Scalar = double;
+  enum { NUM_RESIDUALS = 2, NUM_PARAMETERS = 2 };
+
+  const TakeUpRequest* request = nullptr;
+  double theta_deg = 0.0, play_deg = 0.0, alpha_deg_s2 = 0.0, lead_deg_s = 0.0;
+  double dt_s = 0.0, horizon_s = 0.0;
+
+  TakeUpConditions(const TakeUpRequest& r, double move_deg, double lead)
+      : request(&r), theta_deg(std::abs(move_deg)), play_deg(rad_to_deg(r.model.play_rad)),
+        alpha_deg_s2(rad_to_deg(flank_keeping_deceleration_rad_s2(r.model))), lead_deg_s(lead) {
+    const double T = r.grid_s;
+    dt_s = T / std::ceil(T / 1e-4);
+    horizon_s = (static_cast<double>(lead_slots()) + 3.0 + 6.0) * T + 10.0 * r.model.drive.delay_s();
+  }
+  std::size_t lead_slots() const { return lead_deg_s > 0.0 ? 1 : 0; }
+  double mean_rate() const { return theta_deg / request->grid_s; }
+  /// Lead (if any), carry, dip, recover: the recover slot is the move's remainder (T·Σv = θ).
+  std::vector<double> slots(const double* x) const {
     std::vector<double> v;
-    if (lead_slots) v.push_back(lead);
+    if (lead_slots()) v.push_back(lead_deg_s);
     v.push_back(x[0]);
     v.push_back(x[1]);
-    v.push_back(theta / T - lead - x[0] - x[1]);  // recover: the move's remainder (T·Σv = θ)
+    v.push_back(mean_rate() - lead_deg_s - x[0] - x[1]);
     return v;
-  };
-  const auto residual = [&](const std::array<double, 2>& x, Kinematics* out = nullptr) {
-    const Kinematics k = kinematics(drive_rate_response(r.model.drive, slots_of(x), T, dt, horizon), dt, alpha);
-    if (out) *out = k;
-    return std::array<double, 2>{k.tangency / (theta / T), (k.take_up - play) / play};
-  };
-  const auto norm = [](const std::array<double, 2>& f) { return std::hypot(f[0], f[1]); };
-  // The closed form of a pure-delay drive (header): v_c = v_r, (v_c − v_d)·T = 2β.
-  const double carry0 = (theta - lead * T + play) / (3.0 * T);
-  std::array<double, 2> x{carry0, carry0 - play / T};
-  std::array<double, 2> f = residual(x);
-  int it = 0;
-  for (; it < 60 && norm(f) > 1e-7; ++it) {
-    double jac[2][2];
-    for (int j = 0; j < 2; ++j) {
-      std::array<double, 2> xh = x;
-      const double h = 1e-4 * theta / T;
-      xh[static_cast<std::size_t>(j)] += h;
-      const auto fh = residual(xh);
-      jac[0][j] = (fh[0] - f[0]) / h;
-      jac[1][j] = (fh[1] - f[1]) / h;
-    }
-    const double det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
-    if (!(std::abs(det) > 0.0)) break;
-    const std::array<double, 2> step{(-f[0] * jac[1][1] + f[1] * jac[0][1]) / det,
-                                     (-f[1] * jac[0][0] + f[0] * jac[1][0]) / det};
-    double lambda = 1.0;
-    bool improved = false;
-    for (int halving = 0; halving < 20; ++halving, lambda *= 0.5) {
-      const std::array<double, 2> xn{x[0] + lambda * step[0], x[1] + lambda * step[1]};
-      const auto fn = residual(xn);
-      if (norm(fn) < norm(f)) {
-        x = xn;
-        f = fn;
-        improved = true;
-        break;
-      }
-    }
-    if (!improved) break;
   }
+  Kinematics kinematics_of(const double* x) const {
+    const std::vector<double> w = drive_rate_response(request->model.drive, slots(x), request->grid_s, dt_s, horizon_s);
+    return kinematics(w, dt_s, alpha_deg_s2);
+  }
+  void residuals(const double* x, double* f) const {
+    const Kinematics k = kinematics_of(x);
+    f[0] = k.tangency / mean_rate();
+    f[1] = (k.take_up - play_deg) / play_deg;
+  }
+  /// TinySolver's interface: residuals and (forward-difference, column-major) Jacobian.
+  bool operator()(const double* x, double* f, double* jacobian) const {
+    residuals(x, f);
+    if (!jacobian) return true;
+    const double h = 1e-4 * mean_rate();
+    for (int j = 0; j < NUM_PARAMETERS; ++j) {
+      double xh[2] = {x[0], x[1]};
+      xh[j] += h;
+      double fh[2];
+      residuals(xh, fh);
+      for (int i = 0; i < NUM_RESIDUALS; ++i) jacobian[j * NUM_RESIDUALS + i] = (fh[i] - f[i]) / h;
+    }
+    return true;
+  }
+};
+
+// Solves the two conditions by Levenberg–Marquardt (Ceres' TinySolver) from the closed form of
+// a pure-delay drive (header): v_c = v_r, (v_c − v_d)·T = 2β.
+std::pair<Eigen::Vector2d, int> solve_conditions(const TakeUpConditions& c) {
+  const double T = c.request->grid_s;
+  const double carry0 = (c.theta_deg - c.lead_deg_s * T + c.play_deg) / (3.0 * T);
+  Eigen::Vector2d x(carry0, carry0 - c.play_deg / T);
+  ceres::TinySolver<TakeUpConditions> solver;
+  solver.options.max_num_iterations = 60;
+  solver.options.cost_threshold = 0.5e-14;  // ‖f‖ < 1e-7
+  solver.options.gradient_tolerance = 1e-16;
+  solver.options.parameter_tolerance = 1e-12;
+  solver.Solve(c, &x);
+  return {x, solver.summary.iterations};
+}
+
+// Why a solved profile cannot be used, or "" when it can.
+std::string unusable(const TakeUpConditions& c, const Eigen::Vector2d& x, const std::vector<double>& v) {
+  double f[2];
+  c.residuals(x.data(), f);
+  const double norm = std::hypot(f[0], f[1]);
+  if (norm > 1e-4) {
+    return fmt::format("the tangency and take-up conditions have no solution near the closed form (residual {:.3g})",
+                       norm);
+  }
+  if (*std::min_element(v.begin(), v.end()) < 0.0) return "the dip would need a reverse velocity";
+  if (c.lead_slots() && !(x[0] > c.lead_deg_s)) {
+    return fmt::format("the carry ({:.4g} deg/s) is not faster than the lead ({:.4g} deg/s)", x[0], c.lead_deg_s);
+  }
+  return {};
+}
+
+Attempt solve(const TakeUpRequest& r, double move_deg, double lead) {
+  const TakeUpConditions c(r, move_deg, lead);
+  const auto [x, iterations] = solve_conditions(c);
+  const std::vector<double> v = c.slots(x.data());
   Attempt a;
-  Kinematics k;
-  f = residual(x, &k);
-  const std::vector<double> v = slots_of(x);
-  if (norm(f) > 1e-4) {
-    a.why = fmt::format("the tangency and take-up conditions have no solution near the closed form (residual {:.3g})",
-                        norm(f));
-    return a;
-  }
-  if (*std::min_element(v.begin(), v.end()) < 0.0) {
-    a.why = "the dip would need a reverse velocity";
-    return a;
-  }
-  if (lead_slots && !(x[0] > lead)) {
-    a.why = fmt::format("the carry ({:.4g} deg/s) is not faster than the lead ({:.4g} deg/s)", x[0], lead);
-    return a;
-  }
+  a.why = unusable(c, x, v);
+  if (!a.why.empty()) return a;
   a.ok = true;
+  const Kinematics k = c.kinematics_of(x.data());
   TakeUpMove& m = a.move;
   m.move_deg = move_deg;
   m.slot_velocity_deg_s = v;
   std::vector<shaping::Impulse> impulses;
   for (std::size_t s = 0; s < v.size(); ++s) {
-    if (v[s] > 0.0) impulses.push_back({static_cast<double>(s) * T, v[s] * T / theta});  // a_k = v_k·T/θ
+    if (v[s] > 0.0) impulses.push_back({static_cast<double>(s) * r.grid_s, v[s] * r.grid_s / c.theta_deg});  // a_k = v_k·T/θ
   }
   m.shaper = shaping::Shaper("take-up", std::move(impulses));
   m.separation_s = k.t1;
@@ -185,7 +206,7 @@ Attempt solve(const TakeUpRequest& r, double move_deg, double lead) {
   m.contact_relative_rate_deg_s = -k.tangency;
   m.overtake_deg_s = k.overtake;
   m.reversal_deg_s = k.reversal;
-  m.iterations = it;
+  m.iterations = iterations;
   return a;
 }
 
