@@ -45,6 +45,21 @@ void friction_of(const json& coulomb, const json& viscous, const json& regulariz
   }
 }
 
+// The contact law (absent in files written before it was a choice, or for the default: dashpot)
+// and the Flores law's restitution e ∈ (0, 1] at `key` of `e_holder`.
+void contact_law_of(const json& doc, const json& e_holder, const std::string& e_key, const std::string& e_path,
+                    study::ClearanceModel& m, const std::string& file, const std::string& path) {
+  if (!doc.contains("contact_law")) return;
+  const json& law = doc.at("contact_law");
+  if (!law.is_string() || (law != "dashpot" && law != "flores")) {
+    throw InputError(file, 0, path + "contact_law", "must be \"dashpot\" or \"flores\"");
+  }
+  m.contact_law = study::contact_law_from_string(law.get<std::string>());
+  if (m.contact_law != study::ContactLawChoice::flores) return;
+  m.restitution = number(e_holder, e_key, file, e_path);
+  if (!(m.restitution > 0.0 && m.restitution <= 1.0)) throw InputError(file, 0, e_path + e_key, "must be in (0, 1]");
+}
+
 lti::ProcessModel drive_of(const json& d, const std::string& file, const std::string& path) {
   lti::ProcessParameters p;
   for (const auto& [name, v] : at(d, "parameters", file, path).items()) {
@@ -69,7 +84,10 @@ IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& 
   if (doc.value("command", "") == "fit-clearance") {
     const json& p = at(doc, "parameters", file, "");
     m.stiffness = number(at(p, "stiffness", file, "parameters."), "value", file, "parameters.stiffness.");
-    m.damping = number(at(p, "damping", file, "parameters."), "value", file, "parameters.damping.");
+    contact_law_of(doc, p.contains("restitution") ? p.at("restitution") : json(), "value", "parameters.restitution.", m, file, "");
+    if (m.contact_law == study::ContactLawChoice::dashpot) {
+      m.damping = number(at(p, "damping", file, "parameters."), "value", file, "parameters.damping.");
+    }
     m.exponent = number(at(p, "exponent", file, "parameters."), "value", file, "parameters.exponent.");
     m.play_rad = deg_to_rad(number(at(p, "play", file, "parameters."), "value", file, "parameters.play."));
     const json none;
@@ -87,6 +105,7 @@ IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& 
     const json& c = s["clearance"];
     m.stiffness = number(c, "stiffness_n_m_per_rad_pow_n", file, "sections.clearance.");
     m.damping = number(c, "damping_n_m_s_per_rad", file, "sections.clearance.");
+    contact_law_of(c, c, "restitution", "sections.clearance.", m, file, "sections.clearance.");
     m.exponent = number(c, "exponent", file, "sections.clearance.");
     m.play_rad = deg_to_rad(number(c, "play_deg", file, "sections.clearance."));
     m.coulomb_n_m = optional_number(c, "coulomb_n_m", 0.0, file, "sections.clearance.");

@@ -139,8 +139,10 @@ void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, do
     return;
   }
   fmt::print("method      clearance-aware (on the model of {})\n", o.model);
-  fmt::print("model       play {:.4g} deg, K {:.4g} N·m/rad^{:.3g}, D {:.4g} N·m·s/rad, J {:.4g} kg·m², drive {}\n",
-             rad_to_deg(request.model.play_rad), request.model.stiffness, request.model.exponent, request.model.damping,
+  const bool flores = request.model.contact_law == study::ContactLawChoice::flores;
+  fmt::print("model       play {:.4g} deg, K {:.4g} N·m/rad^{:.3g}, {} {:.4g}{}, J {:.4g} kg·m², drive {}\n",
+             rad_to_deg(request.model.play_rad), request.model.stiffness, request.model.exponent, flores ? "Flores e" : "D",
+             flores ? request.model.restitution : request.model.damping, flores ? "" : " N·m·s/rad",
              request.model.link_inertia_kg_m2, request.model.drive.code());
   fmt::print("bound       {:.6g} s ({})\n\n  #        t_s                a\n", request.max_duration_s, bound_source);
   std::size_t i = 0;

@@ -32,6 +32,14 @@ UniformSeries on_grid(const UniformSeries& command, std::size_t n, double ts) {
 
 }  // namespace
 
+std::string to_string(ContactLawChoice law) { return law == ContactLawChoice::flores ? "flores" : "dashpot"; }
+
+ContactLawChoice contact_law_from_string(const std::string& name) {
+  if (name == "dashpot") return ContactLawChoice::dashpot;
+  if (name == "flores") return ContactLawChoice::flores;
+  throw InvalidArgument("contact_law: '" + name + "' is unknown; allowed: dashpot, flores");
+}
+
 ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSeries& drive_command,
                                      double duration_s, double initial_play_fraction, bool design_accuracy) {
   require_in_closed("initial_play_fraction", initial_play_fraction, -1.0, 1.0);
@@ -49,8 +57,10 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
   plant::TorsionalClearance joint;
   const bool rigid = !(m.play_rad > 0.0);
   joint.half_play_rad = rigid ? 1e3 : 0.5 * m.play_rad;  // rigid: a free link, copied below
-  joint.law = plant::ContactLaw::hertz_dashpot(m.stiffness, m.exponent, m.damping,
-                                               plant::DampingPolicy::clamped);
+  // Eq. 4.3 (clamped), or Flores et al. 2011 as the large-play truth builds it (rig/contact.cpp).
+  joint.law = m.contact_law == ContactLawChoice::flores
+                  ? plant::ContactLaw::hysteresis(plant::Hysteresis::flores, m.stiffness, m.exponent, m.restitution)
+                  : plant::ContactLaw::hertz_dashpot(m.stiffness, m.exponent, m.damping, plant::DampingPolicy::clamped);
   // Eq. 2.9 as a joint torque on φ̇: −c·tanh(φ̇/v_t) − b·φ̇ (plant::Friction, no Stribeck peak).
   joint.joint_friction.coulomb = m.coulomb_n_m;
   joint.joint_friction.viscous = m.viscous_n_m_s_per_rad;

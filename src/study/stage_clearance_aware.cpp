@@ -71,10 +71,12 @@ void ensure_clearance_aware(Context& c) {
     const ClearanceAwareResult d = design_clearance_aware(r);
     c.clearance_aware = d.shaper;
     c.clearance_aware_note = fmt::format(
-        "designed on the fitted clearance model (play {:.4g} deg, K {:.4g}, n {:.3g}, D {:.4g}) for moves {} "
+        "designed on the fitted clearance model (play {:.4g} deg, K {:.4g}, n {:.3g}, {} {:.4g}) for moves {} "
         "and {} uncertainty points, bound {:.4g} s (ZVDD, link mode); worst model MD {:.4g} deg (unshaped "
         "{:.4g}); {} evaluations, {}",
-        r.model.play_rad * 180.0 / M_PI, r.model.stiffness, r.model.exponent, r.model.damping,
+        r.model.play_rad * 180.0 / M_PI, r.model.stiffness, r.model.exponent,
+        r.model.contact_law == ContactLawChoice::flores ? "Flores e" : "D",
+        r.model.contact_law == ContactLawChoice::flores ? r.model.restitution : r.model.damping,
         fmt::join(r.moves, "/"), r.uncertainty.size(), r.max_duration_s, d.worst_md_deg, d.worst_unshaped_md_deg,
         d.evaluations, d.termination);
     json impulses = json::array();

@@ -22,6 +22,15 @@
 
 namespace clearshape::study {
 
+/// The flank's contact law: the thesis's Eq. 4.3 (K δⁿ + D δ̇, clamped at F ≥ 0) or the Flores
+/// et al. (2011) restitution law F = K δⁿ (1 + 8(1−e)/(5e)·δ̇/δ̇⁻) (plant::Hysteresis::flores,
+/// the large-play truth's law; D unused).
+enum class ContactLawChoice { dashpot, flores };
+
+/// "dashpot", "flores"; and back (InvalidArgument naming the allowed names).
+std::string to_string(ContactLawChoice law);
+ContactLawChoice contact_law_from_string(const std::string& name);
+
 struct ClearanceModel {
   rig::CommandMode mode = rig::CommandMode::position;
   lti::ProcessModel drive{"P1", lti::ProcessParameters{}};  ///< command units → deg or deg/s
@@ -29,7 +38,9 @@ struct ClearanceModel {
   double play_rad = 0.0;        ///< total play 2β (0: rigid)
   double stiffness = 1e4;       ///< K, N·m/rad^n
   double exponent = 1.5;        ///< n
-  double damping = 300.0;       ///< D, N·m·s/rad
+  double damping = 300.0;       ///< D, N·m·s/rad (dashpot law)
+  ContactLawChoice contact_law = ContactLawChoice::dashpot;
+  double restitution = 0.6;     ///< e ∈ (0, 1] (flores law)
   double coulomb_n_m = 0.0;     ///< c: the joint's Coulomb torque (Eq. 2.9, regularized), 0: none
   double viscous_n_m_s_per_rad = 0.0;          ///< b: viscous on the relative rate, 0: none
   double friction_regularization_rad_s = 1e-3;  ///< v_t of tanh(φ̇/v_t) (the large-play truth's)
@@ -78,6 +89,8 @@ struct ClearanceFitProblem {
   double envelope_weight = 1.0;
   double duration_s = 2.0;
   /// Of stiffness, damping, play, exponent, coulomb, viscous (the joint's friction, Eq. 2.9).
+  /// With start.contact_law flores the dissipation parameter is the restitution e ("restitution",
+  /// or "damping" read as it), fitted in [0.05, 1] from e = exp(−πζ/√(1−ζ²)) of the link mode.
   std::vector<std::string> free{"stiffness", "damping"};
   /// The link's identified residual mode (0: unknown): start K/J = ω² and D/J = 2ζω (linear
   /// flank, then mapped to each exponent at the reference deflection); otherwise `start`'s K, D.
@@ -99,7 +112,7 @@ struct ClearanceFitProblem {
 
 /// One fitted parameter, with its local (Gauss–Newton) uncertainty.
 struct ClearanceParameter {
-  std::string name;        ///< stiffness, damping, play, exponent
+  std::string name;        ///< stiffness, damping (restitution: flores law), play, exponent, coulomb, viscous
   double value = 0.0;      ///< SI (K N·m/rad^n, D N·m·s/rad, play rad, n)
   double start = 0.0;
   bool free = false;
@@ -147,7 +160,8 @@ struct ClearanceFitResult {
 ClearanceFitResult fit_clearance(const ClearanceFitProblem& problem);
 
 /// The unit of a fitted parameter's value as the outputs write it (the play in deg): "N·m/rad^n",
-/// "N·m·s/rad", "deg", "1", "N·m" (coulomb), "N·m·s/rad" (viscous); "" for an unknown name.
+/// "N·m·s/rad", "deg", "1" (exponent, restitution), "N·m" (coulomb), "N·m·s/rad" (viscous); ""
+/// for an unknown name.
 std::string clearance_parameter_unit(const std::string& name);
 
 /// A link rate's envelope: the centred moving RMS over window_s (the window cut at the record's
