@@ -39,6 +39,8 @@ struct FitClearanceOptions {
   double window_s = 2.0, link_wn_rad_s = 0.0, link_zeta = 0.0;
   double envelope_window_s = 0.0;  // 0: the mean record alone
   std::string low_pass = "auto";
+  std::string contact_law = "dashpot";  // Eq. 4.3, or "flores" (restitution e instead of D)
+  double restitution = 0.6;
   int max_evaluations = 150;
   bool json = false;
 };
@@ -146,8 +148,9 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
                       {"start", angle ? rad_to_deg(q.start) : q.start},
                       {"free", q.free},
                       {"std", std::isfinite(q.std_error) ? json(q.std_error) : json(nullptr)},
-                      {"std_kind", q.name == "exponent"                          ? "absolute"
-                                   : q.name == "coulomb" || q.name == "viscous" ? "relative (of the value)"
+                      {"std_kind", q.name == "exponent" ? "absolute"
+                                   : q.name == "coulomb" || q.name == "viscous" || q.name == "restitution"
+                                       ? "relative (of the value)"
                                                                                 : "relative (of log value)"},
                       {"identifiable", q.identifiable},
                       {"at_bound", q.at_bound}};
@@ -156,6 +159,7 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
   }
   if (!fit.converged) warnings.push_back(fmt::format("the search did not converge ({})", fit.termination));
   doc["parameters"] = params;
+  if (fit.model.contact_law == study::ContactLawChoice::flores) doc["contact_law"] = "flores";  // dashpot: no key
   doc["agreement"] = fit.agreement;  // Eq. 4.1: RMS(model − measured) / range(measured)
   doc["start_agreement"] = study::clearance_agreement(
       fp.measured_link_rate_deg_s,
@@ -185,7 +189,8 @@ json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFit
 }
 
 void print_text(const json& doc) {
-  fmt::print("clearance fit (thesis §4.2, Eq. 4.3 F = K·δ^n + D·δ̇; joint friction Eq. 2.9 c·tanh(φ̇/v_t) + b·φ̇)\n\n");
+  fmt::print("clearance fit (thesis §4.2, {}; joint friction Eq. 2.9 c·tanh(φ̇/v_t) + b·φ̇)\n\n",
+             doc.contains("contact_law") ? "Flores law F = K·δ^n·(1 + 8(1−e)/(5e)·δ̇/δ̇⁻)" : "Eq. 4.3 F = K·δ^n + D·δ̇");
   fmt::print("  {:<10} {:>14} {:<10} {:>12} {:>10} {:>13} {:>9}\n", "parameter", "value", "unit", "start", "1σ", "identifiable", "at bound");
   for (const auto& [name, p] : doc["parameters"].items()) {
     std::string sigma = "fixed";
@@ -216,6 +221,8 @@ void run(const FitClearanceOptions& o) {
   fp.start.stiffness = o.stiffness;
   fp.start.exponent = o.exponent;
   fp.start.damping = o.damping;
+  fp.start.contact_law = study::contact_law_from_string(o.contact_law);
+  fp.start.restitution = o.restitution;
   fp.free = o.fit;
   fp.link_natural_frequency_rad_s = o.link_wn_rad_s;
   fp.link_damping_ratio = o.link_zeta;
@@ -253,6 +260,15 @@ const bool registered = register_command(
        sub.add_option("--stiffness", o->stiffness, "K, N·m/rad^n (start value when fitted)")->capture_default_str();
        sub.add_option("--exponent", o->exponent, "n (start value when fitted)")->capture_default_str();
        sub.add_option("--damping", o->damping, "D, N·m·s/rad (start value when fitted)")->capture_default_str();
+       sub.add_option("--contact-law", o->contact_law,
+                      "Contact law: dashpot (Eq. 4.3, K·δ^n + D·δ̇) or flores (K·δ^n·(1 + 8(1−e)/(5e)·δ̇/δ̇⁻); "
+                      "`damping` in --fit then fits the restitution e)")
+           ->capture_default_str()
+           ->check(CLI::IsMember({"dashpot", "flores"}));
+       sub.add_option("--restitution", o->restitution, "e of the flores law (start value when fitted; the link mode's ζ "
+                      "sets it when --link-zeta is given)")
+           ->capture_default_str()
+           ->check(CLI::Range(0.05, 1.0));
        sub.add_option("--fit", o->fit, "Free parameters: of stiffness, damping, play, exponent, coulomb, viscous (the joint's friction)")
            ->capture_default_str();
        sub.add_option("--envelope-window-s", o->envelope_window_s,

@@ -73,19 +73,25 @@ Setup make_setup(const ClearanceFitProblem& p) {
     throw_invalid("measured_link_rate_deg_s samples", static_cast<double>(p.measured_link_rate_deg_s.size()),
                   ">= 10 over duration_s", "pass the measured record on the command's grid");
   }
+  const bool flores = p.start.contact_law == ContactLawChoice::flores;
   for (const auto& f : p.free) {
-    const auto it = std::find(kParamNames.begin(), kParamNames.end(), f);
+    // The Flores law's dissipation parameter is e: "restitution" names it ("damping" too).
+    const auto it = std::find(kParamNames.begin(), kParamNames.end(), flores && f == "restitution" ? "damping" : f);
     if (it == kParamNames.end()) {
-      throw InvalidArgument(fmt::format("clearance fit: '{}' cannot be fitted; allowed: stiffness, damping, play, "
+      throw InvalidArgument(fmt::format("clearance fit: '{}' cannot be fitted; allowed: stiffness, {}, play, "
                                         "exponent, coulomb, viscous (the link inertia stays fixed: only K/J and D/J "
                                         "are identifiable)",
-                                        f));
+                                        f, flores ? "restitution" : "damping"));
     }
     s.free[static_cast<std::size_t>(it - kParamNames.begin())] = true;
   }
   require_positive("start.stiffness", p.start.stiffness);
   require_in_closed("start.exponent", p.start.exponent, 1.0, 10.0);
-  if (s.free[kDamping]) require_positive("start.damping", p.start.damping, "a fitted damping starts above 0");
+  if (flores) {
+    require_in_closed("start.restitution", p.start.restitution, 0.05, 1.0, "the Flores law's e in (0, 1]");
+  } else if (s.free[kDamping]) {
+    require_positive("start.damping", p.start.damping, "a fitted damping starts above 0");
+  }
   if (s.free[kPlay]) require_positive("start.play_rad", p.start.play_rad, "a fitted play starts above 0");
   require_non_negative("start.coulomb_n_m", p.start.coulomb_n_m);
   require_non_negative("start.viscous_n_m_s_per_rad", p.start.viscous_n_m_s_per_rad);
@@ -128,6 +134,13 @@ Vars start_and_bounds(const ClearanceFitProblem& p, Setup& s, double n0, int& ev
   double k_lin = from_mode ? J * w * w : p.start.stiffness;
   double d_lin = from_mode && p.link_damping_ratio > 0.0 ? 2.0 * p.link_damping_ratio * w * J : p.start.damping;
   if (!s.free[kDamping]) d_lin = p.start.damping;
+  const bool flores = p.start.contact_law == ContactLawChoice::flores;
+  // Flores: e of the link mode's half cycle, e = exp(−πζ/√(1−ζ²)) (inverse of plant::kelvin_voigt_damping_ratio).
+  const double zeta = p.link_damping_ratio;
+  double e0 = from_mode && s.free[kDamping] && zeta > 0.0 && zeta < 1.0
+                  ? std::exp(-std::acos(-1.0) * zeta / std::sqrt(1.0 - zeta * zeta))
+                  : p.start.restitution;
+  e0 = std::clamp(e0, 0.05, 1.0);
   const double play0 = p.start.play_rad;
   {
     ClearanceModel lin = p.start;
@@ -135,6 +148,7 @@ Vars start_and_bounds(const ClearanceFitProblem& p, Setup& s, double n0, int& ev
       lin.exponent = 1.0;
       lin.stiffness = k_lin;
       lin.damping = d_lin;
+      lin.restitution = e0;
     }
     if (!(lin.play_rad > 0.0)) lin.play_rad = 1e-4;
     ++evaluations;
@@ -147,11 +161,11 @@ Vars start_and_bounds(const ClearanceFitProblem& p, Setup& s, double n0, int& ev
   }
   // Without a link mode the protocol's K is read at its own exponent and carried as K_ref.
   if (!from_mode) k_lin = p.start.stiffness * std::pow(s.delta_ref_rad, p.start.exponent - 1.0);
-  const Vars u0{std::log(k_lin), std::log(std::max(d_lin, 1e-300)), std::log(std::max(play0, 1e-300)), n0,
+  const Vars u0{std::log(k_lin), flores ? e0 : std::log(std::max(d_lin, 1e-300)), std::log(std::max(play0, 1e-300)), n0,
                 p.start.coulomb_n_m / s.coulomb_scale_n_m, p.start.viscous_n_m_s_per_rad / s.viscous_scale};
-  s.lower = {u0[kStiffness] - std::log(1e3), u0[kDamping] - std::log(1e3), std::log(std::max(play0, 1e-300) / 100.0),
+  s.lower = {u0[kStiffness] - std::log(1e3), flores ? 0.05 : u0[kDamping] - std::log(1e3), std::log(std::max(play0, 1e-300) / 100.0),
              p.exponent_min, 0.0, 0.0};
-  s.upper = {u0[kStiffness] + std::log(1e3), u0[kDamping] + std::log(1e3), std::log(std::max(play0, 1e-300) * 30.0),
+  s.upper = {u0[kStiffness] + std::log(1e3), flores ? 1.0 : u0[kDamping] + std::log(1e3), std::log(std::max(play0, 1e-300) * 30.0),
              p.exponent_max, std::max(10.0, 3.0 * u0[kCoulomb]), std::max(10.0, 3.0 * u0[kViscous])};
   if (!(p.exponent_max > p.exponent_min)) s.upper[kExponent] = p.exponent_min + 1.0;  // n is not searched then
   return u0;
@@ -347,7 +361,7 @@ FitRun run_fit(FitPlan& plan) {
 double value_of(const ClearanceModel& m, std::size_t i) {
   switch (i) {
     case kStiffness: return m.stiffness;
-    case kDamping: return m.damping;
+    case kDamping: return m.contact_law == ContactLawChoice::flores ? m.restitution : m.damping;
     case kPlay: return m.play_rad;
     case kExponent: return m.exponent;
     case kCoulomb: return m.coulomb_n_m;
@@ -361,7 +375,7 @@ ClearanceParameter describe_parameter(const FitPlan& plan, const FitRun& run, co
   const Setup& s = plan.s;
   const Vars& u = run.best.u;
   ClearanceParameter q;
-  q.name = kParamNames[i];
+  q.name = param_name(s, i);
   q.value = value_of(m, i);
   q.start = value_of(plan.start_model, i);
   q.free = s.free[i];
@@ -374,8 +388,8 @@ ClearanceParameter describe_parameter(const FitPlan& plan, const FitRun& run, co
   q.at_bound = (u[i] <= s.lower[i] + tol && !domain_limit) || u[i] >= s.upper[i] - tol;
   const auto it = std::find(plan.final_active.begin(), plan.final_active.end(), i);
   if (it != plan.final_active.end()) q.std_error = se[static_cast<std::size_t>(it - plan.final_active.begin())];
-  // The friction variables are linear: 1σ relative to the value (undefined at 0).
-  if (i == kCoulomb || i == kViscous) {
+  // The friction variables and e are linear: 1σ relative to the value (undefined at 0).
+  if (i == kCoulomb || i == kViscous || q.name == "restitution") {
     q.std_error = u[i] > 0.0 ? q.std_error / u[i] : std::numeric_limits<double>::quiet_NaN();
   }
   q.identifiable = std::isfinite(q.std_error) && q.std_error < 0.1;
@@ -431,7 +445,7 @@ std::string clearance_parameter_unit(const std::string& name) {
   if (name == "stiffness") return "N·m/rad^n";
   if (name == "damping" || name == "viscous") return "N·m·s/rad";
   if (name == "play") return "deg";
-  if (name == "exponent") return "1";
+  if (name == "exponent" || name == "restitution") return "1";
   if (name == "coulomb") return "N·m";
   return "";
 }

@@ -15,15 +15,24 @@
 
 namespace clearshape::study::fit_detail {
 
+std::string param_name(const Setup& s, std::size_t i) {
+  return i == kDamping && s.p->start.contact_law == ContactLawChoice::flores ? "restitution" : kParamNames[i];
+}
+
 ClearanceModel model_of(const Setup& s, const Vars& u) {
   ClearanceModel m = s.p->start;
   m.exponent = u[kExponent];
-  m.damping = std::exp(u[kDamping]);
+  const bool flores = m.contact_law == ContactLawChoice::flores;
+  if (flores) {
+    m.restitution = s.free[kDamping] ? u[kDamping] : s.p->start.restitution;  // e, linear in [0.05, 1]
+  } else {
+    m.damping = std::exp(u[kDamping]);
+  }
   m.play_rad = std::exp(u[kPlay]);
   // K_ref = K·δ_ref^(n−1): the secant stiffness of Eq. 4.3 at the reference deflection.
   m.stiffness = s.free[kStiffness] ? std::exp(u[kStiffness]) / std::pow(s.delta_ref_rad, m.exponent - 1.0)
                                    : s.p->start.stiffness;
-  if (!s.free[kDamping]) m.damping = s.p->start.damping;
+  if (!s.free[kDamping] || flores) m.damping = s.p->start.damping;
   if (!s.free[kPlay]) m.play_rad = s.p->start.play_rad;
   // The joint's friction (Eq. 2.9, regularized), linear in the record's scales.
   m.coulomb_n_m = s.free[kCoulomb] ? s.coulomb_scale_n_m * u[kCoulomb] : s.p->start.coulomb_n_m;

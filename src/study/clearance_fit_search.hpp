@@ -4,7 +4,8 @@
 // search over a subset of the variables, the local 1σ and the sensor bandwidth choice.
 //
 // Fit variables u (all six; a fixed parameter keeps the problem's start value):
-//   log K_ref (K_ref = K·δ_ref^(n−1), the secant stiffness at the reference deflection), log D,
+//   log K_ref (K_ref = K·δ_ref^(n−1), the secant stiffness at the reference deflection), log D
+//   (with the Flores law: the restitution e itself, in [0.05, 1]),
 //   log play, n, c/(J·a_ref) and b/(J/T) — the joint's Coulomb torque and viscous coefficient
 //   (thesis Eq. 2.9, regularized) scaled by the record: a_ref = peak |measured link rate| / T
 //   (the deceleration that would stop the fastest link motion within the window T), 1/T the
@@ -39,6 +40,9 @@ struct Setup {
   double low_pass_hz = 0.0;  // the sensor low-pass applied to the model's link rate (< 0: profiled)
   Vars step{0.3, 0.3, 0.3, 0.15, 0.3, 0.3};  // initial steps (sensitivity-scaled)
 };
+
+/// The name of parameter i in the outputs: kParamNames, "restitution" for kDamping with the Flores law.
+std::string param_name(const Setup& s, std::size_t i);
 
 /// The model for variables u (fixed parameters from the problem's start).
 ClearanceModel model_of(const Setup& s, const Vars& u);

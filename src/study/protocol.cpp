@@ -359,10 +359,19 @@ void parse_clearance(const TomlSection& top, Protocol& p) {
   c.stiffness_n_m_per_rad_pow_n = s->positive("stiffness_n_m_per_rad_pow_n", 1e4);
   c.damping_n_m_s_per_rad = s->number("damping_n_m_s_per_rad", 300.0);
   if (c.damping_n_m_s_per_rad < 0.0) s->fail("damping_n_m_s_per_rad", "must be >= 0");
+  c.contact_law = s->text("contact_law", "dashpot");
+  if (c.contact_law != "dashpot" && c.contact_law != "flores") {
+    s->fail("contact_law", fmt::format("'{}' is not a contact law; allowed: dashpot, flores", c.contact_law));
+  }
+  c.restitution = s->number("restitution", 0.6);
+  if (!(c.restitution >= 0.05 && c.restitution <= 1.0)) s->fail("restitution", "must be in [0.05, 1]");
+  const bool flores = c.contact_law == "flores";
   c.fit = s->texts("fit");
-  for (const auto& f : c.fit) {
+  for (auto& f : c.fit) {
+    if (flores && f == "restitution") f = "damping";  // the Flores law's dissipation parameter is e
     if (f != "stiffness" && f != "damping" && f != "play" && f != "exponent") {
-      s->fail("fit", fmt::format("'{}' cannot be fitted; allowed: stiffness, damping, play, exponent", f));
+      s->fail("fit", fmt::format("'{}' cannot be fitted; allowed: stiffness, {}, play, exponent", f,
+                                 flores ? "restitution (or damping)" : "damping"));
     }
   }
   c.filter_gyro = s->boolean("filter_gyro", false);
@@ -375,7 +384,7 @@ void parse_clearance(const TomlSection& top, Protocol& p) {
     th->finish("stiffness, damping, agreement");
   }
   s->finish("input, exponent, link_inertia_kg_m2, play_deg, stiffness_n_m_per_rad_pow_n, "
-            "damping_n_m_s_per_rad, fit, filter_gyro, window_s, max_evaluations, thesis");
+            "damping_n_m_s_per_rad, contact_law, restitution, fit, filter_gyro, window_s, max_evaluations, thesis");
 }
 
 void parse_simulation(const TomlSection& top, Protocol& p) {

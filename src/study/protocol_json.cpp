@@ -63,7 +63,7 @@ json link_mode_json(const LinkModeStage& s) {
 }
 
 json clearance_json(const ClearanceStage& c) {
-  return {{"input", c.input},
+  json j = {{"input", c.input},
           {"exponent", c.exponent},
           {"link_inertia_kg_m2", c.link_inertia_kg_m2},
           {"play_deg", c.play_deg},
@@ -75,6 +75,11 @@ json clearance_json(const ClearanceStage& c) {
           {"max_evaluations", c.max_evaluations},
           {"thesis",
            {{"stiffness", c.thesis_stiffness}, {"damping", c.thesis_damping}, {"agreement", c.thesis_agreement}}}};
+  if (c.contact_law != "dashpot") {  // the default writes nothing: older results stay byte-identical
+    j["contact_law"] = c.contact_law;
+    j["restitution"] = c.restitution;
+  }
+  return j;
 }
 
 json simulation_json(const SimulationStage& s) {

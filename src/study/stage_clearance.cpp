@@ -67,9 +67,12 @@ ClearancePlan plan_clearance(Context& c) {
   fp.start.stiffness = cl.stiffness_n_m_per_rad_pow_n;
   fp.start.exponent = cl.exponent;
   fp.start.damping = cl.damping_n_m_s_per_rad;
+  fp.start.contact_law = contact_law_from_string(cl.contact_law);
+  fp.start.restitution = cl.restitution;
+  const bool flores = fp.start.contact_law == ContactLawChoice::flores;
   plan_records(c, plan);
   for (const auto& f : cl.fit) {
-    if (f == "damping" && !(cl.damping_n_m_s_per_rad > 0.0)) continue;  // log-parametrised
+    if (f == "damping" && !flores && !(cl.damping_n_m_s_per_rad > 0.0)) continue;  // log-parametrised
     fp.free.push_back(f);
   }
   // A fitted play comes with the joint's friction (Eq. 2.9): it decides how a link that leaves its
@@ -170,8 +173,10 @@ void log_clearance(Context& c, const ClearancePlan& plan, const ClearanceRun& ru
   const ClearanceModel& fitted = run.fit.model;
   const bool friction = fitted.coulomb_n_m > 0.0 || fitted.viscous_n_m_s_per_rad > 0.0 ||
                         std::find(plan.fp.free.begin(), plan.fp.free.end(), "coulomb") != plan.fp.free.end();
-  c.log(fmt::format("clearance: K = {:.4g}, D = {:.4g}, play = {:.4g}°, n = {:.3g}{}, Eq. 4.1 agreement {:.4f} ({})",
-                    fitted.stiffness, fitted.damping, rad_to_deg(fitted.play_rad), fitted.exponent,
+  const bool flores = fitted.contact_law == ContactLawChoice::flores;
+  c.log(fmt::format("clearance: K = {:.4g}, {} = {:.4g}, play = {:.4g}°, n = {:.3g}{}, Eq. 4.1 agreement {:.4f} ({})",
+                    fitted.stiffness, flores ? "e" : "D", flores ? fitted.restitution : fitted.damping,
+                    rad_to_deg(fitted.play_rad), fitted.exponent,
                     friction ? fmt::format(", friction c = {:.3g} N·m, b = {:.3g} N·m·s/rad", fitted.coulomb_n_m,
                                            fitted.viscous_n_m_s_per_rad)
                              : std::string(),
@@ -188,22 +193,26 @@ json clearance_table(const Context& c, const ClearanceRun& run) {
   const ClearanceModel& fitted = fit.model;
   const ClearanceModel& start = fit.start_model;
   json table = make_table("4.3-clearance", "parameters",
-                          fmt::format("Clearance model (Eq. 4.3) calibrated to the gyro record of the {}",
+                          fmt::format("Clearance model ({}) calibrated to the gyro record of the {}",
+                                      fit.model.contact_law == ContactLawChoice::flores ? "Flores restitution law" : "Eq. 4.3",
                                       c.p.input(cl.input).label), "");
   const double J = fitted.link_inertia_kg_m2;
-  table["row_labels"] = {"K (N·m/rad^n)", "D (N·m·s/rad)", "exponent n", "total play (deg)",
-                         "link inertia (kg·m²)", "Eq. 4.1 agreement", "RMS error (deg/s)",
-                         "K/J (rad^(1−n)/s²)", "D/J (1/s)", "gyro low-pass (Hz, 0 = none)", "model evaluations",
-                         "converged (1 = yes)"};
+  const bool flores = fitted.contact_law == ContactLawChoice::flores;  // e in D's row, no D/J
+  const auto dissipation = [flores](const ClearanceModel& m) { return flores ? m.restitution : m.damping; };
   const json null;
+  const auto per_inertia = [flores, J, &null](const ClearanceModel& m) { return flores ? null : json(m.damping / J); };
+  table["row_labels"] = {"K (N·m/rad^n)", flores ? "restitution e (Flores law)" : "D (N·m·s/rad)", "exponent n", "total play (deg)",
+                         "link inertia (kg·m²)", "Eq. 4.1 agreement", "RMS error (deg/s)",
+                         "K/J (rad^(1−n)/s²)", flores ? "D/J (1/s; none: Flores law)" : "D/J (1/s)", "gyro low-pass (Hz, 0 = none)", "model evaluations",
+                         "converged (1 = yes)"};
   table["columns"] = {
       {{"key", "ours"}, {"label", "clearshape (fitted)"},
-       {"ours", {fitted.stiffness, fitted.damping, fitted.exponent, rad_to_deg(fitted.play_rad), J, fit.agreement,
-                 fit.rms_error_deg_s, fitted.stiffness / J, fitted.damping / J, fit.sensor_low_pass_hz,
+       {"ours", {fitted.stiffness, dissipation(fitted), fitted.exponent, rad_to_deg(fitted.play_rad), J, fit.agreement,
+                 fit.rms_error_deg_s, fitted.stiffness / J, per_inertia(fitted), fit.sensor_low_pass_hz,
                  fit.evaluations, fit.converged ? 1 : 0}}},
       {{"key", "start"}, {"label", c.link_mode.available ? "start (link mode, then K–D pre-fit and play scan)" : "start (protocol values, then K–D pre-fit and play scan)"},
-       {"ours", {start.stiffness, start.damping, start.exponent, rad_to_deg(start.play_rad), J, run.start_agreement,
-                 fit.start_rms_error_deg_s, start.stiffness / J, start.damping / J, fit.sensor_low_pass_hz, null,
+       {"ours", {start.stiffness, dissipation(start), start.exponent, rad_to_deg(start.play_rad), J, run.start_agreement,
+                 fit.start_rms_error_deg_s, start.stiffness / J, per_inertia(start), fit.sensor_low_pass_hz, null,
                  null}}},
       {{"key", "rigid"}, {"label", "rigid link (no play), for reference"},
        {"ours", {null, null, null, 0.0, J, run.rigid_agreement, null, null, null, fit.sensor_low_pass_hz, null, null}}},
@@ -249,8 +258,9 @@ json parameters_json(const ClearanceFitResult& fit) {
                           {"free", q.free},
                           {"at_bound", q.at_bound},
                           {"std_error", std::isfinite(q.std_error) ? json(q.std_error) : json()},
-                          {"std_error_kind", q.name == "exponent"                          ? "absolute"
-                                             : q.name == "coulomb" || q.name == "viscous" ? "relative (1σ / value)"
+                          {"std_error_kind", q.name == "exponent" ? "absolute"
+                                             : q.name == "coulomb" || q.name == "viscous" || q.name == "restitution"
+                                                 ? "relative (1σ / value)"
                                                                                           : "relative (1σ of the log)"},
                           {"identifiable", q.identifiable}});
   }
@@ -269,7 +279,7 @@ json clearance_section(const Context& c, const ClearanceRun& run) {
   }
   json low_pass_scan = json::array();
   for (const auto& [hz, e] : fit.sensor_low_pass_scan) low_pass_scan.push_back({{"hz", hz}, {"rms_error_deg_s", e}});
-  return {{"stiffness_n_m_per_rad_pow_n", fitted.stiffness},
+  json section = {{"stiffness_n_m_per_rad_pow_n", fitted.stiffness},
           {"damping_n_m_s_per_rad", fitted.damping},
           {"exponent", fitted.exponent},
           {"gyro_filtered", c.p.clearance.filter_gyro},
@@ -299,6 +309,11 @@ json clearance_section(const Context& c, const ClearanceRun& run) {
           {"status", run.status},
           {"starts", starts},
           {"parameters", parameters_json(fit)}};
+  if (fitted.contact_law == ContactLawChoice::flores) {  // the default writes nothing: byte-identical
+    section["contact_law"] = to_string(fitted.contact_law);
+    section["restitution"] = fitted.restitution;
+  }
+  return section;
 }
 
 // Figures 4.19/4.20: the model's link rate (through the gyro's low-pass) against the mean gyro.

@@ -23,7 +23,8 @@
 //                      window_s, max_damping_ratio
 //   [clearance]        input, exponent, link_inertia_kg_m2, play_deg,
 //                      stiffness_n_m_per_rad_pow_n, damping_n_m_s_per_rad, fit, filter_gyro,
-//                      window_s, max_evaluations; [clearance.thesis] stiffness, damping, agreement
+//                      window_s, max_evaluations, contact_law ("dashpot" | "flores"),
+//                      restitution; [clearance.thesis] stiffness, damping, agreement
 //   [simulation]       inputs, shapers, mode_sources ("drive-model" | "link-mode"), record_s
 //   [rig_tests]        [[rig_tests.table]] id, title, input, [[rig_tests.table.column]]
 //                      shaper ("none" | a shaping method), mode_source, label, thesis,
@@ -125,6 +126,9 @@ struct ClearanceStage {
   double play_deg = 0.1;                 ///< total play 2β (start value when fitted)
   double stiffness_n_m_per_rad_pow_n = 1e4;  ///< K (start value when fitted)
   double damping_n_m_s_per_rad = 300.0;      ///< D (start value when fitted)
+  /// "dashpot" (Eq. 4.3) or "flores" (restitution law; "damping" in `fit` then fits e).
+  std::string contact_law = "dashpot";
+  double restitution = 0.6;                  ///< e (flores; start value without a link mode)
   std::vector<std::string> fit{"stiffness", "damping"};  ///< of stiffness, damping, play, exponent
   /// Compare the model with the gyro passed through the §3.3 filter (speed mode: the identified
   /// drive contains that filter, §4.2, so the measurement is filtered alike).

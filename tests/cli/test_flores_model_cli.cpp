@@ -1,0 +1,135 @@
+// The Flores contact law of the identified clearance model as the CLI reads it: a
+// `fit-clearance --json` document with contact_law "flores" and its restitution, read by
+// `recommend --model`, predicts the unshaped Eq. 5.1 MD that `clearshape simulate` gives for a rig
+// configuration with the same drive, play, Flores law and friction (the rig's own plant, contact
+// law factory and pulse path: another code path); without the contact_law key the same document
+// is a dashpot model (another number); a Flores document without its restitution, or with an
+// unknown law, is exit 2 naming the file and the key.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "support/cli.hpp"
+#include "support/paths.hpp"
+
+using clearshape::testing::golden_path;
+using clearshape::testing::run_cli;
+
+namespace {
+
+std::filesystem::path temp(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("flores_model_cli_" + std::to_string(::getpid()) + "_" + name);
+}
+
+void write(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream out(p);
+  out << text;
+}
+
+std::string spectrum_args() {
+  return "recommend --data " + golden_path("recommend_one_mode.csv").string() + " --column gyro_deg_s";
+}
+
+const char* kDrive = R"({"model": "P3UZ", "parameters": {"Kp": {"value": 0.9959}, "Tz": {"value": 0.0042},
+  "Zeta": {"value": 0.9968}, "Tw": {"value": 0.0102}, "Tp3": {"value": 0.0034}}})";
+
+// A `fit-clearance --json` document of a 1° play with a Hertz pin; `law` is the text before
+// "parameters" (e.g. the contact_law key) and `dissipation` the restitution or damping entry.
+std::string fit_json(const std::string& law, const std::string& dissipation) {
+  return R"({"command": "fit-clearance", "mode": "position", "link_inertia_kg_m2": 0.005, )" + law +
+         R"("parameters": {"stiffness": {"value": 2.0e5}, )" + dissipation + R"(,
+                "play": {"value": 1.0}, "exponent": {"value": 1.5}, "coulomb": {"value": 2e-3}},
+ "drive": )" + kDrive + "}";
+}
+
+double unshaped_prediction(const std::filesystem::path& fit, const std::string& move) {
+  const auto r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 3 --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return r.exit_code == 0 ? nlohmann::json::parse(r.out)["model"]["unshaped_md"].get<double>() : -1.0;
+}
+
+double simulated_flores(const std::string& move) {
+  const auto config = temp("rig.toml");
+  write(config, R"([joint]
+clearance_deg = 1.0
+friction_viscous_n_m_s_per_rad = 0.0
+friction_coulomb_n_m = 0.002
+[contact]
+model = "flores"
+stiffness = 2.0e5
+exponent = 1.5
+restitution = 0.6
+[link]
+inertia_kg_m2 = 0.005
+mass_kg = 0.0
+com_distance_m = 0.0
+axis_tilt_deg = 0.0
+ground_viscous_n_m_s_per_rad = 0.0
+[drive.position]
+kp = 0.9959
+tz_s = 0.0042
+zeta = 0.9968
+tw_s = 0.0102
+tp3_s = 0.0034
+td_s = 0.0
+[gyroscope]
+low_pass_hz = 0
+)");
+  const auto s = run_cli("simulate --config " + config.string() + " --signal step" + move + " --duration 3 --no-noise --json");
+  EXPECT_EQ(s.exit_code, 0) << s.err;
+  std::filesystem::remove(config);
+  return nlohmann::json::parse(s.out)["mean_deviation_eq_5_1"]["link_angle_deg"]["mean_deviation"].get<double>();
+}
+
+// 2 %: the two paths differ in the pulse train's timing (the rig looks one update ahead and
+// interpolates, the model holds with one update of latency), as in test_recommend_friction_cli.
+TEST(FloresModelCli, PredictionEqualsSimulateOfTheSameJoint) {
+  const std::string move = " --amplitude 10 --start-s 0.2";
+  const auto fit = temp("fit.json");
+  write(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 0.6})"));
+  const double flores = unshaped_prediction(fit, move);
+  const double rig = simulated_flores(move);
+  EXPECT_NEAR(flores, rig, 0.02 * rig) << "model " << flores << " rig " << rig;
+  // Without the key (a file of before the choice): the dashpot with D, another prediction.
+  write(fit, fit_json("", R"("damping": {"value": 2.0})"));
+  const double dashpot = unshaped_prediction(fit, move);
+  EXPECT_GT(std::abs(dashpot - flores), 0.05 * flores) << "dashpot " << dashpot << " flores " << flores;
+  std::filesystem::remove(fit);
+}
+
+TEST(FloresModelCli, MissingRestitutionOrUnknownLawNamesTheKey) {
+  const auto fit = temp("bad.json");
+  write(fit, fit_json(R"("contact_law": "flores", )", R"("damping": {"value": 2.0})"));
+  const std::string args = spectrum_args() + " --model " + fit.string() + " --move step --amplitude 5 --start-s 0.2";
+  auto r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(fit.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("parameters.restitution"), std::string::npos) << r.err;
+  write(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 1.4})"));
+  r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("(0, 1]"), std::string::npos) << r.err;
+  write(fit, fit_json(R"("contact_law": "hertz", )", R"("damping": {"value": 2.0})"));
+  r = run_cli(args);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("contact_law"), std::string::npos) << r.err;
+  std::filesystem::remove(fit);
+}
+
+TEST(FloresModelCli, FitClearanceRejectsAnUnknownLaw) {
+  const auto r = run_cli("fit-clearance --model P3UZ --param Kp=1 --data x.csv --contact-law hertz");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--contact-law"), std::string::npos) << r.err;
+  const auto e = run_cli("fit-clearance --model P3UZ --param Kp=1 --data x.csv --contact-law flores --restitution 1.5");
+  EXPECT_EQ(e.exit_code, 2);
+  EXPECT_NE(e.err.find("--restitution"), std::string::npos) << e.err;
+}
+
+}  // namespace
