@@ -3,7 +3,8 @@
 // `recommend --model`, predicts the unshaped Eq. 5.1 MD that `clearshape simulate` gives for a rig
 // configuration with the same drive, play, Flores law and friction (the rig's own plant, contact
 // law factory and pulse path: another code path); without the contact_law key the same document
-// is a dashpot model (another number); a Flores document without its restitution, or with an
+// is a dashpot model (another number); a study's results.json with the same Flores model gives the
+// same prediction; a Flores document without its restitution, or with an
 // unknown law, is exit 2 naming the file and the key.
 #include <gtest/gtest.h>
 
@@ -102,6 +103,26 @@ TEST(FloresModelCli, PredictionEqualsSimulateOfTheSameJoint) {
   const double dashpot = unshaped_prediction(fit, move);
   EXPECT_GT(std::abs(dashpot - flores), 0.05 * flores) << "dashpot " << dashpot << " flores " << flores;
   std::filesystem::remove(fit);
+}
+
+// A study's results.json (sections.clearance with contact_law "flores") is the same model as the
+// fit-clearance document with the same parameters: the same prediction, to the digit.
+TEST(FloresModelCli, StudyResultsFormReadsTheSameModel) {
+  const std::string move = " --amplitude 10 --start-s 0.2";
+  const auto fit = temp("fit_same.json");
+  write(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 0.6})"));
+  const auto study = temp("results.json");
+  write(study, std::string(R"({"protocol": {"mode": "position"}, "sections": {
+ "identification": {"selected_input": "step", "models": [{"input": "step", "model": "P3UZ", "parameters":
+   {"Kp": 0.9959, "Tz": 0.0042, "Zeta": 0.9968, "Tw": 0.0102, "Tp3": 0.0034}}]},
+ "clearance": {"stiffness_n_m_per_rad_pow_n": 2.0e5, "damping_n_m_s_per_rad": 1.0, "exponent": 1.5,
+   "play_deg": 1.0, "coulomb_n_m": 2e-3, "viscous_n_m_s_per_rad": 0.0, "link_inertia_kg_m2": 0.005,
+   "contact_law": "flores", "restitution": 0.6}}})"));
+  const double from_fit = unshaped_prediction(fit, move);
+  const double from_study = unshaped_prediction(study, move);
+  EXPECT_DOUBLE_EQ(from_fit, from_study);
+  std::filesystem::remove(fit);
+  std::filesystem::remove(study);
 }
 
 TEST(FloresModelCli, MissingRestitutionOrUnknownLawNamesTheKey) {
