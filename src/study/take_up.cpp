@@ -6,7 +6,7 @@
 #include <limits>
 
 #include <Eigen/Core>
-#include <ceres/tiny_solver.h>
+#include <Eigen/LU>
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
@@ -135,7 +135,7 @@ struct TakeUpConditions {
     f[0] = k.tangency / mean_rate();
     f[1] = (k.take_up - play_deg) / play_deg;
   }
-  /// TinySolver's interface: residuals and (forward-difference, column-major) Jacobian.
+  /// Residuals and their forward-difference Jacobian (column-major, 2 × 2).
   bool operator()(const double* x, double* f, double* jacobian) const {
     residuals(x, f);
     if (!jacobian) return true;
@@ -151,19 +151,35 @@ struct TakeUpConditions {
   }
 };
 
-// Solves the two conditions by Levenberg–Marquardt (Ceres' TinySolver) from the closed form of
-// a pure-delay drive (header): v_c = v_r, (v_c − v_d)·T = 2β.
+// Solves the two conditions by Newton's method with step halving (2 unknowns, forward-difference
+// Jacobian) from the closed form of a pure-delay drive (header): v_c = v_r, (v_c − v_d)·T = 2β.
+// Ceres' TinySolver (Levenberg–Marquardt) was tried here and stalls at 56° (residual 99): the
+// kinematics' peak indices make the residual piecewise smooth, and the full Newton step from the
+// closed form is what crosses those seams.
 std::pair<Eigen::Vector2d, int> solve_conditions(const TakeUpConditions& c) {
   const double T = c.request->grid_s;
   const double carry0 = (c.theta_deg - c.lead_deg_s * T + c.play_deg) / (3.0 * T);
   Eigen::Vector2d x(carry0, carry0 - c.play_deg / T);
-  ceres::TinySolver<TakeUpConditions> solver;
-  solver.options.max_num_iterations = 60;
-  solver.options.cost_threshold = 0.5e-14;  // ‖f‖ < 1e-7
-  solver.options.gradient_tolerance = 1e-16;
-  solver.options.parameter_tolerance = 1e-12;
-  solver.Solve(c, &x);
-  return {x, solver.summary.iterations};
+  Eigen::Vector2d f;
+  Eigen::Matrix2d jacobian;
+  c(x.data(), f.data(), jacobian.data());
+  int it = 0;
+  for (; it < 60 && f.norm() > 1e-7; ++it) {
+    const Eigen::Vector2d step = jacobian.partialPivLu().solve(-f);
+    if (!step.allFinite()) break;
+    bool improved = false;
+    for (double lambda = 1.0; lambda > 1e-6 && !improved; lambda *= 0.5) {
+      Eigen::Vector2d xn = x + lambda * step, fn;
+      c.residuals(xn.data(), fn.data());
+      if (fn.norm() < f.norm()) {
+        x = xn;
+        improved = true;
+      }
+    }
+    if (!improved) break;
+    c(x.data(), f.data(), jacobian.data());
+  }
+  return {x, it};
 }
 
 // Why a solved profile cannot be used, or "" when it can.
