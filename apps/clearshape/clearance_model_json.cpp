@@ -69,6 +69,89 @@ lti::ProcessModel drive_of(const json& d, const std::string& file, const std::st
   return lti::ProcessModel(code.get<std::string>(), p);
 }
 
+// `clearshape fit-clearance --json`: parameters with their uncertainty, the drive, the inertia.
+IdentifiedClearanceModel from_fit_clearance(const json& doc, const std::string& file) {
+  IdentifiedClearanceModel out;
+  study::ClearanceModel& m = out.model;
+  const json& p = at(doc, "parameters", file, "");
+  m.stiffness = number(at(p, "stiffness", file, "parameters."), "value", file, "parameters.stiffness.");
+  contact_law_of(doc, p.contains("restitution") ? p.at("restitution") : json(), "value", "parameters.restitution.", m, file, "");
+  if (m.contact_law == study::ContactLawChoice::dashpot) {
+    m.damping = number(at(p, "damping", file, "parameters."), "value", file, "parameters.damping.");
+  }
+  m.exponent = number(at(p, "exponent", file, "parameters."), "value", file, "parameters.exponent.");
+  m.play_rad = deg_to_rad(number(at(p, "play", file, "parameters."), "value", file, "parameters.play."));
+  const json none;
+  const json& reg = doc.contains("friction_regularization_rad_s") ? doc.at("friction_regularization_rad_s") : none;
+  if (!reg.is_null() && !reg.is_number()) throw InputError(file, 0, "friction_regularization_rad_s", "is not a number");
+  friction_of(p.contains("coulomb") ? p.at("coulomb") : none, p.contains("viscous") ? p.at("viscous") : none, reg, m, file,
+              "parameters.");
+  m.link_inertia_kg_m2 = number(doc, "link_inertia_kg_m2", file, "");
+  m.mode = rig::command_mode_from_string(at(doc, "mode", file, "").get<std::string>());
+  m.drive = drive_of(at(doc, "drive", file, ""), file, "drive.");
+  return out;
+}
+
+// A study's results.json: sections.clearance, the selected drive model, the link mode.
+IdentifiedClearanceModel from_study(const json& doc, const std::string& file) {
+  IdentifiedClearanceModel out;
+  study::ClearanceModel& m = out.model;
+  const json& s = doc.at("sections");
+  const json& c = s.at("clearance");
+  const std::string cp = "sections.clearance.";
+  m.stiffness = number(c, "stiffness_n_m_per_rad_pow_n", file, cp);
+  m.damping = number(c, "damping_n_m_s_per_rad", file, cp);
+  contact_law_of(c, c, "restitution", cp, m, file, cp);
+  m.exponent = number(c, "exponent", file, cp);
+  m.play_rad = deg_to_rad(number(c, "play_deg", file, cp));
+  m.coulomb_n_m = optional_number(c, "coulomb_n_m", 0.0, file, cp);
+  m.viscous_n_m_s_per_rad = optional_number(c, "viscous_n_m_s_per_rad", 0.0, file, cp);
+  m.friction_regularization_rad_s =
+      optional_number(c, "friction_regularization_rad_s", m.friction_regularization_rad_s, file, cp);
+  if (!(m.coulomb_n_m >= 0.0)) throw InputError(file, 0, cp + "coulomb_n_m", "must be >= 0 N·m");
+  if (!(m.viscous_n_m_s_per_rad >= 0.0)) throw InputError(file, 0, cp + "viscous_n_m_s_per_rad", "must be >= 0 N·m·s/rad");
+  if (!(m.friction_regularization_rad_s > 0.0)) {
+    throw InputError(file, 0, cp + "friction_regularization_rad_s", "must be > 0 rad/s");
+  }
+  m.link_inertia_kg_m2 = number(c, "link_inertia_kg_m2", file, cp);
+  m.mode = rig::command_mode_from_string(at(at(doc, "protocol", file, ""), "mode", file, "protocol.").get<std::string>());
+  const json& ident = at(s, "identification", file, "sections.");
+  const std::string selected = at(ident, "selected_input", file, "sections.identification.").get<std::string>();
+  bool found = false;
+  for (const auto& model : at(ident, "models", file, "sections.identification.")) {
+    if (model.is_object() && model.contains("input") && model.at("input") == selected) {
+      m.drive = drive_of(model, file, "sections.identification.models[" + selected + "].");
+      found = true;
+    }
+  }
+  if (!found) throw InputError(file, 0, "sections.identification.models", "has no model for the selected input " + selected);
+  if (s.contains("link_mode") && s.at("link_mode").value("available", false)) {
+    out.link_frequency_hz = number(s.at("link_mode"), "natural_frequency_hz", file, "sections.link_mode.");
+    out.link_damping_ratio = number(s.at("link_mode"), "damping_ratio", file, "sections.link_mode.");
+  }
+  return out;
+}
+
+// A document with no clearance model: say why (a study whose clearance stage was skipped) or
+// what was expected.
+[[noreturn]] void throw_no_model(const json& doc, const std::string& file) {
+  if (doc.contains("skipped_stages") && doc.at("skipped_stages").is_array()) {
+    for (const auto& s : doc.at("skipped_stages")) {
+      if (s.value("stage", "") != "clearance") continue;
+      std::string missing;
+      if (s.contains("missing_runs") && s.at("missing_runs").is_array()) {
+        for (const auto& id : s.at("missing_runs")) missing += (missing.empty() ? "" : ", ") + id.get<std::string>();
+      }
+      throw InputError(file, 0, "sections.clearance",
+                       fmt::format("this study has no clearance model: its clearance stage was skipped ({}{}); record those runs and "
+                                   "run the study again",
+                                   s.value("reason", "no reason given"), missing.empty() ? "" : ": " + missing));
+    }
+  }
+  throw InputError(file, 0, "command",
+                   "expected the JSON of `clearshape fit-clearance --json` or a study's results.json (sections.clearance)");
+}
+
 }  // namespace
 
 IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& path) {
@@ -79,79 +162,9 @@ IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& 
   } catch (const json::parse_error& e) {
     throw InputError(file, 0, "", fmt::format("not JSON: {}", e.what()));
   }
-  IdentifiedClearanceModel out;
-  study::ClearanceModel& m = out.model;
-  if (doc.value("command", "") == "fit-clearance") {
-    const json& p = at(doc, "parameters", file, "");
-    m.stiffness = number(at(p, "stiffness", file, "parameters."), "value", file, "parameters.stiffness.");
-    contact_law_of(doc, p.contains("restitution") ? p.at("restitution") : json(), "value", "parameters.restitution.", m, file, "");
-    if (m.contact_law == study::ContactLawChoice::dashpot) {
-      m.damping = number(at(p, "damping", file, "parameters."), "value", file, "parameters.damping.");
-    }
-    m.exponent = number(at(p, "exponent", file, "parameters."), "value", file, "parameters.exponent.");
-    m.play_rad = deg_to_rad(number(at(p, "play", file, "parameters."), "value", file, "parameters.play."));
-    const json none;
-    const json& reg = doc.contains("friction_regularization_rad_s") ? doc.at("friction_regularization_rad_s") : none;
-    if (!reg.is_null() && !reg.is_number()) throw InputError(file, 0, "friction_regularization_rad_s", "is not a number");
-    friction_of(p.contains("coulomb") ? p.at("coulomb") : none, p.contains("viscous") ? p.at("viscous") : none, reg, m, file,
-                "parameters.");
-    m.link_inertia_kg_m2 = number(doc, "link_inertia_kg_m2", file, "");
-    m.mode = rig::command_mode_from_string(at(doc, "mode", file, "").get<std::string>());
-    m.drive = drive_of(at(doc, "drive", file, ""), file, "drive.");
-    return out;
-  }
-  if (doc.contains("sections") && doc["sections"].contains("clearance")) {
-    const json& s = doc["sections"];
-    const json& c = s["clearance"];
-    m.stiffness = number(c, "stiffness_n_m_per_rad_pow_n", file, "sections.clearance.");
-    m.damping = number(c, "damping_n_m_s_per_rad", file, "sections.clearance.");
-    contact_law_of(c, c, "restitution", "sections.clearance.", m, file, "sections.clearance.");
-    m.exponent = number(c, "exponent", file, "sections.clearance.");
-    m.play_rad = deg_to_rad(number(c, "play_deg", file, "sections.clearance."));
-    m.coulomb_n_m = optional_number(c, "coulomb_n_m", 0.0, file, "sections.clearance.");
-    m.viscous_n_m_s_per_rad = optional_number(c, "viscous_n_m_s_per_rad", 0.0, file, "sections.clearance.");
-    m.friction_regularization_rad_s =
-        optional_number(c, "friction_regularization_rad_s", m.friction_regularization_rad_s, file, "sections.clearance.");
-    if (!(m.coulomb_n_m >= 0.0)) throw InputError(file, 0, "sections.clearance.coulomb_n_m", "must be >= 0 N·m");
-    if (!(m.viscous_n_m_s_per_rad >= 0.0)) {
-      throw InputError(file, 0, "sections.clearance.viscous_n_m_s_per_rad", "must be >= 0 N·m·s/rad");
-    }
-    if (!(m.friction_regularization_rad_s > 0.0)) {
-      throw InputError(file, 0, "sections.clearance.friction_regularization_rad_s", "must be > 0 rad/s");
-    }
-    m.link_inertia_kg_m2 = number(c, "link_inertia_kg_m2", file, "sections.clearance.");
-    m.mode = rig::command_mode_from_string(at(at(doc, "protocol", file, ""), "mode", file, "protocol.").get<std::string>());
-    const json& ident = at(s, "identification", file, "sections.");
-    const std::string selected = at(ident, "selected_input", file, "sections.identification.").get<std::string>();
-    bool found = false;
-    for (const auto& model : at(ident, "models", file, "sections.identification.")) {
-      if (model.value("input", "") == selected) {
-        m.drive = drive_of(model, file, "sections.identification.models[" + selected + "].");
-        found = true;
-      }
-    }
-    if (!found) throw InputError(file, 0, "sections.identification.models", "has no model for the selected input " + selected);
-    if (s.contains("link_mode") && s["link_mode"].value("available", false)) {
-      out.link_frequency_hz = number(s["link_mode"], "natural_frequency_hz", file, "sections.link_mode.");
-      out.link_damping_ratio = number(s["link_mode"], "damping_ratio", file, "sections.link_mode.");
-    }
-    return out;
-  }
-  if (doc.contains("skipped_stages") && doc["skipped_stages"].is_array()) {  // a study whose clearance stage did not run
-    for (const auto& s : doc["skipped_stages"]) {
-      if (s.value("stage", "") != "clearance") continue;
-      std::string missing;
-      if (s.contains("missing_runs") && s["missing_runs"].is_array()) {
-        for (const auto& id : s["missing_runs"]) missing += (missing.empty() ? "" : ", ") + id.get<std::string>();
-      }
-      throw InputError(file, 0, "sections.clearance",
-                       fmt::format("this study has no clearance model: its clearance stage was skipped ({}{}); record those runs and "
-                                   "run the study again",
-                                   s.value("reason", "no reason given"), missing.empty() ? "" : ": " + missing));
-    }
-  }
-  throw InputError(file, 0, "command",
-                   "expected the JSON of `clearshape fit-clearance --json` or a study's results.json (sections.clearance)");
+  if (doc.value("command", "") == "fit-clearance") return from_fit_clearance(doc, file);
+  if (doc.contains("sections") && doc.at("sections").contains("clearance")) return from_study(doc, file);
+  throw_no_model(doc, file);
 }
 
 }  // namespace clearshape::cli
