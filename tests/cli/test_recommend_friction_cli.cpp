@@ -123,7 +123,9 @@ TEST(RecommendFrictionCli, ClearanceAwareCandidateBesideTheLinearOnes) {
   const std::string args = spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 3 --json";
   const auto plain = run_cli(args);
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
-  for (const auto& c : nlohmann::json::parse(plain.out)["candidates"]) EXPECT_NE(c["name"], "clearance-aware");
+  // The document outlives the loop (a range over a member of a temporary read freed memory: ASan).
+  const auto plain_doc = nlohmann::json::parse(plain.out);
+  for (const auto& c : plain_doc["candidates"]) EXPECT_NE(c["name"], "clearance-aware");
 
   const auto r = run_cli(args + " --clearance-aware");
   ASSERT_EQ(r.exit_code, 0) << r.err;
