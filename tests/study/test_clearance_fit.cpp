@@ -13,6 +13,7 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/study/model.hpp"
+#include "support/clearance_fixtures.hpp"
 
 namespace clearshape::study {
 namespace {
@@ -23,16 +24,7 @@ constexpr double kDuration = 1.0;
 // The thesis's position-mode drive (Eq. 4.2, §4.2: Kp 0.9959, Tz 0.0042, ζ 0.9968, Tw 0.0102,
 // Tp3 0.0034) and a 20° step command at 0.05 s.
 ClearanceModel truth(double stiffness, double exponent, double damping, double play_deg) {
-  lti::ProcessParameters q;
-  q.kp = 0.9959;
-  q.tz = 0.0042;
-  q.zeta = 0.9968;
-  q.tw = 0.0102;
-  q.tp3 = 0.0034;
-  ClearanceModel m;
-  m.mode = rig::CommandMode::position;
-  m.drive = lti::ProcessModel("P3UZ", q);
-  m.link_inertia_kg_m2 = 5e-3;
+  ClearanceModel m = testing::thesis_position_clearance_model();
   m.stiffness = stiffness;
   m.exponent = exponent;
   m.damping = damping;

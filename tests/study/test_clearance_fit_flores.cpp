@@ -18,6 +18,7 @@
 #include "clearshape/lti/process_model.hpp"
 #include "clearshape/rig/large_play.hpp"
 #include "clearshape/study/model.hpp"
+#include "support/clearance_fixtures.hpp"
 
 namespace clearshape::study {
 namespace {
@@ -28,20 +29,7 @@ constexpr double kDuration = 1.5;
 // The large-play truth's joint as a ClearanceModel (Flores law; test_clearance_model_flores.cpp
 // shows it integrates to the same numbers as the truth's own plant under the same command).
 ClearanceModel truth_model() {
-  const rig::RigTruth t = rig::large_play_rig_truth();
-  ClearanceModel m;
-  m.mode = rig::CommandMode::position;
-  m.drive = lti::thesis_position_mode_model();
-  m.link_inertia_kg_m2 = t.link.inertia_kg_m2;
-  m.play_rad = t.clearance_rad;
-  m.stiffness = t.position_contact.stiffness;
-  m.exponent = t.position_contact.exponent;
-  m.contact_law = ContactLawChoice::flores;
-  m.restitution = t.position_contact.restitution;
-  m.coulomb_n_m = t.joint_friction.coulomb;
-  m.viscous_n_m_s_per_rad = t.joint_friction.viscous;
-  m.friction_regularization_rad_s = t.joint_friction.regularization_rate;
-  return m;
+  return testing::flores_model_of_truth(rig::large_play_rig_truth());
 }
 
 // A 5° step at 0.2 s ramped over one 30 Hz update (the studies' steps), through the position

@@ -18,6 +18,7 @@
 #include "clearshape/core/units.hpp"
 #include "clearshape/metrics/mean_deviation.hpp"
 #include "clearshape/study/model.hpp"
+#include "support/clearance_fixtures.hpp"
 
 namespace clearshape::study {
 namespace {
@@ -26,16 +27,7 @@ constexpr double kTs = 1e-3;
 constexpr double kDuration = 1.5;
 
 ClearanceModel truth() {
-  lti::ProcessParameters q;  // the thesis's position drive (Eq. 4.2, §4.2)
-  q.kp = 0.9959;
-  q.tz = 0.0042;
-  q.zeta = 0.9968;
-  q.tw = 0.0102;
-  q.tp3 = 0.0034;
-  ClearanceModel m;
-  m.mode = rig::CommandMode::position;
-  m.drive = lti::ProcessModel("P3UZ", q);
-  m.link_inertia_kg_m2 = 5e-3;
+  ClearanceModel m = testing::thesis_position_clearance_model();  // the thesis's position drive (Eq. 4.2, §4.2)
   m.play_rad = deg_to_rad(1.0);
   m.stiffness = 2e5;
   m.exponent = 1.5;

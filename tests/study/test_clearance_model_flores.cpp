@@ -20,6 +20,7 @@
 #include "clearshape/rig/truth.hpp"
 #include "clearshape/signal/position_path.hpp"
 #include "clearshape/study/model.hpp"
+#include "support/clearance_fixtures.hpp"
 
 namespace clearshape::study {
 namespace {
@@ -28,19 +29,7 @@ constexpr double kTs = 1e-3;
 
 // The large-play truth's joint as a ClearanceModel (Flores law), drive = the thesis's Eq. 4.2.
 ClearanceModel model_of_truth(const rig::RigTruth& t) {
-  ClearanceModel m;
-  m.mode = rig::CommandMode::position;
-  m.drive = lti::thesis_position_mode_model();
-  m.link_inertia_kg_m2 = t.link.inertia_kg_m2;
-  m.play_rad = t.clearance_rad;
-  m.stiffness = t.position_contact.stiffness;
-  m.exponent = t.position_contact.exponent;
-  m.contact_law = ContactLawChoice::flores;
-  m.restitution = t.position_contact.restitution;
-  m.coulomb_n_m = t.joint_friction.coulomb;
-  m.viscous_n_m_s_per_rad = t.joint_friction.viscous;
-  m.friction_regularization_rad_s = t.joint_friction.regularization_rate;
-  return m;
+  return testing::flores_model_of_truth(t);
 }
 
 struct Comparison {

@@ -12,6 +12,7 @@
 
 #include "clearshape/core/units.hpp"
 #include "clearshape/study/model.hpp"
+#include "support/clearance_fixtures.hpp"
 
 namespace clearshape::study {
 namespace {
@@ -21,16 +22,7 @@ constexpr double kTs = 1e-3;
 // The thesis's position drive (Eq. 4.2, §4.2) and a play of 20°: a link thrown off its rear
 // flank by a 10° step coasts for a long, clean stretch before reaching the front flank.
 ClearanceModel coasting_model(double coulomb_n_m, double viscous) {
-  lti::ProcessParameters q;
-  q.kp = 0.9959;
-  q.tz = 0.0042;
-  q.zeta = 0.9968;
-  q.tw = 0.0102;
-  q.tp3 = 0.0034;
-  ClearanceModel m;
-  m.mode = rig::CommandMode::position;
-  m.drive = lti::ProcessModel("P3UZ", q);
-  m.link_inertia_kg_m2 = 5e-3;
+  ClearanceModel m = testing::thesis_position_clearance_model();
   m.play_rad = deg_to_rad(20.0);
   m.stiffness = 1e4;
   m.exponent = 1.5;
