@@ -19,8 +19,13 @@
 
 #include "support/cli.hpp"
 #include "support/paths.hpp"
+#include "support/recommend_model.hpp"
 
 using clearshape::testing::golden_path;
+using clearshape::testing::kThesisDriveJson;
+using clearshape::testing::recommend_spectrum_args;
+using clearshape::testing::recommend_unshaped_md;
+using clearshape::testing::write_text;
 using clearshape::testing::run_cli;
 
 namespace {
@@ -29,36 +34,18 @@ std::filesystem::path temp(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("flores_model_cli_" + std::to_string(::getpid()) + "_" + name);
 }
 
-void write(const std::filesystem::path& p, const std::string& text) {
-  std::ofstream out(p);
-  out << text;
-}
-
-std::string spectrum_args() {
-  return "recommend --data " + golden_path("recommend_one_mode.csv").string() + " --column gyro_deg_s";
-}
-
-const char* kDrive = R"({"model": "P3UZ", "parameters": {"Kp": {"value": 0.9959}, "Tz": {"value": 0.0042},
-  "Zeta": {"value": 0.9968}, "Tw": {"value": 0.0102}, "Tp3": {"value": 0.0034}}})";
-
 // A `fit-clearance --json` document of a 1° play with a Hertz pin; `law` is the text before
 // "parameters" (e.g. the contact_law key) and `dissipation` the restitution or damping entry.
 std::string fit_json(const std::string& law, const std::string& dissipation) {
   return R"({"command": "fit-clearance", "mode": "position", "link_inertia_kg_m2": 0.005, )" + law +
          R"("parameters": {"stiffness": {"value": 2.0e5}, )" + dissipation + R"(,
                 "play": {"value": 1.0}, "exponent": {"value": 1.5}, "coulomb": {"value": 2e-3}},
- "drive": )" + kDrive + "}";
-}
-
-double unshaped_prediction(const std::filesystem::path& fit, const std::string& move) {
-  const auto r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 3 --json");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  return r.exit_code == 0 ? nlohmann::json::parse(r.out)["model"]["unshaped_md"].get<double>() : -1.0;
+ "drive": )" + kThesisDriveJson + "}";
 }
 
 double simulated_flores(const std::string& move) {
   const auto config = temp("rig.toml");
-  write(config, R"([joint]
+  write_text(config, R"([joint]
 clearance_deg = 1.0
 friction_viscous_n_m_s_per_rad = 0.0
 friction_coulomb_n_m = 0.002
@@ -94,13 +81,13 @@ low_pass_hz = 0
 TEST(FloresModelCli, PredictionEqualsSimulateOfTheSameJoint) {
   const std::string move = " --amplitude 10 --start-s 0.2";
   const auto fit = temp("fit.json");
-  write(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 0.6})"));
-  const double flores = unshaped_prediction(fit, move);
+  write_text(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 0.6})"));
+  const double flores = recommend_unshaped_md(fit, move);
   const double rig = simulated_flores(move);
   EXPECT_NEAR(flores, rig, 0.02 * rig) << "model " << flores << " rig " << rig;
   // Without the key (a file of before the choice): the dashpot with D, another prediction.
-  write(fit, fit_json("", R"("damping": {"value": 2.0})"));
-  const double dashpot = unshaped_prediction(fit, move);
+  write_text(fit, fit_json("", R"("damping": {"value": 2.0})"));
+  const double dashpot = recommend_unshaped_md(fit, move);
   EXPECT_GT(std::abs(dashpot - flores), 0.05 * flores) << "dashpot " << dashpot << " flores " << flores;
   std::filesystem::remove(fit);
 }
@@ -110,16 +97,16 @@ TEST(FloresModelCli, PredictionEqualsSimulateOfTheSameJoint) {
 TEST(FloresModelCli, StudyResultsFormReadsTheSameModel) {
   const std::string move = " --amplitude 10 --start-s 0.2";
   const auto fit = temp("fit_same.json");
-  write(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 0.6})"));
+  write_text(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 0.6})"));
   const auto study = temp("results.json");
-  write(study, std::string(R"({"protocol": {"mode": "position"}, "sections": {
+  write_text(study, std::string(R"({"protocol": {"mode": "position"}, "sections": {
  "identification": {"selected_input": "step", "models": [{"input": "step", "model": "P3UZ", "parameters":
    {"Kp": 0.9959, "Tz": 0.0042, "Zeta": 0.9968, "Tw": 0.0102, "Tp3": 0.0034}}]},
  "clearance": {"stiffness_n_m_per_rad_pow_n": 2.0e5, "damping_n_m_s_per_rad": 1.0, "exponent": 1.5,
    "play_deg": 1.0, "coulomb_n_m": 2e-3, "viscous_n_m_s_per_rad": 0.0, "link_inertia_kg_m2": 0.005,
    "contact_law": "flores", "restitution": 0.6}}})"));
-  const double from_fit = unshaped_prediction(fit, move);
-  const double from_study = unshaped_prediction(study, move);
+  const double from_fit = recommend_unshaped_md(fit, move);
+  const double from_study = recommend_unshaped_md(study, move);
   EXPECT_DOUBLE_EQ(from_fit, from_study);
   std::filesystem::remove(fit);
   std::filesystem::remove(study);
@@ -127,17 +114,17 @@ TEST(FloresModelCli, StudyResultsFormReadsTheSameModel) {
 
 TEST(FloresModelCli, MissingRestitutionOrUnknownLawNamesTheKey) {
   const auto fit = temp("bad.json");
-  write(fit, fit_json(R"("contact_law": "flores", )", R"("damping": {"value": 2.0})"));
-  const std::string args = spectrum_args() + " --model " + fit.string() + " --move step --amplitude 5 --start-s 0.2";
+  write_text(fit, fit_json(R"("contact_law": "flores", )", R"("damping": {"value": 2.0})"));
+  const std::string args = recommend_spectrum_args() + " --model " + fit.string() + " --move step --amplitude 5 --start-s 0.2";
   auto r = run_cli(args);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find(fit.string()), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("parameters.restitution"), std::string::npos) << r.err;
-  write(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 1.4})"));
+  write_text(fit, fit_json(R"("contact_law": "flores", )", R"("restitution": {"value": 1.4})"));
   r = run_cli(args);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("(0, 1]"), std::string::npos) << r.err;
-  write(fit, fit_json(R"("contact_law": "hertz", )", R"("damping": {"value": 2.0})"));
+  write_text(fit, fit_json(R"("contact_law": "hertz", )", R"("damping": {"value": 2.0})"));
   r = run_cli(args);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("contact_law"), std::string::npos) << r.err;

@@ -21,8 +21,13 @@
 
 #include "support/cli.hpp"
 #include "support/paths.hpp"
+#include "support/recommend_model.hpp"
 
 using clearshape::testing::golden_path;
+using clearshape::testing::kThesisDriveJson;
+using clearshape::testing::recommend_spectrum_args;
+using clearshape::testing::recommend_unshaped_md;
+using clearshape::testing::write_text;
 using clearshape::testing::run_cli;
 
 namespace {
@@ -31,36 +36,18 @@ std::filesystem::path temp(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("recommend_friction_cli_" + std::to_string(::getpid()) + "_" + name);
 }
 
-void write(const std::filesystem::path& p, const std::string& text) {
-  std::ofstream out(p);
-  out << text;
-}
-
-std::string spectrum_args() {
-  return "recommend --data " + golden_path("recommend_one_mode.csv").string() + " --column gyro_deg_s";
-}
-
-const char* kDrive = R"({"model": "P3UZ", "parameters": {"Kp": {"value": 0.9959}, "Tz": {"value": 0.0042},
-  "Zeta": {"value": 0.9968}, "Tw": {"value": 0.0102}, "Tp3": {"value": 0.0034}}})";
-
 // A `fit-clearance --json` document of a 1° play with a Hertz-like flank; `friction` is the text of
 // the coulomb/viscous entries (with a leading comma) or "".
 std::string fit_json(const std::string& friction) {
   return R"({"command": "fit-clearance", "mode": "position", "link_inertia_kg_m2": 0.005,
  "parameters": {"stiffness": {"value": 2.0e5}, "damping": {"value": 2.0},
                 "play": {"value": 1.0}, "exponent": {"value": 1.5})" +
-         friction + R"(}, "drive": )" + kDrive + "}";
-}
-
-double unshaped_prediction(const std::filesystem::path& fit, const std::string& move) {
-  const auto r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 3 --json");
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  return nlohmann::json::parse(r.out)["model"]["unshaped_md"].get<double>();
+         friction + R"(}, "drive": )" + kThesisDriveJson + "}";
 }
 
 double simulated(double coulomb, double viscous, const std::string& move, const std::string& shaper = "") {
   const auto config = temp("model.toml");
-  write(config, "[joint]\nclearance_deg = 1.0\nfriction_viscous_n_m_s_per_rad = " + std::to_string(viscous) +
+  write_text(config, "[joint]\nclearance_deg = 1.0\nfriction_viscous_n_m_s_per_rad = " + std::to_string(viscous) +
                     "\nfriction_coulomb_n_m = " + std::to_string(coulomb) + R"(
 [contact]
 model = "thesis"
@@ -92,14 +79,14 @@ low_pass_hz = 0
 TEST(RecommendFrictionCli, PredictionWithFrictionEqualsSimulateOfTheSameJoint) {
   const std::string move = " --amplitude 10 --start-s 0.2";
   const auto fit = temp("fit.json");
-  write(fit, fit_json(R"(, "coulomb": {"value": 2e-3}, "viscous": {"value": 1e-4})"));
-  const double with_friction = unshaped_prediction(fit, move);
+  write_text(fit, fit_json(R"(, "coulomb": {"value": 2e-3}, "viscous": {"value": 1e-4})"));
+  const double with_friction = recommend_unshaped_md(fit, move);
   const double rig = simulated(2e-3, 1e-4, move);
   EXPECT_NEAR(with_friction, rig, 0.02 * rig) << "model " << with_friction << " rig " << rig;
   // The same document without the friction keys (an older fit) reads as friction 0: the model
   // then predicts the frictionless joint, which is another number.
-  write(fit, fit_json(""));
-  const double without = unshaped_prediction(fit, move);
+  write_text(fit, fit_json(""));
+  const double without = recommend_unshaped_md(fit, move);
   const double rig0 = simulated(0.0, 0.0, move);
   EXPECT_NEAR(without, rig0, 0.02 * rig0) << "model " << without << " rig " << rig0;
   EXPECT_GT(std::abs(without - with_friction), 0.05 * with_friction);
@@ -108,8 +95,8 @@ TEST(RecommendFrictionCli, PredictionWithFrictionEqualsSimulateOfTheSameJoint) {
 
 TEST(RecommendFrictionCli, NegativeFrictionNamesTheKey) {
   const auto fit = temp("bad.json");
-  write(fit, fit_json(R"(, "coulomb": {"value": -1e-3})"));
-  const auto r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step --amplitude 5 --start-s 0.2");
+  write_text(fit, fit_json(R"(, "coulomb": {"value": -1e-3})"));
+  const auto r = run_cli(recommend_spectrum_args() + " --model " + fit.string() + " --move step --amplitude 5 --start-s 0.2");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find(fit.string()), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("parameters.coulomb"), std::string::npos) << r.err;
@@ -119,8 +106,8 @@ TEST(RecommendFrictionCli, NegativeFrictionNamesTheKey) {
 TEST(RecommendFrictionCli, ClearanceAwareCandidateBesideTheLinearOnes) {
   const std::string move = " --amplitude 10 --start-s 0.2 --rise-s 0.0333";
   const auto fit = temp("fit_ca.json");
-  write(fit, fit_json(R"(, "coulomb": {"value": 2e-3}, "viscous": {"value": 1e-4})"));
-  const std::string args = spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 3 --json";
+  write_text(fit, fit_json(R"(, "coulomb": {"value": 2e-3}, "viscous": {"value": 1e-4})"));
+  const std::string args = recommend_spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 3 --json";
   const auto plain = run_cli(args);
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   // The document outlives the loop (a range over a member of a temporary read freed memory: ASan).
@@ -141,8 +128,10 @@ TEST(RecommendFrictionCli, ClearanceAwareCandidateBesideTheLinearOnes) {
   for (const auto& i : (*ca)["impulses"]) {
     EXPECT_GE(i["amplitude"].get<double>(), 0.0);
     sum += i["amplitude"].get<double>();
-    impulses += (impulses.empty() ? "" : ",") + nlohmann::json(i["time_s"].get<double>()).dump() + ":" +
-                nlohmann::json(i["amplitude"].get<double>()).dump();
+    if (!impulses.empty()) impulses += ',';
+    impulses += nlohmann::json(i["time_s"].get<double>()).dump();
+    impulses += ':';
+    impulses += nlohmann::json(i["amplitude"].get<double>()).dump();
   }
   EXPECT_NEAR(sum, 1.0, 1e-9);
   // Its predicted MD is the rig path's MD under the same impulses, to 0.01° — a twelfth of the
@@ -154,7 +143,7 @@ TEST(RecommendFrictionCli, ClearanceAwareCandidateBesideTheLinearOnes) {
   EXPECT_NEAR(predicted, rig, 0.01) << "model " << predicted << " rig " << rig << " impulses " << impulses;
   EXPECT_LT(predicted, doc["model"]["unshaped_md"].get<double>());  // the design helps on its own model
 
-  const auto bad = run_cli(spectrum_args() + " --clearance-aware");
+  const auto bad = run_cli(recommend_spectrum_args() + " --clearance-aware");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--clearance-aware needs --model"), std::string::npos) << bad.err;
   std::filesystem::remove(fit);

@@ -19,23 +19,19 @@
 
 #include "support/cli.hpp"
 #include "support/paths.hpp"
+#include "support/recommend_model.hpp"
 
 using clearshape::testing::golden_path;
+using clearshape::testing::kThesisDriveJson;
+using clearshape::testing::recommend_spectrum_args;
+using clearshape::testing::recommend_unshaped_md;
+using clearshape::testing::write_text;
 using clearshape::testing::run_cli;
 
 namespace {
 
 std::filesystem::path temp(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("recommend_model_cli_" + std::to_string(::getpid()) + "_" + name);
-}
-
-void write(const std::filesystem::path& p, const std::string& text) {
-  std::ofstream out(p);
-  out << text;
-}
-
-std::string spectrum_args() {
-  return "recommend --data " + golden_path("recommend_one_mode.csv").string() + " --column gyro_deg_s";
 }
 
 // A `fit-clearance --json` document (the keys `read_clearance_model_json` reads).
@@ -65,10 +61,10 @@ TEST(RecommendModelCli, ZeroPlayRanksTheCandidatesAsTheLinearVibrationAtTheModel
   // mode is 14.94 Hz, so the candidates leave very different vibration at the model's mode.
   const double f_hz = 17.0, zeta = 0.05;
   const auto fit = temp("rigid.json");
-  write(fit, fit_json("speed", R"({"model": "P2U", "parameters": {"Kp": {"value": 25.0}, "Zeta": {"value": 0.05}, "Tw": {"value": )" +
+  write_text(fit, fit_json("speed", R"({"model": "P2U", "parameters": {"Kp": {"value": 25.0}, "Zeta": {"value": 0.05}, "Tw": {"value": )" +
                                      nlohmann::json(1.0 / (2.0 * M_PI * f_hz)).dump() + "}}}",
                       0.0));
-  const auto r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step --amplitude 1 --start-s 0.2 --move-duration-s 3 --json");
+  const auto r = run_cli(recommend_spectrum_args() + " --model " + fit.string() + " --move step --amplitude 1 --start-s 0.2 --move-duration-s 3 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto doc = nlohmann::json::parse(r.out);
   EXPECT_EQ(doc["model"]["md_signal"], "link_rate_deg_s");
@@ -92,7 +88,9 @@ TEST(RecommendModelCli, ZeroPlayRanksTheCandidatesAsTheLinearVibrationAtTheModel
   // The recommendation leaves the least predicted MD of the candidates it ties.
   const std::string chosen = doc["recommendation"]["name"];
   for (const auto& c : doc["candidates"]) {
-    if (c["name"] == chosen) EXPECT_DOUBLE_EQ(c["predicted_md"].get<double>(), doc["recommendation"]["predicted_md"].get<double>());
+    if (c["name"] == chosen) {
+      EXPECT_DOUBLE_EQ(c["predicted_md"].get<double>(), doc["recommendation"]["predicted_md"].get<double>());
+    }
   }
   EXPECT_NE(doc["reason"].get<std::string>().find("predicted Eq. 5.1 MD"), std::string::npos) << doc["reason"];
   std::filesystem::remove(fit);
@@ -100,12 +98,12 @@ TEST(RecommendModelCli, ZeroPlayRanksTheCandidatesAsTheLinearVibrationAtTheModel
 
 TEST(RecommendModelCli, UnshapedPredictionEqualsSimulateOfTheSameModel) {
   const auto fit = temp("fit.json");
-  write(fit, fit_json("position",
+  write_text(fit, fit_json("position",
                       R"({"model": "P3UZ", "parameters": {"Kp": {"value": 0.9959}, "Tz": {"value": 0.0042}, "Zeta": {"value": 0.9968},
                            "Tw": {"value": 0.0102}, "Tp3": {"value": 0.0034}}})",
                       0.032));
   const auto config = temp("model.toml");
-  write(config, R"([joint]
+  write_text(config, R"([joint]
 clearance_deg = 0.032
 friction_viscous_n_m_s_per_rad = 0.0
 friction_coulomb_n_m = 0.0
@@ -131,7 +129,7 @@ td_s = 0.0
 low_pass_hz = 0
 )");
   const std::string move = " --amplitude 20 --start-s 0.2";
-  const auto r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 4 --json");
+  const auto r = run_cli(recommend_spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 4 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto doc = nlohmann::json::parse(r.out);
   EXPECT_EQ(doc["model"]["md_signal"], "link_angle_deg");
@@ -144,10 +142,12 @@ low_pass_hz = 0
   EXPECT_GT(predicted, 0.1);
   // Every candidate leaves less than the unshaped move on this model.
   for (const auto& c : doc["candidates"]) {
-    if (c["available"].get<bool>()) EXPECT_LT(c["predicted_md"].get<double>(), predicted) << c["name"];
+    if (c["available"].get<bool>()) {
+      EXPECT_LT(c["predicted_md"].get<double>(), predicted) << c["name"];
+    }
   }
   // The table shows the column.
-  const auto t = run_cli(spectrum_args() + " --model " + fit.string() + " --move step" + move);
+  const auto t = run_cli(recommend_spectrum_args() + " --model " + fit.string() + " --move step" + move);
   ASSERT_EQ(t.exit_code, 0) << t.err;
   EXPECT_NE(t.out.find("predicted_md"), std::string::npos) << t.out;
   std::filesystem::remove(fit);
@@ -155,29 +155,29 @@ low_pass_hz = 0
 }
 
 TEST(RecommendModelCli, MoveOptionsNeedAModelAndBadModelsNameTheKey) {
-  auto r = run_cli(spectrum_args() + " --move step --amplitude 5");
+  auto r = run_cli(recommend_spectrum_args() + " --move step --amplitude 5");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("need --model"), std::string::npos) << r.err;
   const auto bad = temp("bad.json");
-  write(bad, R"({"command": "fit-clearance", "parameters": {"stiffness": {"value": 1}}})");
-  r = run_cli(spectrum_args() + " --model " + bad.string());
+  write_text(bad, R"({"command": "fit-clearance", "parameters": {"stiffness": {"value": 1}}})");
+  r = run_cli(recommend_spectrum_args() + " --model " + bad.string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find(bad.string()), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("parameters.damping"), std::string::npos) << r.err;
-  r = run_cli(spectrum_args() + " --model " + bad.string() + " --move-duration-s -1");
+  r = run_cli(recommend_spectrum_args() + " --model " + bad.string() + " --move-duration-s -1");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--move-duration-s"), std::string::npos) << r.err;
   // A move at t = 0 would not be simulated (the model starts at rest at the first command).
   const auto fit = temp("fit0.json");
-  write(fit, fit_json("position", R"({"model": "P1", "parameters": {"Kp": {"value": 1.0}, "Tp1": {"value": 0.01}}})", 0.032));
-  r = run_cli(spectrum_args() + " --model " + fit.string() + " --move step --amplitude 20");
+  write_text(fit, fit_json("position", R"({"model": "P1", "parameters": {"Kp": {"value": 1.0}, "Tp1": {"value": 0.01}}})", 0.032));
+  r = run_cli(recommend_spectrum_args() + " --model " + fit.string() + " --move step --amplitude 20");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--start-s > 0"), std::string::npos) << r.err;
   std::filesystem::remove(fit);
   // A study whose clearance stage was skipped says so, with the runs it lacked.
-  write(bad, R"({"skipped_stages": [{"stage": "clearance", "reason": "3 run(s) missing from the source",
+  write_text(bad, R"({"skipped_stages": [{"stage": "clearance", "reason": "3 run(s) missing from the source",
                   "missing_runs": ["unshaped/step-20/r01"]}], "sections": {}})");
-  r = run_cli(spectrum_args() + " --model " + bad.string());
+  r = run_cli(recommend_spectrum_args() + " --model " + bad.string());
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("sections.clearance"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("clearance stage was skipped"), std::string::npos) << r.err;

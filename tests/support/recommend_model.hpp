@@ -1,0 +1,39 @@
+#pragma once
+// What the `recommend --model` CLI tests share: the spectrum they recommend from, a thesis-like
+// P3UZ drive for a fit-clearance document, and the unshaped MD `recommend` predicts on a model.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/cli.hpp"
+#include "support/paths.hpp"
+
+namespace clearshape::testing {
+
+/// `recommend` on the one-mode spectrum of the golden data (the gyro column).
+inline std::string recommend_spectrum_args() {
+  return "recommend --data " + golden_path("recommend_one_mode.csv").string() + " --column gyro_deg_s";
+}
+
+/// The thesis position drive (P3UZ) as a fit-clearance document's "drive".
+inline const char* const kThesisDriveJson = R"({"model": "P3UZ", "parameters": {"Kp": {"value": 0.9959}, "Tz": {"value": 0.0042},
+  "Zeta": {"value": 0.9968}, "Tw": {"value": 0.0102}, "Tp3": {"value": 0.0034}}})";
+
+/// Writes `text` to `path` (test fixtures; the file is the test's own).
+inline void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+}
+
+/// The unshaped MD `recommend --model fit --move step<move>` predicts (−1 and a failure if it fails).
+inline double recommend_unshaped_md(const std::filesystem::path& fit, const std::string& move) {
+  const auto r = run_cli(recommend_spectrum_args() + " --model " + fit.string() + " --move step" + move +
+                         " --move-duration-s 3 --json");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return r.exit_code == 0 ? nlohmann::json::parse(r.out)["model"]["unshaped_md"].get<double>() : -1.0;
+}
+
+}  // namespace clearshape::testing
