@@ -6,6 +6,7 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/study/protocol.hpp"
+#include "protocol_fixtures.hpp"
 #include "study_paths.hpp"
 
 namespace cs = clearshape;
@@ -14,25 +15,9 @@ using clearshape::testing::studies_path;
 
 namespace {
 
-const char* kMinimal = R"(format = "clearshape-study-protocol/1"
-[study]
-name = "mini"
-mode = "position"
-[[input]]
-name = "step"
-type = "step"
-amplitude_deg = 10.0
-start_s = 0.5
-)";
+const char* const kMinimal = clearshape::testing::kMiniProtocol;
 
-std::string error_of(const std::string& text) {
-  try {
-    st::parse_protocol(text, "mini.toml");
-  } catch (const cs::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string error_of(const std::string& text) { return clearshape::testing::protocol_error_of(text); }
 
 }  // namespace
 

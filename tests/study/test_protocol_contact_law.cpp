@@ -9,32 +9,17 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/study/protocol.hpp"
+#include "protocol_fixtures.hpp"
 
 namespace cs = clearshape;
 namespace st = clearshape::study;
 
 namespace {
 
-const char* kHead = R"(format = "clearshape-study-protocol/1"
-[study]
-name = "mini"
-mode = "position"
-[[input]]
-name = "step"
-type = "step"
-amplitude_deg = 10.0
-start_s = 0.5
-[clearance]
-input = "step"
-)";
+const std::string kHead = std::string(clearshape::testing::kMiniProtocol) + "[clearance]\ninput = \"step\"\n";
 
 std::string error_of(const std::string& clearance_lines) {
-  try {
-    st::parse_protocol(std::string(kHead) + clearance_lines, "mini.toml");
-  } catch (const cs::InputError& e) {
-    return e.what();
-  }
-  return "";
+  return clearshape::testing::protocol_error_of(kHead + clearance_lines);
 }
 
 }  // namespace
