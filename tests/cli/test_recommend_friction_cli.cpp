@@ -25,6 +25,7 @@
 
 using clearshape::testing::golden_path;
 using clearshape::testing::kThesisDriveJson;
+using clearshape::testing::kThesisLinkDriveToml;
 using clearshape::testing::recommend_spectrum_args;
 using clearshape::testing::recommend_unshaped_md;
 using clearshape::testing::write_text;
@@ -54,22 +55,7 @@ model = "thesis"
 stiffness = 2.0e5
 exponent = 1.5
 damping = 2.0
-[link]
-inertia_kg_m2 = 0.005
-mass_kg = 0.0
-com_distance_m = 0.0
-axis_tilt_deg = 0.0
-ground_viscous_n_m_s_per_rad = 0.0
-[drive.position]
-kp = 0.9959
-tz_s = 0.0042
-zeta = 0.9968
-tw_s = 0.0102
-tp3_s = 0.0034
-td_s = 0.0
-[gyroscope]
-low_pass_hz = 0
-)");
+)" + std::string(kThesisLinkDriveToml));
   const auto s = run_cli("simulate --config " + config.string() + " --signal step" + move + " --duration 3 --no-noise --json" + shaper);
   EXPECT_EQ(s.exit_code, 0) << s.err;
   std::filesystem::remove(config);

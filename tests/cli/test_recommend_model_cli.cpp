@@ -23,6 +23,7 @@
 
 using clearshape::testing::golden_path;
 using clearshape::testing::kThesisDriveJson;
+using clearshape::testing::kThesisLinkDriveToml;
 using clearshape::testing::recommend_spectrum_args;
 using clearshape::testing::recommend_unshaped_md;
 using clearshape::testing::write_text;
@@ -112,22 +113,7 @@ model = "thesis"
 stiffness = 45.158834415041305
 exponent = 1.0
 damping = 0.12355192243621643
-[link]
-inertia_kg_m2 = 0.005
-mass_kg = 0.0
-com_distance_m = 0.0
-axis_tilt_deg = 0.0
-ground_viscous_n_m_s_per_rad = 0.0
-[drive.position]
-kp = 0.9959
-tz_s = 0.0042
-zeta = 0.9968
-tw_s = 0.0102
-tp3_s = 0.0034
-td_s = 0.0
-[gyroscope]
-low_pass_hz = 0
-)");
+)" + std::string(kThesisLinkDriveToml));
   const std::string move = " --amplitude 20 --start-s 0.2";
   const auto r = run_cli(recommend_spectrum_args() + " --model " + fit.string() + " --move step" + move + " --move-duration-s 4 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;

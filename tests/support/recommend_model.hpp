@@ -22,6 +22,25 @@ inline std::string recommend_spectrum_args() {
 inline const char* const kThesisDriveJson = R"({"model": "P3UZ", "parameters": {"Kp": {"value": 0.9959}, "Tz": {"value": 0.0042},
   "Zeta": {"value": 0.9968}, "Tw": {"value": 0.0102}, "Tp3": {"value": 0.0034}}})";
 
+/// The rest of a `simulate --config` file after [joint] and [contact]: the thesis link (J 0.005,
+/// no gravity, no ground drag), the same P3UZ drive, a gyroscope without its low pass.
+inline const char* const kThesisLinkDriveToml = R"([link]
+inertia_kg_m2 = 0.005
+mass_kg = 0.0
+com_distance_m = 0.0
+axis_tilt_deg = 0.0
+ground_viscous_n_m_s_per_rad = 0.0
+[drive.position]
+kp = 0.9959
+tz_s = 0.0042
+zeta = 0.9968
+tw_s = 0.0102
+tp3_s = 0.0034
+td_s = 0.0
+[gyroscope]
+low_pass_hz = 0
+)";
+
 /// Writes `text` to `path` (test fixtures; the file is the test's own).
 inline void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path);
