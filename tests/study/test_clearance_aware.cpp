@@ -9,6 +9,7 @@
 #include "clearshape/core/units.hpp"
 #include "clearshape/study/clearance_aware.hpp"
 #include "clearshape/study/protocol.hpp"
+#include "support/clearance_fixtures.hpp"
 
 namespace cs = clearshape;
 namespace st = clearshape::study;
@@ -17,15 +18,7 @@ namespace {
 
 st::ClearanceAwareRequest small_request() {
   st::ClearanceAwareRequest r;
-  r.model.mode = cs::rig::CommandMode::position;
-  cs::lti::ProcessParameters p;  // the thesis's position drive (Eq. 4.2)
-  p.kp = 0.9959;
-  p.tz = 0.0042;
-  p.zeta = 0.9968;
-  p.tw = 0.0102;
-  p.tp3 = 0.0034;
-  r.model.drive = cs::lti::ProcessModel("P3UZ", p);
-  r.model.link_inertia_kg_m2 = 5e-3;
+  r.model = cs::testing::thesis_position_clearance_model();  // the thesis's position drive (Eq. 4.2)
   r.model.play_rad = cs::deg_to_rad(1.0);
   r.model.stiffness = 1e5;
   r.model.exponent = 1.5;
