@@ -21,19 +21,11 @@
 #include "support/paths.hpp"
 #include "support/recommend_model.hpp"
 
-using clearshape::testing::golden_path;
-using clearshape::testing::kThesisDriveJson;
-using clearshape::testing::kThesisLinkDriveToml;
-using clearshape::testing::recommend_spectrum_args;
-using clearshape::testing::recommend_unshaped_md;
-using clearshape::testing::write_text;
-using clearshape::testing::run_cli;
+using namespace clearshape::testing;  // run_cli and the recommend --model fixtures
 
 namespace {
 
-std::filesystem::path temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("flores_model_cli_" + std::to_string(::getpid()) + "_" + name);
-}
+std::filesystem::path temp(const std::string& name) { return pid_temp_file("flores_model_cli", name); }
 
 // A `fit-clearance --json` document of a 1° play with a Hertz pin; `law` is the text before
 // "parameters" (e.g. the contact_law key) and `dissipation` the restitution or damping entry.

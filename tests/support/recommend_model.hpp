@@ -41,6 +41,11 @@ td_s = 0.0
 low_pass_hz = 0
 )";
 
+/// `<tmp>/<prefix>_<pid>_<name>`: a test's own file, per process, keeping `name`'s extension.
+inline std::filesystem::path pid_temp_file(const std::string& prefix, const std::string& name) {
+  return std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()) + "_" + name);
+}
+
 /// Writes `text` to `path` (test fixtures; the file is the test's own).
 inline void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path);
