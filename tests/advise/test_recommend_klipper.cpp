@@ -30,6 +30,13 @@ namespace {
 const std::vector<std::pair<std::string, std::string>> kFamilies{{"zv", "zv"},   {"mzv", "mzv"},       {"zvd", "zvd"},
                                                                  {"ei", "ei"},   {"ei2", "2hump_ei"}, {"ei3", "3hump_ei"}};
 
+// The case's one estimated mode (Klipper tunes one frequency per axis).
+std::vector<ad::ModeEstimate> dominant_mode(const ad::MeasuredSpectrum& s) {
+  ad::ModeEstimateOptions mo;
+  mo.max_modes = 1;
+  return ad::estimate_modes({s}, mo).modes;
+}
+
 ad::RecommendOptions klipper_options(const nlohmann::json& c) {
   ad::RecommendOptions o;
   o.candidates = {"zv", "mzv", "zvd", "ei", "ei2", "ei3"};
@@ -107,9 +114,7 @@ TEST_P(KlipperCase, SameRemainingVibrationAtKlippersFrequencies) {
 TEST_P(KlipperCase, KlipperSettingsFitTheSameFrequencies) {
   const auto& c = advise_test::klipper_case(GetParam());
   const ad::MeasuredSpectrum s = advise_test::load("recommend_" + GetParam() + "_psd.csv", "psd_xyz");
-  ad::ModeEstimateOptions mo;
-  mo.max_modes = 1;
-  const auto modes = ad::estimate_modes({s}, mo).modes;
+  const auto modes = dominant_mode(s);
   const ad::Recommendation r = ad::recommend({s}, modes, klipper_options(c));
   ASSERT_EQ(r.candidates.size(), kFamilies.size());
   for (std::size_t i = 0; i < kFamilies.size(); ++i) {
@@ -144,9 +149,7 @@ TEST_P(KlipperCase, KlipperSettingsFitTheSameFrequencies) {
 TEST_P(KlipperCase, ClearshapesChoiceLeavesNoMoreThanKlippersPlusTheTolerance) {
   const auto& c = advise_test::klipper_case(GetParam());
   const ad::MeasuredSpectrum s = advise_test::load("recommend_" + GetParam() + "_psd.csv", "psd_xyz");
-  ad::ModeEstimateOptions mo;
-  mo.max_modes = 1;
-  const auto modes = ad::estimate_modes({s}, mo).modes;
+  const auto modes = dominant_mode(s);
   ad::RecommendOptions o = klipper_options(c);
   const ad::Recommendation r = ad::recommend({s}, modes, o);
   ASSERT_TRUE(r.chosen.has_value()) << r.reason;
