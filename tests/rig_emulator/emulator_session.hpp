@@ -38,6 +38,18 @@ namespace clearshape::test {
 
 inline bool emulator_available() { return CLEARSHAPE_RIG_EMULATOR[0] != '\0'; }
 
+/// Skips a test (gtest) when the emulator was not built.
+#define REQUIRE_EMULATOR()                                                     \
+  if (!emulator_available()) GTEST_SKIP() << "clearshape-rig-emulator was not built (needs avr-gcc and simavr)"
+
+/// A COMMAND payload: the tick it applies at and a signed 32-bit value (pulses or DAC code).
+inline std::vector<std::uint8_t> i32_command(std::uint32_t tick, std::int32_t value) {
+  std::vector<std::uint8_t> p(CS_COMMAND_BYTES);
+  cs_put_u32(p.data(), tick);
+  cs_put_i32(p.data() + 4, value);
+  return p;
+}
+
 using Sample = cs_sample;  // the protocol's decoded SAMPLE
 Sample parse_sample(const cs_frame& frame);
 

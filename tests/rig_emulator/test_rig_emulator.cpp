@@ -25,16 +25,6 @@ namespace {
 constexpr std::uint8_t kAllCapabilities = CS_CAP_ENCODER_QUADRATURE | CS_CAP_PULSE_AB | CS_CAP_DAC_MCP4725 |
                                           CS_CAP_GYRO_ITG3205 | CS_CAP_SERVO_ON | CS_CAP_WATCHDOG;
 
-#define REQUIRE_EMULATOR()                                                     \
-  if (!emulator_available()) GTEST_SKIP() << "clearshape-rig-emulator was not built (needs avr-gcc and simavr)"
-
-std::vector<std::uint8_t> i32_command(std::uint32_t tick, std::int32_t value) {
-  std::vector<std::uint8_t> p(CS_COMMAND_BYTES);
-  cs_put_u32(p.data(), tick);
-  cs_put_i32(p.data() + 4, value);
-  return p;
-}
-
 TEST(RigFirmware, BuildsAndFitsTheMega) {
   REQUIRE_EMULATOR();
   ASSERT_TRUE(std::filesystem::exists(CLEARSHAPE_FIRMWARE_ELF)) << CLEARSHAPE_FIRMWARE_ELF;

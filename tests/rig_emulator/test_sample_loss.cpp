@@ -11,16 +11,6 @@
 namespace clearshape::test {
 namespace {
 
-#define REQUIRE_EMULATOR()                                                     \
-  if (!emulator_available()) GTEST_SKIP() << "clearshape-rig-emulator was not built (needs avr-gcc and simavr)"
-
-std::vector<std::uint8_t> command(std::uint32_t tick, std::int32_t value) {
-  std::vector<std::uint8_t> p(CS_COMMAND_BYTES);
-  cs_put_u32(p.data(), tick);
-  cs_put_i32(p.data() + 4, value);
-  return p;
-}
-
 struct Board {
   std::uint32_t samples_sent = 0, samples_dropped = 0, rx_corrupted = 0, late_ticks = 0;
 };
@@ -51,7 +41,7 @@ TEST(RigFirmwareSampleLoss, CommandBurstDelaysTicksButLosesNone) {
       ASSERT_EQ(smp->tick, expected++);
       EXPECT_EQ(smp->flags & (CS_SAMPLE_TX_OVERFLOW | CS_SAMPLE_WATCHDOG), 0u) << "tick " << smp->tick;
       if (k == 0) {
-        for (int b = 0; b < 15; ++b) s.send(CS_MSG_COMMAND, command(smp->tick, b));
+        for (int b = 0; b < 15; ++b) s.send(CS_MSG_COMMAND, i32_command(smp->tick, b));
       }
     }
   }
@@ -85,7 +75,7 @@ TEST(RigFirmwareSampleLoss, OverloadDropsAreFlaggedAndCounted) {
     if (f->type != CS_MSG_SAMPLE) continue;
     samples.push_back(parse_sample(*f));
     if (samples.size() >= 100 && samples.size() < 1300) {
-      for (int k = 0; k < 4; ++k, ++commands) s.send(CS_MSG_COMMAND, command(samples.back().tick, 0));
+      for (int k = 0; k < 4; ++k, ++commands) s.send(CS_MSG_COMMAND, i32_command(samples.back().tick, 0));
     }
   }
   s.skipped_samples().clear();
