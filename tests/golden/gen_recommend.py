@@ -186,6 +186,17 @@ def run_case(case, f, psd_xyz, grid_range, notes):
             "klipper_choice": {k: choice[k] for k in ("name", "frequency_hz", "vibrations", "smoothing", "score")}}
 
 
+def add_gyro_case(out, case, t, y, fs, notes, truth):
+    """A gyro-rate record as a case: recommend_<case>.csv, its PSD (x = xyz), Klipper's fits on 5-60 Hz."""
+    write_table(f"recommend_{case}.csv", t, y)
+    f, p, w = welch_like_clearshape(y, fs)
+    fk, pk = write_psd(f"recommend_{case}_psd.csv", f, [p, 0 * p, 0 * p, p])
+    c = run_case(case, fk, pk, (5.0, 60.0), notes)
+    c["welch"] = w
+    c["truth"] = truth
+    out["cases"].append(c)
+
+
 def main():
     out = {"generator": "tests/golden/gen_recommend.py", "numpy": np.__version__, "scipy": scipy.__version__,
            "design_damping": DESIGN_DAMPING, "test_damping_ratios": TEST_DAMPING,
@@ -197,25 +208,15 @@ def main():
     rng = np.random.default_rng(20151)
     y = rate_response(rng, n, fs, [(14.955, 0.13, 100.0)])
     y += 0.01 * y.std() * rng.standard_normal(n)
-    write_table("recommend_one_mode.csv", t, y)
-    f, p, w = welch_like_clearshape(y, fs)
-    fk, pk = write_psd("recommend_one_mode_psd.csv", f, [p, 0 * p, 0 * p, p])
-    c = run_case("one_mode", fk, pk, (5.0, 60.0), "14.955 Hz, zeta 0.13, white-noise rate response")
-    c["welch"] = w
-    c["truth"] = [{"frequency_hz": 14.955, "damping_ratio": 0.13}]
-    out["cases"].append(c)
+    add_gyro_case(out, "one_mode", t, y, fs, "14.955 Hz, zeta 0.13, white-noise rate response",
+                  [{"frequency_hz": 14.955, "damping_ratio": 0.13}])
 
     # Two modes: plus a lighter 38 Hz mode whose PSD peak is about half the first's.
     rng = np.random.default_rng(20152)
     y = rate_response(rng, n, fs, [(14.955, 0.13, 100.0), (38.0, 0.04, 27.0)])
     y += 0.01 * y.std() * rng.standard_normal(n)
-    write_table("recommend_two_modes.csv", t, y)
-    f, p, w = welch_like_clearshape(y, fs)
-    fk, pk = write_psd("recommend_two_modes_psd.csv", f, [p, 0 * p, 0 * p, p])
-    c = run_case("two_modes", fk, pk, (5.0, 60.0), "14.955 Hz zeta 0.13 and 38 Hz zeta 0.04")
-    c["welch"] = w
-    c["truth"] = [{"frequency_hz": 14.955, "damping_ratio": 0.13}, {"frequency_hz": 38.0, "damping_ratio": 0.04}]
-    out["cases"].append(c)
+    add_gyro_case(out, "two_modes", t, y, fs, "14.955 Hz zeta 0.13 and 38 Hz zeta 0.04",
+                  [{"frequency_hz": 14.955, "damping_ratio": 0.13}, {"frequency_hz": 38.0, "damping_ratio": 0.04}])
 
     # Free decay of the one mode after a move (500 Hz, 3 s), 0.5 % noise.
     fs_d, n_d = 500.0, 1500
@@ -223,13 +224,7 @@ def main():
     wn, z = 2.0 * math.pi * 14.955, 0.13
     y = 80.0 * np.exp(-z * wn * td) * np.cos(wn * math.sqrt(1 - z * z) * td)
     y += 0.4 * np.random.default_rng(20153).standard_normal(n_d)
-    write_table("recommend_decay.csv", td, y)
-    f, p, w = welch_like_clearshape(y, fs_d)
-    fk, pk = write_psd("recommend_decay_psd.csv", f, [p, 0 * p, 0 * p, p])
-    c = run_case("decay", fk, pk, (5.0, 60.0), "free decay 14.955 Hz zeta 0.13")
-    c["welch"] = w
-    c["truth"] = [{"frequency_hz": 14.955, "damping_ratio": 0.13}]
-    out["cases"].append(c)
+    add_gyro_case(out, "decay", td, y, fs_d, "free decay 14.955 Hz zeta 0.13", [{"frequency_hz": 14.955, "damping_ratio": 0.13}])
 
     # Klipper raw accelerometer file: x rings at 42 Hz, y at 55 Hz, z noise (1600 Hz, 2 s).
     fs_k, n_k = 1600.0, 3200
