@@ -11,16 +11,12 @@
 
 namespace clearshape::study::detail {
 
-namespace {
-
 std::optional<double> improvement(double without, double with) {
   if (!(without > 0.0) || !std::isfinite(with)) return std::nullopt;
   return metrics::improvement_percent(without, with);
 }
 
 json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
-
-}  // namespace
 
 void tabulate_rig_summaries(Context& c, RigTestTables& tables) {
   const std::string md_unit = md_unit_of(c);

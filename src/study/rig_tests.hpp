@@ -36,6 +36,12 @@ inline std::string md_unit_of(const Context& c) {
   return c.p.measure.md_signal == MdSignal::link_angle_deg ? "deg" : "deg/s";
 }
 
+/// A rig table's improvement of `with` over `without` in percent; none when the unshaped MD is not
+/// positive or the shaped one not finite.
+std::optional<double> improvement(double without, double with);
+/// An optional number as JSON (null when absent).
+json opt(const std::optional<double>& v);
+
 RigTestPlan plan_rig_tests(Context& c);
 void tabulate_rig_table(Context& c, const RigTable& table, const RigTestPlan& plan, const std::vector<Record>& records,
                         RigTestTables& out);

@@ -15,13 +15,6 @@ namespace clearshape::study::detail {
 
 namespace {
 
-std::optional<double> improvement(double without, double with) {
-  if (!(without > 0.0) || !std::isfinite(with)) return std::nullopt;
-  return metrics::improvement_percent(without, with);
-}
-
-json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
-
 // Figure data of a rig table: trial 1 of every column (command, link rate, MD signal).
 struct RigFigureData {
   std::vector<std::string> names{"time_s"};
