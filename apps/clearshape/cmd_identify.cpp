@@ -133,15 +133,22 @@ void cut_window(ident::Experiment& e, const IdentifyState& st, const std::string
   e.output = std::vector<double>(e.output.begin() + a, e.output.begin() + b);
 }
 
-// "30rad/s" or "5Hz" → rad/s.
-double parse_cutoff_rad_s(const std::string& text) {
-  std::size_t used = 0;
+// The number `text` starts with (std::stod); `used` = the characters it took, 0 when none.
+double leading_number(const std::string& text, std::size_t& used) {
+  used = 0;
   double v = 0.0;
   try {
     v = std::stod(text, &used);
   } catch (const std::exception&) {
     used = 0;
   }
+  return v;
+}
+
+// "30rad/s" or "5Hz" → rad/s.
+double parse_cutoff_rad_s(const std::string& text) {
+  std::size_t used = 0;
+  const double v = leading_number(text, used);
   const std::string unit = lower(text.substr(used));
   if (used == 0 || !(v > 0.0) || (unit != "rad/s" && unit != "hz")) {
     throw InvalidArgument(fmt::format("--butterworth '{}': expected a cutoff > 0 with its unit, e.g. 30rad/s or 5Hz", text));
@@ -201,12 +208,7 @@ void report_warnings(const std::vector<std::string>& warnings) {
 
 double parse_value(const std::string& text, const std::string& option) {
   std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
+  const double v = leading_number(text, used);
   if (used != text.size() || !std::isfinite(v)) {
     throw InvalidArgument(fmt::format("{}: '{}' is not a finite number", option, text));
   }
