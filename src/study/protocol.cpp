@@ -511,13 +511,7 @@ void check_moves_in_record(const Protocol& p, const std::string& file) {
 
 Protocol parse_protocol(std::string_view text, const std::filesystem::path& source) {
   const std::string file = source.string();
-  toml::table root;
-  try {
-    root = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "",
-                     std::string(e.description()));
-  }
+  const toml::table root = detail::parse_toml(text, file);
   const TomlSection top(root, "", file);
   Protocol p;
   p.source = source;

@@ -114,12 +114,7 @@ RecordingsManifest load_recordings_manifest(const std::filesystem::path& dir, co
   }
   const std::string text = io::read_text_file(m.path);
   m.hash = fnv_hex(text);
-  toml::table root;
-  try {
-    root = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "", std::string(e.description()));
-  }
+  const toml::table root = detail::parse_toml(text, file);
   const TomlSection top(root, "", file);
   const std::string format = top.text("format");
   if (format != kRecordingsFormat) {

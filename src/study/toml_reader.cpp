@@ -8,6 +8,14 @@
 
 namespace clearshape::study::detail {
 
+toml::table parse_toml(std::string_view text, const std::string& file) {
+  try {
+    return toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    throw InputError(file, static_cast<std::size_t>(e.source().begin.line), "", std::string(e.description()));
+  }
+}
+
 std::size_t line_of(const toml::node& node) noexcept {
   return static_cast<std::size_t>(node.source().begin.line);
 }

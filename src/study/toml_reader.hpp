@@ -15,6 +15,9 @@ namespace clearshape::study::detail {
 
 std::size_t line_of(const toml::node& node) noexcept;
 
+/// `text` parsed as TOML; a syntax error is an InputError naming `file` and the line.
+toml::table parse_toml(std::string_view text, const std::string& file);
+
 class TomlSection {
  public:
   /// `path` is the key path of the table ("" for the root, "study", "input[2]", …).
