@@ -6,6 +6,7 @@
 //   run     one run of a command signal, optionally shaped online, logged to a CSV + sidecar
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -70,6 +71,11 @@ json board_json(const rig::SerialRig& r) {
   return j;
 }
 
+json board_stats_json(const rig::BoardStats& s) {
+  return {{"samples_sent", s.samples_sent}, {"samples_dropped", s.samples_dropped}, {"rx_corrupted", s.rx_corrupted},
+          {"watchdog_trips", s.watchdog_trips}, {"late_ticks", s.late_ticks}};
+}
+
 // --- probe -----------------------------------------------------------------------------------
 
 struct ProbeState {
@@ -89,9 +95,7 @@ void probe(const ProbeState& st) {
     auto doc = cs::io::make_document();
     doc["command"] = "rig probe";
     doc["board"] = board_json(r);
-    doc["board_stats"] = {{"samples_sent", stats.samples_sent},   {"samples_dropped", stats.samples_dropped},
-                          {"rx_corrupted", stats.rx_corrupted},   {"watchdog_trips", stats.watchdog_trips},
-                          {"late_ticks", stats.late_ticks}};
+    doc["board_stats"] = board_stats_json(stats);
     doc["selftest_passed"] = ok;
     cs::cli::print_json(doc);
   } else {
@@ -228,7 +232,72 @@ struct Outcome {
   rig::SerialRigStats link;
   std::string stop_problem;  ///< empty when the board confirmed STOP
   std::vector<std::string> warnings;
+  /// The board's own counters (STATS) before and after the run; empty when they could not be read.
+  std::optional<rig::BoardStats> board_before, board_after;
 };
+
+// The board's counters, or nothing (with a warning) when it does not answer GET_STATS: the run's
+// record must not be lost to a counter.
+std::optional<rig::BoardStats> try_board_stats(rig::SerialRig& r, Outcome& out, const char* when) {
+  try {
+    return r.board_stats();
+  } catch (const std::exception& e) {
+    out.warnings.push_back(fmt::format("the board's counters could not be read {} the run: {}", when, e.what()));
+    fmt::print(stderr, "clearshape: warning: {}\n", out.warnings.back());
+    return std::nullopt;
+  }
+}
+
+// Samples carrying each MeasurementFlag (rig/types.hpp), from the record's flags column.
+json flag_counts_json(const std::vector<double>& flags) {
+  const std::pair<rig::MeasurementFlag, const char*> names[] = {
+      {rig::MeasurementFlag::gyro_saturated, "gyro_saturated"}, {rig::MeasurementFlag::command_limited, "command_limited"},
+      {rig::MeasurementFlag::overrun, "overrun"},               {rig::MeasurementFlag::command_rejected, "command_rejected"},
+      {rig::MeasurementFlag::watchdog, "watchdog"},             {rig::MeasurementFlag::sensor_error, "sensor_error"},
+      {rig::MeasurementFlag::samples_lost, "samples_lost"}};
+  json j = json::object();
+  for (const auto& [flag, name] : names) {
+    j[name] = std::count_if(flags.begin(), flags.end(), [flag](double f) {
+      return (static_cast<std::uint32_t>(f) & rig::bit(flag)) != 0;
+    });
+  }
+  return j;
+}
+
+// What the board counted during the run (after − before; the counters are cumulative since reset).
+json board_delta_json(const Outcome& out) {
+  if (!out.board_before || !out.board_after) return nullptr;
+  const rig::BoardStats& a = *out.board_before;
+  const rig::BoardStats& b = *out.board_after;
+  return board_stats_json({b.samples_sent - a.samples_sent, b.samples_dropped - a.samples_dropped,
+                           b.rx_corrupted - a.rx_corrupted, b.watchdog_trips - a.watchdog_trips,
+                           b.late_ticks - a.late_ticks});
+}
+
+// A run whose samples the watchdog flagged did not follow its command there (docs/hardware.md).
+void warn_watchdog(const Columns& c, bool is_run, Outcome& out) {
+  const auto held = [](double f) { return (static_cast<std::uint32_t>(f) & rig::bit(rig::MeasurementFlag::watchdog)) != 0; };
+  const auto first = std::find_if(c.flags.begin(), c.flags.end(), held);
+  if (!is_run || first == c.flags.end()) return;
+  const auto k = static_cast<std::size_t>(first - c.flags.begin());
+  out.warnings.push_back(fmt::format(
+      "the board's watchdog held the command safe on {} sample(s), the first at t = {:.3f} s: the record does not "
+      "follow the command there (flags bit 16; a host that stalled longer than --watchdog-ms)",
+      std::count_if(c.flags.begin(), c.flags.end(), held), c.time_s[k]));
+  fmt::print(stderr, "clearshape: warning: {}\n", out.warnings.back());
+}
+
+// Host frames the board rejected during the run (RX overruns when COMMANDs arrive in a burst after
+// a host stall, docs/hardware.md "COMMAND bursts"): those commands never reached the drive.
+void warn_rejected_frames(Outcome& out) {
+  if (!out.board_before || !out.board_after) return;
+  const std::uint32_t n = out.board_after->rx_corrupted - out.board_before->rx_corrupted;
+  if (n == 0) return;
+  out.warnings.push_back(fmt::format(
+      "the board rejected {} host frame(s) during the run (its receive buffer overran under a burst of COMMANDs): "
+      "those commands were not applied; the command_applied column is what the drive received", n));
+  fmt::print(stderr, "clearshape: warning: {}\n", out.warnings.back());
+}
 
 Outcome run_on_board(const RunState& st, const std::string& name, bool is_run, const RunPlan& p, rig::SerialRig& r,
                      Columns& c) {
@@ -244,6 +313,7 @@ Outcome run_on_board(const RunState& st, const std::string& name, bool is_run, c
     fmt::print(stderr, "clearshape: warning: {}\n", w);
   };
   r.configure();
+  out.board_before = try_board_stats(r, out, "before");
   fmt::print(stderr, "clearshape rig {}: {} firmware {} ({}), {} mode at {:g} Hz, {:g} s\n", name, o.port,
              r.board().firmware_version(), r.backend(), rig::to_string(o.mode), o.sample_rate_hz, st.duration_s);
   rig::RealtimeRunner runner(r, source, ro);
@@ -265,7 +335,10 @@ Outcome run_on_board(const RunState& st, const std::string& name, bool is_run, c
   if (tty) fmt::print(stderr, "\n");
   out.link = r.stats();
   out.stop_problem = r.last_stop_problem();
+  if (out.stop_problem.empty()) out.board_after = try_board_stats(r, out, "after");
   r.cleanup();
+  warn_watchdog(c, is_run, out);
+  warn_rejected_frames(out);
   return out;
 }
 
@@ -297,7 +370,7 @@ Table table(const Columns& c, const RunPlan& p, bool is_run) {
   return t;
 }
 
-json statistics_json(const Outcome& out, const rig::SerialRigOptions& o) {
+json statistics_json(const Outcome& out, const Columns& c, const rig::SerialRigOptions& o) {
   const rig::RunStatistics& s = out.stats;
   const rig::SerialRigStats& link = out.link;
   return {{"cycles", s.cycles},
@@ -322,7 +395,9 @@ json statistics_json(const Outcome& out, const rig::SerialRigOptions& o) {
           {"sched_fifo", s.sched_fifo},
           {"memory_locked", s.memory_locked},
           {"stopped_by", s.stopped_by.empty() ? json(nullptr) : json(s.stopped_by)},
-          {"stop_confirmed", out.stop_problem.empty()}};
+          {"stop_confirmed", out.stop_problem.empty()},
+          {"flagged_samples", flag_counts_json(c.flags)},
+          {"board_during_run", board_delta_json(out)}};
 }
 
 json units_json(const rig::SerialRigOptions& o) {
@@ -422,7 +497,7 @@ void execute(const RunState& st, const std::string& name, bool is_run) {
   Columns c;
   const Outcome out = run_on_board(st, name, is_run, p, r, c);
   const Table t = table(c, p, is_run);
-  const json statistics = statistics_json(out, p.options);
+  const json statistics = statistics_json(out, c, p.options);
   write_files(st, name, p, r, t, out, statistics);
   print_summary(st, name, p, out, statistics);
   check_outcome(name, is_run, p, out);

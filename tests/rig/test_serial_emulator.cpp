@@ -20,6 +20,9 @@
 #include <string>
 #include <vector>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
+
 #include "clearshape/core/units.hpp"
 #include "clearshape/rig/serial_rig.hpp"
 #include "clearshape/rig/sim_rig.hpp"
@@ -226,6 +229,55 @@ TEST_F(SerialEmulator, ProbeReportsTheFirmware) {
   EXPECT_NE(r.out.find("gyro WHO_AM_I 0x6"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" ok, DAC ok"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("encoder-quadrature"), std::string::npos) << r.out;
+}
+
+// `rig stream` with the watchdog armed and nothing commanded: the firmware trips once, after
+// ceil(20 ms × 1 kHz) ticks without a COMMAND, and flags every later sample (docs/hardware.md,
+// "Watchdog"). The sidecar's counts must agree with the CSV's flags column and with the board's
+// own STATS counters, read before and after the run.
+TEST_F(SerialEmulator, StreamSidecarCountsTheWatchdogAsTheBoardDoes) {
+  if (!fs::exists(CLEARSHAPE_CLI)) GTEST_SKIP() << "the clearshape CLI was not built";
+  Emulator emulator(kEmulatorArgs);
+  ASSERT_FALSE(emulator.path().empty());
+  const fs::path dir = fs::temp_directory_path() / ("cs_stream_watchdog_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const fs::path csv = dir / "s.csv";
+  const auto r = cs::testing::run_cli("rig stream --port " + emulator.path() +
+                                      " --duration 0.3 --watchdog-ms 20 --no-realtime -o " + csv.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream side(dir / "s.json");
+  const auto doc = nlohmann::json::parse(side);
+  const auto& st = doc.at("statistics");
+  // The CSV's flags column, counted independently of the CLI.
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::size_t flags_col = 0;
+  for (std::size_t pos = 0, k = 0; pos != std::string::npos; ++k) {
+    const std::size_t next = line.find(',', pos);
+    if (line.substr(pos, next == std::string::npos ? std::string::npos : next - pos) == "flags") flags_col = k;
+    pos = next == std::string::npos ? next : next + 1;
+  }
+  std::size_t rows = 0, held = 0, first_held = 0;
+  while (std::getline(in, line)) {
+    std::size_t pos = 0;
+    for (std::size_t k = 0; k < flags_col; ++k) pos = line.find(',', pos) + 1;
+    const auto bits = static_cast<std::uint32_t>(std::stod(line.substr(pos)));
+    if ((bits & rig::bit(rig::MeasurementFlag::watchdog)) != 0 && held++ == 0) first_held = rows;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 301u);
+  EXPECT_EQ(st.at("flagged_samples").at("watchdog").get<std::size_t>(), held);
+  // The trip comes 20 ticks after activation, give or take the tick the first sample lands on.
+  EXPECT_GE(first_held, 18u);
+  EXPECT_LE(first_held, 23u);
+  EXPECT_EQ(held, rows - first_held);
+  const auto& board = st.at("board_during_run");
+  ASSERT_FALSE(board.is_null()) << doc.dump(2);
+  EXPECT_EQ(board.at("watchdog_trips").get<int>(), 1);
+  EXPECT_GE(board.at("samples_sent").get<std::size_t>(), rows);
+  EXPECT_EQ(board.at("samples_dropped").get<int>(), 0);
+  fs::remove_all(dir);
 }
 
 }  // namespace
