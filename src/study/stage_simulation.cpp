@@ -11,6 +11,7 @@
 #include "clearshape/metrics/residual.hpp"
 #include "clearshape/shaping/apply.hpp"
 #include "clearshape/shaping/design.hpp"
+#include "clearshape/shaping/grid.hpp"
 #include "clearshape/study/measures.hpp"
 #include "context.hpp"
 #include "simulation.hpp"
@@ -57,17 +58,7 @@ std::optional<shaping::Shaper> design_for(const Context& c, const std::string& m
     const shaping::Shaper& designed = *off_grid;
     if (!(c.p.shaping.grid_hz > 0.0)) return designed;
     // The drive's update grid (§3.2): nearest update instant, coincident impulses merged.
-    const double t_u = 1.0 / c.p.shaping.grid_hz;
-    std::vector<shaping::Impulse> on_grid;
-    for (const auto& i : designed.impulses()) {
-      const double t = std::round(i.time_s / t_u) * t_u;
-      if (!on_grid.empty() && std::abs(on_grid.back().time_s - t) < 0.5 * t_u) {
-        on_grid.back().amplitude += i.amplitude;
-      } else {
-        on_grid.push_back({t, i.amplitude});
-      }
-    }
-    return shaping::Shaper(designed.method(), std::move(on_grid), shaping::Shaper::Normalize::no);
+    return shaping::on_update_grid(designed, 1.0 / c.p.shaping.grid_hz);
   } catch (const std::exception& e) {
     reason = e.what();
     return std::nullopt;
