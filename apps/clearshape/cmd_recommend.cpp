@@ -22,7 +22,9 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/signal/parameters.hpp"
+#include "clearshape/shaping/grid.hpp"
 #include "command.hpp"
+#include "option_checks.hpp"
 #include "clearance_model_json.hpp"
 #include "recommend_clearance_aware.hpp"
 #include "recommend_model.hpp"
@@ -55,6 +57,7 @@ struct RecommendState {
   CLI::Option* move_rate_option = nullptr;
   CLI::Option* initial_play_option = nullptr;
   bool clearance_aware = false;  // --clearance-aware: also design on the model (study/clearance_aware.hpp)
+  double grid_hz = 0.0;          // --grid-hz: the drive's update rate (0: off)
 };
 
 std::vector<std::string> split(const std::string& text) {
@@ -120,6 +123,7 @@ advise::RecommendOptions options(const RecommendState& st) {
     if (!(st.min_frequency_hz >= 0.0)) throw_invalid("--min-frequency-hz", st.min_frequency_hz, ">= 0 Hz");
     o.min_frequency_hz = st.min_frequency_hz;
   }
+  o.update_grid_hz = st.grid_hz;
   return o;
 }
 
@@ -131,7 +135,7 @@ nlohmann::ordered_json mode_json(const advise::ModeEstimate& m) {
 }
 
 // A ready `clearshape shape` line for the chosen candidate.
-std::string shape_command(const advise::CandidateResult& c, const advise::Recommendation& r) {
+std::string shape_command(const advise::CandidateResult& c, const advise::Recommendation& r, double grid_hz) {
   const auto star = c.name.find('*');
   const std::string method = c.name.substr(0, star);
   std::string s = fmt::format("clearshape shape --method {} --frequency-hz {:.6g} --zeta {:.6g}", method, c.design_frequency_hz[0],
@@ -146,15 +150,29 @@ std::string shape_command(const advise::CandidateResult& c, const advise::Recomm
     s += fmt::format(" --second-frequency-hz {:.6g} --second-zeta {:.6g}", c.design_frequency_hz[1],
                      std::clamp(r.modes[1].damping_ratio, 0.0, 0.9));
   }
+  if (grid_hz > 0.0) s += fmt::format(" --grid-hz {:g}", grid_hz);
   return s;
 }
 
 nlohmann::ordered_json number_or_null(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); }
 
+nlohmann::ordered_json impulses_json(const shaping::Shaper& s) {
+  nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
+  for (const auto& i : s.impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
+  return impulses;
+}
+
+// "0 ms 0.6031, 33.33 ms 0.3969": the impulses the drive applies, for the table.
+std::string impulses_text(const shaping::Shaper& s) {
+  std::string out;
+  for (const auto& i : s.impulses()) out += fmt::format("{}{:.2f} ms {:.4f}", out.empty() ? "" : ", ", 1000.0 * i.time_s, i.amplitude);
+  return out;
+}
+
 // Every candidate as the JSON lists it: the linear ones (with their predicted MD given a model),
 // then the clearance-aware design when it was asked for.
 nlohmann::ordered_json candidates_json(const advise::Recommendation& r, const std::optional<MovePrediction>& pred,
-                                       const std::optional<ClearanceAwareCandidate>& ca) {
+                                       const std::optional<ClearanceAwareCandidate>& ca, double grid_hz) {
   nlohmann::ordered_json cands = nlohmann::ordered_json::array();
   for (const auto& c : r.candidates) {
     nlohmann::ordered_json j{{"name", c.name}, {"available", c.available}, {"note", c.note}};
@@ -170,6 +188,12 @@ nlohmann::ordered_json candidates_json(const advise::Recommendation& r, const st
       j["least_remaining_frequency_hz"] = c.least_remaining_frequency_hz;
       j["within_budget"] = c.within_budget;
       j["impulses"] = impulses;
+      if (grid_hz > 0.0) {  // the impulses above are the applied ones, on the drive's update grid
+        j["update_grid_hz"] = grid_hz;
+        j["duplicate_of"] = c.duplicate_of ? nlohmann::ordered_json(*c.duplicate_of) : nlohmann::ordered_json(nullptr);
+        j["designed_impulses"] = impulses_json(*c.designed);
+        j["remaining_worst_designed"] = c.remaining_worst_designed;
+      }
     }
     if (pred) j["predicted_md"] = pred->md[&c - r.candidates.data()] ? nlohmann::ordered_json(*pred->md[&c - r.candidates.data()])
                                                                       : nlohmann::ordered_json(nullptr);
@@ -225,7 +249,8 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
                     {"frequency_scales", r.frequency_scales},
                     {"max_delay_s", number_or_null(o.max_delay_s)},
                     {"vibration_tolerance", o.vibration_tolerance}};
-  doc["candidates"] = candidates_json(r, pred, ca);
+  if (o.update_grid_hz > 0.0) doc["scoring"]["update_grid_hz"] = o.update_grid_hz;
+  doc["candidates"] = candidates_json(r, pred, ca, o.update_grid_hz);
   if (pred) {
     doc["model"] = {{"file", st.model},
                     {"move", st.move},
@@ -246,7 +271,7 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
                              {"duration_s", c.duration_s},
                              {"remaining_worst", c.remaining_worst},
                              {"predicted_md", pred ? nlohmann::ordered_json(*pred->md[*r.chosen]) : nlohmann::ordered_json(nullptr)},
-                             {"shape_command", shape_command(c, r)}};
+                             {"shape_command", shape_command(c, r, o.update_grid_hz)}};
   } else {
     doc["recommendation"] = nullptr;
   }
@@ -257,7 +282,7 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
 
 void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const advise::ModeEstimation& est,
                  const advise::Recommendation& r, const std::optional<MovePrediction>& pred,
-                 const std::optional<ClearanceAwareCandidate>& ca) {
+                 const std::optional<ClearanceAwareCandidate>& ca, double grid_hz) {
   for (const auto& s : spectra) {
     fmt::print("input  {} ({}, {}): {} bins, resolution {:.3g} Hz{}\n", s.source, advise::to_string(s.format), s.column,
                s.frequency_hz.size(), s.resolution_hz, s.segments > 0 ? fmt::format(", {} Welch segments", s.segments) : "");
@@ -274,8 +299,13 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     fmt::print("predicted Eq. 5.1 MD of the {} on the model for the move {} {}, {:.4g} s at {:.4g} Hz: unshaped {:.4g}\n\n",
                pred->signal_name, pred->move, pred->move_parameters, pred->duration_s, 1.0 / pred->sample_time_s, pred->unshaped_md);
   }
-  fmt::print("{:<10} {:>18} {:>10} {:>12} {:>12} {:>10}{}\n", "shaper", "design_hz", "delay_ms", "remaining_%", "nominal_%", "budget",
-             pred ? fmt::format(" {:>13}", "predicted_md") : std::string());
+  if (grid_hz > 0.0) {
+    fmt::print("on the drive's {:g} Hz update grid: every candidate's impulses rounded to the nearest update ({:.2f} ms), those on\n"
+               "the same update merged; delay, remaining and predicted MD are the applied shaper's, designed_% the off-grid design's\n\n",
+               grid_hz, 1000.0 / grid_hz);
+  }
+  fmt::print("{:<10} {:>18} {:>10} {:>12} {:>12} {:>10}{}{}\n", "shaper", "design_hz", "delay_ms", "remaining_%", "nominal_%", "budget",
+             pred ? fmt::format(" {:>13}", "predicted_md") : std::string(), grid_hz > 0.0 ? fmt::format(" {:>10}", "designed_%") : "");
   for (std::size_t k = 0; k < r.candidates.size(); ++k) {
     const auto& c = r.candidates[k];
     const std::string mark = r.chosen && *r.chosen == k ? " <" : "";
@@ -285,9 +315,13 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     }
     std::string f = fmt::format("{:.3f}", c.design_frequency_hz[0]);
     if (c.design_frequency_hz.size() > 1) f += fmt::format("+{:.3f}", c.design_frequency_hz[1]);
-    fmt::print("{:<10} {:>18} {:>10.2f} {:>12.2f} {:>12.2f} {:>10}{}{}\n", c.name, f, 1000.0 * c.duration_s, 100.0 * c.remaining_worst,
+    fmt::print("{:<10} {:>18} {:>10.2f} {:>12.2f} {:>12.2f} {:>10}{}{}{}\n", c.name, f, 1000.0 * c.duration_s, 100.0 * c.remaining_worst,
                100.0 * c.remaining_nominal, c.within_budget ? "ok" : "over", pred ? fmt::format(" {:>13.5g}", *pred->md[k]) : std::string(),
-               mark);
+               grid_hz > 0.0 ? fmt::format(" {:>10.2f}", 100.0 * c.remaining_worst_designed) : "", mark);
+    if (grid_hz > 0.0) {
+      fmt::print("           applied: {}{}\n", impulses_text(*c.shaper),
+                 c.duplicate_of ? fmt::format(" (the same as {}: not chosen)", *c.duplicate_of) : "");
+    }
   }
   if (ca) {
     fmt::print("{:<10} {:>18} {:>10.2f} {:>12} {:>12} {:>10} {:>13.5g}\n", "clearance-aware", "(model)", 1000.0 * ca->shaper.duration_s(),
@@ -297,7 +331,7 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
   }
   fmt::print("\nrecommended: {}\n", r.chosen ? r.candidates[*r.chosen].name : std::string("none"));
   fmt::print("reason: {}\n", r.reason);
-  if (r.chosen) fmt::print("shaper: {}\n", shape_command(r.candidates[*r.chosen], r));
+  if (r.chosen) fmt::print("shaper: {}\n", shape_command(r.candidates[*r.chosen], r, grid_hz));
 }
 
 // A record of a whole move (rest, move, free decay) read without --from-s: its spectrum is the
@@ -379,14 +413,20 @@ void run_recommend(const RecommendState& st) {
     }
     pred->move_parameters = parameters.dump();
     apply_predicted_md(r, *pred, o.vibration_tolerance);
-    if (st.clearance_aware) ca = design_for_move(m.model, move, *pred, r, o.max_delay_s);
+    if (st.clearance_aware) {
+      ca = design_for_move(m.model, move, *pred, r, o.max_delay_s);
+      if (o.update_grid_hz > 0.0) {  // as the drive applies it, like the linear candidates
+        ca->shaper = shaping::on_update_grid(ca->shaper, 1.0 / o.update_grid_hz);
+        ca->predicted_md = predict_shaped_md(m.model, move, *pred, ca->shaper);
+      }
+    }
   }
   if (!r.chosen) fmt::print(stderr, "clearshape recommend: warning: no recommendation: {}\n", r.reason);
   if (!st.plot.empty()) write_recommend_plot(st.plot, spectra, r);
   if (st.json) {
     print_json_result(st, spectra, est, r, o, pred, ca);
   } else {
-    print_table(spectra, est, r, pred, ca);
+    print_table(spectra, est, r, pred, ca, o.update_grid_hz);
     if (!st.plot.empty()) fmt::print("plot: {}\n", st.plot);
   }
 }
@@ -436,6 +476,10 @@ void setup(CLI::App& sub) {
   st->move_rate_option = sub.add_option("--move-rate-hz", st->move_rate_hz, "Sample rate of the move's simulation, Hz")->capture_default_str();
   st->initial_play_option = sub.add_option("--initial-play", st->initial_play, "Where the link rests in the play at the start, φ(0)/β in [-1, 1]")
                                 ->capture_default_str();
+  sub.add_option("--grid-hz", st->grid_hz,
+                 "The drive takes a new command only at updates of this rate (Hz; the thesis's pulse-train drive: 30): every "
+                 "candidate is snapped to that grid before it is fitted and scored; omit for none")
+      ->check(positive_at_most(1e6, "Hz", "--grid-hz"));
   sub.add_flag("--clearance-aware", st->clearance_aware,
                "With --model and a --move step: also design the clearance-aware shaper on the model (study/clearance_aware.hpp, "
                "no longer than ZVDD for the first mode) and predict its MD; about 1–3 s");

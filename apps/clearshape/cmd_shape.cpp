@@ -18,10 +18,12 @@
 #include "clearshape/io/table.hpp"
 #include "clearshape/shaping/apply.hpp"
 #include "clearshape/shaping/design.hpp"
+#include "clearshape/shaping/grid.hpp"
 #include "clearshape/shaping/residual.hpp"
 #include "cmd_shape_clearance_aware.hpp"
 #include "cmd_shape_options.hpp"
 #include "command.hpp"
+#include "option_checks.hpp"
 
 namespace clearshape::cli {
 
@@ -171,7 +173,24 @@ struct ShapeState {
   CLI::Option* export_name_option = nullptr;
   CLI::Option* export_axis_option = nullptr;
   CLI::Option* discretization_option = nullptr;
+  // --grid-hz F: the drive takes a new command only every 1/F s; the shaper is snapped to that grid.
+  double grid_hz = 0.0;
+  CLI::Option* grid_option = nullptr;
 };
+
+// The designed shaper as the drive applies it (--grid-hz), and the design itself beside it.
+struct AppliedShaper {
+  DesignedShaper applied;
+  std::optional<sh::Shaper> designed;  ///< set with --grid-hz: the off-grid design
+};
+
+AppliedShaper design_applied(const ShapeState& st) {
+  DesignedShaper d = design_from_options(st.shaper, "shape");
+  if (!given(st.grid_option)) return {std::move(d), std::nullopt};
+  std::optional<sh::Shaper> designed = d.shaper;
+  d.shaper = sh::on_update_grid(d.shaper, 1.0 / st.grid_hz);
+  return {std::move(d), std::move(designed)};
+}
 
 // The options that regenerate the design and its export (written into the exported file).
 std::string regenerate_command(const ShapeState& st) {
@@ -194,6 +213,7 @@ std::string regenerate_command(const ShapeState& st) {
   if (given(st.discretization_option)) c += " --discretization " + st.discretization;
   if (given(st.export_name_option)) c += " --export-name " + st.export_name;
   if (given(st.export_axis_option)) c += " --export-axis " + st.export_axis;
+  if (given(st.grid_option)) c += fmt::format(" --grid-hz {}", st.grid_hz);
   return c;
 }
 
@@ -236,9 +256,10 @@ void run_export(const ShapeState& st) {
   options.c_name = st.export_name;
   options.klipper_axes = st.export_axis;
 
-  const DesignedShaper d = design_from_options(st.shaper, "shape");
+  const DesignedShaper d = design_applied(st).applied;
   const sh::Method method = sh::method_from_string(st.shaper.method);
   exports::ShaperDesign design{d.shaper, method, d.mode, d.second_mode, std::nullopt, std::nullopt, regenerate_command(st)};
+  if (given(st.grid_option)) design.update_grid_hz = st.grid_hz;
   if (method == sh::Method::ei || method == sh::Method::ei2 || method == sh::Method::ei3 || method == sh::Method::si) {
     design.vtol = st.shaper.vtol;
   }
@@ -297,7 +318,8 @@ void run_shape(const ShapeState& st) {
   if (given(st.sample_time_option) || given(st.export_name_option) || given(st.export_axis_option)) {
     throw InvalidArgument("shape: --sample-time, --export-name and --export-axis apply to --export FORMAT");
   }
-  const DesignedShaper d = design_from_options(st.shaper, "shape");
+  const AppliedShaper a = design_applied(st);
+  const DesignedShaper& d = a.applied;
   const sh::Shaper& s = d.shaper;
   std::optional<sh::InsensitivityBand> band;
   std::optional<double> v_design;
@@ -333,6 +355,16 @@ void run_shape(const ShapeState& st) {
     doc["positive"] = s.is_positive();
     doc["residual_at_design"] = v_design ? nlohmann::ordered_json(*v_design) : nlohmann::ordered_json(nullptr);
     doc["insensitivity"] = band ? band_json(*band, *d.mode, kReportVtol) : nlohmann::ordered_json(nullptr);
+    if (a.designed) {  // the impulses above are on the drive's update grid
+      nlohmann::ordered_json designed = nlohmann::ordered_json::array();
+      for (const sh::Impulse& p : a.designed->impulses()) designed.push_back({{"t", p.time_s}, {"a", p.amplitude}});
+      doc["update_grid"] = {{"grid_hz", st.grid_hz},
+                            {"update_period_s", 1.0 / st.grid_hz},
+                            {"designed_impulses", designed},
+                            {"designed_duration_s", a.designed->duration_s()},
+                            {"designed_residual_at_design",
+                             d.mode ? nlohmann::ordered_json(sh::residual_vibration(*a.designed, *d.mode)) : nlohmann::ordered_json(nullptr)}};
+    }
     if (!csv.is_null()) doc["shaped_csv"] = csv;
     print_json(doc);
     return;
@@ -345,6 +377,12 @@ void run_shape(const ShapeState& st) {
   if (d.second_mode) {
     fmt::print("second mode {:.6g} Hz ({:.6g} rad/s), zeta {:.6g}\n", d.second_mode->natural_frequency_hz(),
                d.second_mode->natural_frequency_rad_s, d.second_mode->damping_ratio);
+  }
+  if (a.designed) {
+    fmt::print("grid        {:.6g} Hz drive updates: each impulse at the nearest update ({:.6g} ms), those on one update merged\n",
+               st.grid_hz, 1000.0 / st.grid_hz);
+    fmt::print("designed    {} impulses, duration_s {:.9g}{}\n", a.designed->size(), a.designed->duration_s(),
+               d.mode ? fmt::format(", V(design) {:.3g}", sh::residual_vibration(*a.designed, *d.mode)) : std::string());
   }
   fmt::print("\n  #        t_s                a\n");
   std::size_t i = 0;
@@ -384,6 +422,11 @@ const bool registered = register_command(
                                                "--export c-header: prefix of the C identifiers")->capture_default_str();
        st->export_axis_option = sub.add_option("--export-axis", st->export_axis,
                                                "--export klipper: the axes to configure: x, y or xy")->capture_default_str();
+       st->grid_option = sub.add_option("--grid-hz", st->grid_hz,
+                                        "The drive takes a new command only at updates of this rate (Hz; the thesis's "
+                                        "pulse-train drive: 30): the shaper is snapped to that grid for the table, "
+                                        "--json, --input and every --export; omit for none")
+                             ->check(positive_at_most(1e6, "Hz", "--grid-hz"));
        sub.footer(
            "Examples:\n"
            "  clearshape shape --method zvdd --frequency-hz 3.32 --zeta 0.288\n"
@@ -400,8 +443,8 @@ const bool registered = register_command(
        sub.callback([st, ca] {
          const std::string& method = st->shaper.method;
          if (method == "clearance-aware" || method == "take-up") {  // designed on a clearance model
-           if (given(st->export_option) || !st->input.empty()) {  // never silently ignored
-             throw InvalidArgument(fmt::format("shape: --method {} designs and prints impulses; export or apply them "
+           if (given(st->export_option) || !st->input.empty() || given(st->grid_option)) {  // never silently ignored
+             throw InvalidArgument(fmt::format("shape: --method {} designs and prints impulses; export, apply or snap (--grid-hz) them "
                                                "with --method custom --impulses T:A,… (the impulses it printed)",
                                                method));
            }

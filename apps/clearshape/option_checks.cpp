@@ -32,6 +32,20 @@ std::string not_negative(std::string& text) {
 
 }  // namespace
 
+CLI::Validator positive_at_most(double max, const std::string& unit, const std::string& option) {
+  return CLI::Validator(
+      [max, unit, option](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end == text.c_str()) return {};  // not a number: CLI11's conversion names it
+        if (!(v > 0.0 && v <= max)) {
+          return fmt::format("{} is out of range; allowed: (0, {:g}] {} (omit {} for none)", text, max, unit, option);
+        }
+        return {};
+      },
+      "", "POSITIVE");
+}
+
 void add_common_option_checks(CLI::App& app) {
   for (CLI::Option* opt : app.get_options()) {
     const std::string type = opt->get_type_name();

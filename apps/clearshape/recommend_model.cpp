@@ -68,12 +68,14 @@ void apply_predicted_md(advise::Recommendation& r, const MovePrediction& p, doub
   const auto& c = r.candidates;
   std::optional<std::size_t> least;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    if (c[i].available && c[i].within_budget && (!least || c[i].remaining_worst < c[*least].remaining_worst)) least = i;
+    if (c[i].available && c[i].within_budget && !c[i].duplicate_of && (!least || c[i].remaining_worst < c[*least].remaining_worst)) {
+      least = i;
+    }
   }
   const double limit = c[*least].remaining_worst + vibration_tolerance;
   std::vector<std::size_t> tied;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    if (c[i].available && c[i].within_budget && c[i].remaining_worst <= limit && p.md[i]) tied.push_back(i);
+    if (c[i].available && c[i].within_budget && !c[i].duplicate_of && c[i].remaining_worst <= limit && p.md[i]) tied.push_back(i);
   }
   const std::size_t rule_pick = *r.chosen;
   // Shortest first; a longer candidate wins only with a predicted MD more than 1 % below.

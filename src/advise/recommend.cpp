@@ -10,6 +10,7 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/shaping/design.hpp"
+#include "clearshape/shaping/grid.hpp"
 
 namespace clearshape::advise {
 
@@ -59,6 +60,17 @@ std::vector<double> scan_grid(const RecommendOptions& o, double mode_hz) {
   return g;
 }
 
+bool same_impulses(const shaping::Shaper& a, const shaping::Shaper& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a.impulses()[i].time_s != b.impulses()[i].time_s ||
+        !(std::abs(a.impulses()[i].amplitude - b.impulses()[i].amplitude) <= 1e-9)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 struct ScanResult {
   double selected_hz = 0.0, selected_v = 0.0, least_hz = 0.0, least_v = 0.0;
 };
@@ -66,8 +78,12 @@ struct ScanResult {
 // Klipper's frequency fit: scan from the highest frequency down, keep the least remaining
 // vibration (ties: the higher frequency), then take the highest frequency (shortest shaper)
 // whose remaining vibration is below factor·least + offset.
+// On an update grid a whole interval of design frequencies gives the same applied shaper; of
+// those, the one nearest `prefer_hz` (the mode's frequency) is reported (it changes nothing
+// that is applied, only the number a user reads and the off-grid design compared with it).
 template <typename Make>
-ScanResult scan(const std::vector<double>& grid, Make&& make, const Evaluator& ev, const RecommendOptions& o) {
+ScanResult scan(const std::vector<double>& grid, Make&& make, const Evaluator& ev, const RecommendOptions& o,
+                double prefer_hz) {
   std::vector<std::pair<double, double>> results;  // (f, v), descending f
   ScanResult r;
   bool first = true;
@@ -87,6 +103,12 @@ ScanResult scan(const std::vector<double>& grid, Make&& make, const Evaluator& e
       r.selected_hz = f;
       r.selected_v = v;
       break;
+    }
+  }
+  if (o.update_grid_hz > 0.0) {
+    const shaping::Shaper chosen = make(r.selected_hz);
+    for (const double f : grid) {
+      if (std::abs(f - prefer_hz) < std::abs(r.selected_hz - prefer_hz) && same_impulses(make(f), chosen)) r.selected_hz = f;
     }
   }
   return r;
@@ -129,6 +151,27 @@ void validate(const std::vector<MeasuredSpectrum>& spectra, const std::vector<Mo
     throw InvalidArgument(fmt::format("scan ratios [{}, {}]: need 0 < low < high", o.scan_ratio_low, o.scan_ratio_high));
   }
   for (const double f : o.scan_frequencies_hz) require_positive("scan frequency", f);
+  require_non_negative("update_grid_hz", o.update_grid_hz, "The drive's update rate in Hz (0: no update grid).");
+}
+
+// The shaper as the drive applies it: on its update grid when one is set.
+shaping::Shaper applied(const shaping::Shaper& designed, const RecommendOptions& o) {
+  return o.update_grid_hz > 0.0 ? shaping::on_update_grid(designed, 1.0 / o.update_grid_hz) : designed;
+}
+
+// On an update grid different designs can land on the same impulses: each such candidate names
+// the first one listed with them and is not chosen.
+void mark_duplicates(std::vector<CandidateResult>& c, double grid_hz) {
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!c[i].available) continue;
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!c[j].available || c[j].duplicate_of || !same_impulses(*c[i].shaper, *c[j].shaper)) continue;
+      c[i].duplicate_of = c[j].name;
+      const std::string same = fmt::format("on the {:g} Hz update grid the same impulses as {}", grid_hz, c[j].name);
+      c[i].note = c[i].note.empty() ? same : c[i].note + "; " + same;
+      break;
+    }
+  }
 }
 
 std::string percent(double v) { return fmt::format("{:.1f} %", 100.0 * v); }
@@ -142,8 +185,9 @@ std::string upper(std::string s) {
 void choose(Recommendation& r, const RecommendOptions& o) {
   const auto& c = r.candidates;
   std::optional<std::size_t> least;
+  const auto eligible = [&](std::size_t i) { return c[i].available && c[i].within_budget && !c[i].duplicate_of; };
   for (std::size_t i = 0; i < c.size(); ++i) {
-    if (c[i].available && c[i].within_budget && (!least || c[i].remaining_worst < c[*least].remaining_worst)) least = i;
+    if (eligible(i) && (!least || c[i].remaining_worst < c[*least].remaining_worst)) least = i;
   }
   const bool budget = std::isfinite(o.max_delay_s);
   if (!least) {
@@ -159,7 +203,7 @@ void choose(Recommendation& r, const RecommendOptions& o) {
   const double limit = c[*least].remaining_worst + o.vibration_tolerance;
   std::size_t pick = *least;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    if (!c[i].available || !c[i].within_budget || c[i].remaining_worst > limit) continue;
+    if (!eligible(i) || c[i].remaining_worst > limit) continue;
     if (c[i].duration_s < c[pick].duration_s ||
         (c[i].duration_s == c[pick].duration_s && c[i].remaining_worst < c[pick].remaining_worst)) {
       pick = i;
@@ -180,7 +224,7 @@ void choose(Recommendation& r, const RecommendOptions& o) {
   // The next shorter candidate that was passed over, and why.
   std::optional<std::size_t> shorter;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    if (!c[i].available || !c[i].within_budget || c[i].duration_s >= p.duration_s) continue;
+    if (!eligible(i) || c[i].duration_s >= p.duration_s) continue;
     if (!shorter || c[i].duration_s > c[*shorter].duration_s) shorter = i;
   }
   if (shorter) {
@@ -238,12 +282,13 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
     try {
       const shaping::Shaper p1 = prototype(a, r.design_damping, o, si_half_band);
       if (star == std::string::npos) {
-        const auto make = [&](double f) { return scaled(p1, f); };
-        const ScanResult s = scan(scan_grid(o, m1.frequency_hz), make, ev, o);
+        const auto make = [&](double f) { return applied(scaled(p1, f), o); };
+        const ScanResult s = scan(scan_grid(o, m1.frequency_hz), make, ev, o, m1.frequency_hz);
         c.design_frequency_hz = {s.selected_hz};
         c.least_remaining = s.least_v;
         c.least_remaining_frequency_hz = s.least_hz;
         c.shaper = make(s.selected_hz);
+        if (o.update_grid_hz > 0.0) c.designed = scaled(p1, s.selected_hz);
       } else {
         const ModeEstimate& m2 = modes[1];
         const double zeta2 = std::clamp(m2.damping_ratio, 0.0, 0.9);
@@ -253,21 +298,25 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
         // Coordinate descent: the first factor's frequency, the second's, the first's again.
         for (int pass = 0; pass < 3; ++pass) {
           if (pass % 2 == 0) {
-            s = scan(scan_grid(o, m1.frequency_hz), [&](double f) { return shaping::convolve(scaled(p1, f), scaled(p2, f2)); }, ev, o);
+            s = scan(scan_grid(o, m1.frequency_hz), [&](double f) { return applied(shaping::convolve(scaled(p1, f), scaled(p2, f2)), o); }, ev, o,
+                     m1.frequency_hz);
             f1 = s.selected_hz;
             c.least_remaining = s.least_v;
             c.least_remaining_frequency_hz = s.least_hz;
           } else {
-            s = scan(scan_grid(o, m2.frequency_hz), [&](double f) { return shaping::convolve(scaled(p1, f1), scaled(p2, f)); }, ev, o);
+            s = scan(scan_grid(o, m2.frequency_hz), [&](double f) { return applied(shaping::convolve(scaled(p1, f1), scaled(p2, f)), o); }, ev, o,
+                     m2.frequency_hz);
             f2 = s.selected_hz;
           }
         }
         c.design_frequency_hz = {f1, f2};
-        c.shaper = shaping::convolve(scaled(p1, f1), scaled(p2, f2));
+        c.shaper = applied(shaping::convolve(scaled(p1, f1), scaled(p2, f2)), o);
+        if (o.update_grid_hz > 0.0) c.designed = shaping::convolve(scaled(p1, f1), scaled(p2, f2));
         c.note = fmt::format("second factor designed at ζ = {:.4g}", zeta2);
       }
       c.remaining_worst = ev.worst(*c.shaper);
       c.remaining_nominal = ev.nominal(*c.shaper);
+      if (c.designed) c.remaining_worst_designed = ev.worst(*c.designed);
       c.duration_s = c.shaper->duration_s();
       c.within_budget = c.duration_s <= o.max_delay_s * (1.0 + 1e-12);
     } catch (const InvalidArgument& e) {
@@ -279,6 +328,7 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
     }
     r.candidates.push_back(std::move(c));
   }
+  if (o.update_grid_hz > 0.0) mark_duplicates(r.candidates, o.update_grid_hz);
   choose(r, o);
   return r;
 }

@@ -167,6 +167,10 @@ std::string design_comment(const HeaderPlan& h, const ShaperDesign& design, cons
   if (design.vtol) s += fmt::format(", Vtol = {}", short_number(*design.vtol));
   s += fmt::format(";\n *   {} impulses (time_s: amplitude):", design.shaper.size());
   for (const sh::Impulse& i : design.shaper.impulses()) s += fmt::format(" {}: {};", short_number(i.time_s), short_number(i.amplitude));
+  if (design.update_grid_hz) {
+    s += fmt::format("\n *   on the drive's {} Hz update grid (each impulse at the nearest update, those on one update merged).",
+                     short_number(*design.update_grid_hz));
+  }
   s += "\n *\n";
   s += fmt::format(" * Taps at Ts = {} s ({} discretisation): y[k] = sum_j w_j * u[k - d_j],\n",
                    shortest(options.sample_time_s),

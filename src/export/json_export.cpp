@@ -34,6 +34,7 @@ ExportText to_json(const ShaperDesign& design, const ExportOptions& options) {
   if (design.band_hz) d["band"] = {{"frequency_low_hz", design.band_hz->first}, {"frequency_high_hz", design.band_hz->second}};
   d["duration_s"] = design.shaper.duration_s();
   d["positive"] = design.shaper.is_positive();
+  if (design.update_grid_hz) d["update_grid_hz"] = *design.update_grid_hz;  // impulses on the drive's update grid
   if (!design.command.empty()) d["command"] = design.command;
   doc["design"] = d;
 

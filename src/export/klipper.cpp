@@ -77,6 +77,13 @@ ExportText to_klipper(const ShaperDesign& design, const ExportOptions& options) 
   // What Klipper will build from the numbers as printed, against the design.
   const std::optional<sh::Shaper> theirs = klipper_shaper(*type, std::stod(freq), std::stod(zeta));
   const ResidualDifference diff = residual_difference(design.shaper, *theirs, *design.mode);
+  if (diff.max_abs > kFirmwareResidualTolerance && design.update_grid_hz) {
+    throw InvalidArgument(fmt::format(
+        "--export klipper: the {} Klipper builds from {} Hz, damping {} is not the design on the {} Hz update grid: residual "
+        "vibration differs by {:.3g} at r = {:.3g} (tolerance {} over r = 0.5 … 1.5); Klipper places impulses itself. Export "
+        "the grid shaper with --export c-header, json or rrf (custom form)",
+        *type, freq, zeta, fixed_significant(*design.update_grid_hz, kDigits), diff.max_abs, diff.at_ratio, kFirmwareResidualTolerance));
+  }
   if (diff.max_abs > kFirmwareResidualTolerance) {
     throw InvalidArgument(fmt::format(
         "--export klipper: the {} Klipper builds from {} Hz, damping {} differs from the designed {}: residual "
@@ -91,6 +98,9 @@ ExportText to_klipper(const ShaperDesign& design, const ExportOptions& options) 
                    "# (klippy/extras/shaper_defs.py). Its shaper and the design differ in residual vibration by at most\n"
                    "# {:.2g} over 0.5 .. 1.5 x {} Hz (tolerance {}).\n",
                    *type, diff.max_abs, freq, kFirmwareResidualTolerance);
+  if (design.update_grid_hz) {
+    s += fmt::format("# The design compared is the one on the drive's {} Hz update grid.\n", fixed_significant(*design.update_grid_hz, kDigits));
+  }
   s += "[input_shaper]\n";
   for (char axis : axes) {
     s += fmt::format("shaper_type_{}: {}\n", axis, *type);

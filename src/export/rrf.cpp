@@ -74,9 +74,11 @@ NamedForm named_form(const ShaperDesign& design) {
   const sh::Shaper theirs = *rrf_shaper(*type, std::stod(freq), std::stod(zeta));
   const ResidualDifference diff = residual_difference(design.shaper, theirs, *design.mode);
   if (diff.max_abs > kFirmwareResidualTolerance) {
-    return {{}, fmt::format("the {} RRF builds from F{} S{} differs from the design by {:.3g} in residual vibration "
+    const std::string grid =
+        design.update_grid_hz ? fmt::format(" on the {} Hz update grid", fixed_significant(*design.update_grid_hz, kDigits)) : "";
+    return {{}, fmt::format("the {} RRF builds from F{} S{} differs from the design{} by {:.3g} in residual vibration "
                             "(at r = {:.3g}; tolerance {})",
-                            *type, freq, zeta, diff.max_abs, diff.at_ratio, kFirmwareResidualTolerance)};
+                            *type, freq, zeta, grid, diff.max_abs, diff.at_ratio, kFirmwareResidualTolerance)};
   }
   std::string lines = fmt::format("; RRF builds {} itself from F (the undamped natural frequency, Hz) and S (damping "
                                   "ratio);\n; its shaper and the design differ in residual vibration by at most "

@@ -43,6 +43,11 @@ struct RecommendOptions {
   double vtol = 0.05;                         ///< EI/SI tolerance
   double max_delay_s = std::numeric_limits<double>::infinity();  ///< delay budget
   double vibration_tolerance = 0.01;          ///< "within 1 percentage point of the least"
+  /// > 0: the drive takes a new command only at updates of this rate (Hz), so every candidate is
+  /// snapped to that grid (shaping::on_update_grid) before anything is evaluated — the frequency
+  /// scan included: remaining vibration, duration and the choice are those of the applied
+  /// shaper. 0: off (the designed shapers as they are).
+  double update_grid_hz = 0.0;
 };
 
 struct CandidateResult {
@@ -57,7 +62,14 @@ struct CandidateResult {
   double least_remaining_frequency_hz = 0.0;   ///< … and where (first mode's frequency)
   double duration_s = 0.0;                     ///< the delay it adds
   bool within_budget = true;
-  std::optional<shaping::Shaper> shaper;
+  std::optional<shaping::Shaper> shaper;       ///< as applied (on the update grid when one is set)
+  /// With an update grid only: the off-grid design at design_frequency_hz and its worst-case
+  /// remaining vibration (what the grid costs), and the earlier candidate whose applied
+  /// impulses are the same (times equal, amplitudes within 1e-9): such a duplicate is listed
+  /// but never chosen.
+  std::optional<shaping::Shaper> designed;
+  double remaining_worst_designed = 0.0;
+  std::optional<std::string> duplicate_of;
 };
 
 struct Recommendation {
@@ -71,7 +83,7 @@ struct Recommendation {
 };
 
 /// Throws InvalidArgument for no spectra, no modes, an unknown candidate, a two-mode candidate
-/// with one mode, or an option out of range.
+/// with one mode, or an option out of range (update_grid_hz: finite and >= 0).
 Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std::vector<ModeEstimate>& modes,
                          const RecommendOptions& options = {});
 

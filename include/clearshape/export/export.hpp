@@ -38,6 +38,9 @@ struct ShaperDesign {
   std::optional<double> vtol;                        ///< ei/ei2/ei3/si
   std::optional<std::pair<double, double>> band_hz;  ///< si: the band where V <= vtol
   std::string command;                               ///< the command line that regenerates it (comments)
+  /// Set when `shaper` is the design on a drive's update grid of this rate (shaping::on_update_grid):
+  /// json and c-header say so; klipper and rrf compare their firmware's shaper with it.
+  std::optional<double> update_grid_hz = std::nullopt;
 };
 
 struct ExportOptions {
