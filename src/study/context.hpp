@@ -83,6 +83,8 @@ void stage_link_mode(Context& c);
 void stage_clearance(Context& c);
 void stage_simulation(Context& c);
 void stage_rig_tests(Context& c);
+/// The measurement floor (rest trials) and "what a command can reach here"; after the rig tests.
+void stage_measurement_floor(Context& c);
 
 /// Designs the clearance-aware shaper once, if a rig-test column or the simulation stage asks
 /// for it: on the fitted clearance model, for the amplitudes of the protocol's step and

@@ -479,7 +479,12 @@ void parse_rig_tests(const TomlSection& top, Protocol& p) {
   if (!s) return;
   for (const auto& t : s->tables("table")) p.rig_tests.tables.push_back(parse_rig_table(t, p));
   for (const auto& t : s->tables("summary")) p.rig_tests.summaries.push_back(parse_rig_summary(t, p));
-  s->finish("table, summary");
+  // The floor is read in the tables' input windows: without a table it has none.
+  p.rig_tests.floor_trials = static_cast<int>(s->integer("floor_trials", 0, 0, 1000));
+  if (p.rig_tests.floor_trials > 0 && p.rig_tests.tables.empty()) {
+    s->fail("floor_trials", "needs at least one [[rig_tests.table]] (the floor is read in its input's window)");
+  }
+  s->finish("table, summary, floor_trials");
 }
 
 void parse_quick(const TomlSection& top, Protocol& p) {
@@ -547,6 +552,7 @@ Protocol quick_variant(const Protocol& protocol) {
   const auto& r = p.quick_reduction;
   p.quick = true;
   p.repetitions = std::min(p.repetitions, r.repetitions);
+  p.rig_tests.floor_trials = std::min(p.rig_tests.floor_trials, r.repetitions);
   p.record_s = std::min(p.record_s, r.record_s);
   p.simulation.record_s = std::min(p.simulation.record_s, r.record_s);
   if (!r.simulation_inputs.empty()) p.simulation.inputs = r.simulation_inputs;

@@ -115,7 +115,11 @@ json rig_tests_json(const RigTestStage& s) {
                     {"column", sum.column},
                     {"thesis", sum.thesis}});
   }
-  return {{"tables", tables}, {"summaries", sums}};
+  json out = {{"tables", tables}, {"summaries", sums}};
+  // Written only when set, so that the hash (and the finished runs) of a protocol without rest
+  // trials stay what they were before the key existed.
+  if (s.floor_trials > 0) out["floor_trials"] = s.floor_trials;
+  return out;
 }
 
 }  // namespace

@@ -256,8 +256,11 @@ std::string recordings_manifest_template(const Protocol& p) {
   for (const auto& r : distinct_runs(p)) {
     std::string used;
     for (const auto& st : users[r.id]) used += (used.empty() ? "" : ", ") + st;
-    s += fmt::format("\n[[run]]  # input {}, {}, repetition {}; used by: {}\nid = \"{}\"\nfile = \"{}\"\n", r.input,
-                     r.column == "none" ? std::string("unshaped") : "shaped " + r.column, r.repetition, used, r.id,
+    const std::string what = r.stage == "rest" ? std::string("rest trial (zero command: nothing moves)")
+                             : fmt::format("input {}, {}", r.input,
+                                           r.column == "none" ? std::string("unshaped") : "shaped " + r.column);
+    s += fmt::format("\n[[run]]  # {}, repetition {}; used by: {}\nid = \"{}\"\nfile = \"{}\"\n", what,
+                     r.repetition, used, r.id,
                      record_csv_path("", r.id).filename().string());
   }
   return s;

@@ -168,12 +168,13 @@ struct TableLayout {
   std::vector<Cell> cells;
 };
 
-TableLayout layout_of(const json& cols) {
+// `mine_only`: every column is ours (no thesis beside it), so no "— ours" in the header.
+TableLayout layout_of(const json& cols, bool mine_only) {
   TableLayout l;
   for (const auto& col : cols) {
     const std::string label = col.value("label", col.value("key", std::string()));
     if (has_values(col, "ours")) {
-      l.header.push_back(cols.size() > 1 || has_values(col, "thesis") ? label + " — ours" : label);
+      l.header.push_back(!mine_only && (cols.size() > 1 || has_values(col, "thesis")) ? label + " — ours" : label);
       l.cells.push_back({&col, "ours"});
     }
     if (has_values(col, "thesis")) {
@@ -238,7 +239,7 @@ void render_table(std::ostringstream& out, const json& t) {
   if (!unit.empty()) out << fmt::format("Unit: {}.\n\n", unit);
   const json& cols = t.at("columns");
   const json rows = t.value("row_labels", json::array());
-  const TableLayout l = layout_of(cols);
+  const TableLayout l = layout_of(cols, t.value("kind", std::string()) == "reach");
   row(out, l.header);
   row(out, std::vector<std::string>(l.header.size(), "---"));
   for (std::size_t r = 0; r < rows.size(); ++r) {

@@ -17,6 +17,8 @@ std::string rig_test_run_id(std::string_view table, std::string_view column, int
   return fmt::format("rig/{}/{}/r{:02d}", table, column, repetition);
 }
 
+std::string rest_run_id(int repetition) { return fmt::format("rest/r{:02d}", repetition); }
+
 namespace {
 
 std::vector<PlannedRun> unshaped(const Protocol& p, const std::vector<std::string>& inputs) {
@@ -39,6 +41,12 @@ std::vector<PlannedRun> rig_tests(const Protocol& p) {
       }
     }
   }
+  return runs;
+}
+
+std::vector<PlannedRun> rest_trials(const Protocol& p) {
+  std::vector<PlannedRun> runs;
+  for (int r = 1; r <= p.rig_tests.floor_trials; ++r) runs.push_back({rest_run_id(r), "rest", "", "rest", r});
   return runs;
 }
 
@@ -85,6 +93,7 @@ std::vector<StagePlan> plan_runs(const Protocol& p) {
       {"clearance", unshaped(p, {p.clearance.input})},
       {"simulation", {}},
       {"rig-tests", rig_tests(p)},
+      {"measurement-floor", rest_trials(p)},
   };
 }
 

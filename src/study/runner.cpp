@@ -294,9 +294,12 @@ void run_stages(detail::Context& c, const Protocol& protocol) {
       {"consistency", detail::stage_consistency},   {"identification", detail::stage_identification},
       {"link-mode", detail::stage_link_mode},       {"clearance", detail::stage_clearance},
       {"simulation", detail::stage_simulation},     {"rig-tests", detail::stage_rig_tests},
+      {"measurement-floor", detail::stage_measurement_floor},
   };
   const std::vector<StagePlan> plan = plan_runs(protocol);
   for (const auto& [name, fn] : stages) {
+    // A protocol without rest trials has no floor stage (its outputs stay as they were).
+    if (std::string_view(name) == "measurement-floor" && protocol.rig_tests.floor_trials == 0) continue;
     const double t0 = c.elapsed_s();
     c.begin_stage(name);
     if (!detail::skip_for_missing_runs(c, plan, name)) fn(c);

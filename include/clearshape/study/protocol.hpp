@@ -29,7 +29,8 @@
 //   [rig_tests]        [[rig_tests.table]] id, title, input, [[rig_tests.table.column]]
 //                      shaper ("none" | a shaping method), mode_source, label, thesis,
 //                      thesis_mean; [[rig_tests.summary]] id, title, kind ("combine" |
-//                      "improvement"), tables, column, thesis
+//                      "improvement"), tables, column, thesis; floor_trials (0 … 1000 rest
+//                      trials: the Eq. 5.1 measurement floor, study/measurement_floor.hpp)
 //   [quick]            repetitions, record_s, simulation_inputs, simulation_shapers,
 //                      clearance_max_evaluations   (the reduced variant used by --quick)
 // Unknown tables or keys, wrong types and values out of range are InputErrors naming the file,
@@ -184,6 +185,9 @@ struct RigSummary {
 struct RigTestStage {
   std::vector<RigTable> tables;
   std::vector<RigSummary> summaries;
+  /// Rest trials (a zero command of the record's length) whose Eq. 5.1 in each table's input
+  /// window is the measurement floor (study/measurement_floor.hpp); 0 = none.
+  int floor_trials = 0;
 };
 
 struct QuickReduction {
@@ -192,6 +196,7 @@ struct QuickReduction {
   std::vector<std::string> simulation_inputs;   ///< empty = keep
   std::vector<std::string> simulation_shapers;  ///< empty = keep
   int clearance_max_evaluations = 40;
+  // floor_trials: at most `repetitions` rest trials (not a key of its own).
 };
 
 struct Protocol {

@@ -19,23 +19,25 @@ namespace clearshape::study {
 
 /// One run a stage needs (what `--print-manifest` lists and a recordings folder must hold).
 struct PlannedRun {
-  std::string id;               ///< the run id: "unshaped/<input>/rNN", "rig/<table>/<column>/rNN"
-  std::string stage;            ///< the run's kind: "unshaped" | "rig-tests"
-  std::string input;
-  std::string column = "none";  ///< "none" or "<shaper>@<mode source>"
+  std::string id;               ///< "unshaped/<input>/rNN", "rig/<table>/<column>/rNN", "rest/rNN"
+  std::string stage;            ///< the run's kind: "unshaped" | "rig-tests" | "rest"
+  std::string input;            ///< empty for a rest trial (zero command)
+  std::string column = "none";  ///< "none", "<shaper>@<mode source>" or "rest"
   int repetition = 1;
 };
 
 /// The runs of one study stage ("consistency", "identification", "link-mode", "clearance",
-/// "simulation", "rig-tests"), in the order the stage requests them.
+/// "simulation", "rig-tests", "measurement-floor"), in the order the stage requests them.
 struct StagePlan {
   std::string stage;
   std::vector<PlannedRun> runs;
 };
 
-/// The run ids (the one place they are spelled): "unshaped/<input>/rNN", "rig/<table>/<column>/rNN".
+/// The run ids (the one place they are spelled): "unshaped/<input>/rNN", "rig/<table>/<column>/rNN",
+/// "rest/rNN" (a rest trial of the measurement floor: zero command, study/measurement_floor.hpp).
 std::string unshaped_run_id(std::string_view input, int repetition);
 std::string rig_test_run_id(std::string_view table, std::string_view column, int repetition);
+std::string rest_run_id(int repetition);
 
 /// Every stage of the protocol with the runs it needs (a run shared by stages appears in each).
 std::vector<StagePlan> plan_runs(const Protocol& protocol);

@@ -16,6 +16,9 @@
 //   5. simulation                    every input, unshaped and shaped (each shaper × mode source)
 //   6. rig tests                     repeated trials per table column (Tables 5.1, B.1–B.5),
 //                                    summaries (5.2, B.6)
+//   7. measurement floor             rig_tests.floor_trials rest trials: Eq. 5.1 when nothing
+//                                    moves, and what a command can reach above it (only when
+//                                    the protocol asks for rest trials)
 // The runner only ever sees measurements: the rig comes from a RigFactory (the default builds
 // the simulated thesis rig, whose true parameters stay hidden inside it).
 //
