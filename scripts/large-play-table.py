@@ -8,7 +8,8 @@ with its run-to-run variation. From each results.json: the mean Eq. 5.1 MD (link
 the unshaped trials and of ZVDD, EI, SI (from the link mode the study identified on that rig)
 and the clearance-aware shaper (designed on the clearance model the study fitted on that rig),
 and the take-up profile (designed per input on the same model), the improvement 1 − MD/MD_unshaped
-and the added delay (the shaper's last impulse). The peak
+and the added delay (the shaper's last impulse); then the study's own "What a command can reach
+here" (each input's 90 % target against the Eq. 5.1 measurement floor of its rest trials). The peak
 contact torque and the impact count (contact onsets) are hidden from a rig's sensors: they come
 from one nominal, noise-free `clearshape simulate --rig <rig>` of the same input with the same
 shaper impulses (the link starting in the middle of the play).
@@ -66,6 +67,33 @@ def contact(exe, rig, sig, impulses, tmp):
     return side["summary"]["peak_contact_torque_n_m"], onsets
 
 
+def reach_lines(res, rig):
+    """The study's own "What a command can reach here" (results.json table "reach"): each input's
+    90 % target (0.1 × the unshaped mean MD) against the measurement floor, Eq. 5.1 on the rest
+    trials (rig_tests.floor_trials) over the window the input's trials used."""
+    reach = next((x for x in res["tables"] if x["id"] == "reach"), None)
+    if reach is None:
+        return []
+    fl = res["sections"]["measurement_floor"]
+    out = [f"\nWhat a command can reach on the {rig} rig (the study report's table; floor = Eq. 5.1 on "
+           f"{fl['trials']} rest trials, zero command, over each input's window):\n",
+           "| input | unshaped MD (deg) | 90 % target (deg) | measurement floor (deg) | improvement at the floor "
+           "| best design | its MD (deg) | verdict |",
+           "|---|---|---|---|---|---|---|---|"]
+    for table in ("B.3", "B.2", "B.1", "B.4", "B.5"):
+        h = reach["headline"].get(table)
+        if h is None:
+            continue
+        label = next(x.get("label", x["name"]) for x in res["protocol"]["inputs"] if x["name"] == h["input"])
+        t = next(x for x in res["tables"] if x["id"] == table)
+        best = next((c["label"] for c in t["columns"] if c["key"] == h["best_column"]), "—")
+        best_md = f"{h['best_mean']:.4f}" if h["best_mean"] is not None else "—"
+        out.append(f"| {label} | {h['unshaped_mean']:.4f} ± {h['unshaped_std']:.4f} | {h['target']:.4f} | "
+                   f"{h['floor_mean']:.4f} ± {h['floor_std']:.4f} | {h['floor_improvement_percent']:.0f} % | "
+                   f"{best} | {best_md} | {h['verdict']} |")
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build-dir", default="build")
@@ -101,6 +129,7 @@ def main():
                     improvement = "" if key == "none" else f"{100.0 * (1.0 - c['ours_mean'] / base):.0f} %"
                     lines.append(f"| {label} | {name} | {c['ours_mean']:.4f} ± {c['ours_std']:.4f} | {improvement} | "
                                  f"{delay:.3f} | {torque:.2f} | {impacts} |")
+            lines += reach_lines(res, rig)
             ca = res["sections"].get("clearance_aware")
             if ca:
                 lines.append(f"\nclearance-aware on the {rig} rig: impulses "

@@ -53,15 +53,18 @@ ReachVerdict reach_verdict(const ReachNumbers& n, std::string_view unit) {
   ReachVerdict v;
   // Appendix B: improvement = (without − with)/without, so 90 % leaves 10 % of the unshaped MD.
   v.target = (100.0 - kReachTargetImprovementPercent) / 100.0 * n.unshaped_mean;
+  v.floor_improvement_percent = n.unshaped_mean > 0.0 ? 100.0 * (1.0 - n.floor_mean / n.unshaped_mean)
+                                                      : std::numeric_limits<double>::quiet_NaN();
   const bool has_best = !n.best_label.empty() && std::isfinite(n.best_mean);
   const std::string floor = fmt::format("{:.3g} ± {:.2g} {}", n.floor_mean, n.floor_std, unit);
   const std::string target = fmt::format("the {:g} % target {:.3g} {}", kReachTargetImprovementPercent, v.target, unit);
   if (v.target < n.floor_mean) {
     v.reach = Reach::below_floor;
-    v.sentence = fmt::format("{} is below the measurement floor {}: no command can show it on this rig's sensors", target,
-                             floor);
+    v.sentence = fmt::format("{} is below the measurement floor {}: no command can show it on this rig's sensors (one "
+                             "that left no residual would read the floor, {:.0f} % improvement)",
+                             target, floor, v.floor_improvement_percent);
     if (has_best && n.floor_mean > 0.0) {
-      v.sentence += fmt::format(" (the best design, {}, reads {:.3g} {}, {:.2g}× the floor)", n.best_label, n.best_mean,
+      v.sentence += fmt::format("; the best design, {}, reads {:.3g} {}, {:.2g}× the floor", n.best_label, n.best_mean,
                                 unit, n.best_mean / n.floor_mean);
     }
     return v;

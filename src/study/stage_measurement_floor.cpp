@@ -151,6 +151,9 @@ void tabulate_floor(Context& c, const std::vector<Record>& rest) {
                           {"floor_mean", num.floor_mean},
                           {"floor_std", num.floor_std},
                           {"floor_start_time_s", f.at("start_time_s")},
+                          {"floor_improvement_percent", opt(std::isfinite(v.floor_improvement_percent)
+                                                                ? std::optional<double>(v.floor_improvement_percent)
+                                                                : std::nullopt)},
                           {"best_column", best_keys.back()},
                           {"best_mean", best_mean.back()},
                           {"verdict", verdicts.back()},

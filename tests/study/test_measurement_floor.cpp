@@ -195,6 +195,8 @@ TEST(MeasurementFloor, VerdictFollowsTheNumbers) {
   EXPECT_NE(v.sentence.find("the 90 % target 0.003 deg is below the measurement floor 0.018"), std::string::npos)
       << v.sentence;
   EXPECT_NE(v.sentence.find("no command can show it"), std::string::npos);
+  EXPECT_NEAR(v.floor_improvement_percent, 40.0, 1e-9);  // 1 − 0.018/0.03
+  EXPECT_NE(v.sentence.find("40 % improvement"), std::string::npos) << v.sentence;
   // The floor just below the target: no longer hidden; the best design is far from it.
   n.floor_mean = 0.0029;
   v = st::reach_verdict(n, "deg");

@@ -59,6 +59,9 @@ struct ReachNumbers {
 struct ReachVerdict {
   Reach reach = Reach::below_floor;
   double target = 0.0;   ///< (1 − kReachTargetImprovementPercent/100) × unshaped_mean
+  /// The improvement a command that left no residual at all would show: 100 (1 − floor/unshaped),
+  /// the floor's mean read instead of 0 (NaN when the unshaped mean is not positive).
+  double floor_improvement_percent = 0.0;
   std::string sentence;  ///< the verdict with its numbers, for the report
 };
 
