@@ -23,6 +23,7 @@
 #include "clearshape/rig/truth.hpp"
 #include "clearshape/study/measurement_floor.hpp"
 #include "clearshape/study/protocol.hpp"
+#include "clearshape/study/recordings.hpp"
 #include "clearshape/study/run_source.hpp"
 #include "clearshape/study/runner.hpp"
 #include "protocol_fixtures.hpp"
@@ -180,6 +181,31 @@ TEST(MeasurementFloor, NoisyFloorIsEquationFiveOneOnTheRestRecords) {
   EXPECT_NE(r.tables_markdown.find("What a command can reach here"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(out / "data" / "measurement_floor.csv"));
   std::filesystem::remove_all(out);
+}
+
+TEST(MeasurementFloor, RecordedRestTrialsGiveTheSameFloor) {
+  // A physical rig's rest trials arrive as recordings: the manifest template lists them, and the
+  // floor read from the files is the floor the simulated runs gave.
+  const auto sim = clearshape::testing::fresh_temp_dir("clearshape_floor_sim");
+  const st::StudyResult a = run_floor_study(sim, st::sim_rig_factory());
+  const st::Protocol p = st::parse_protocol(floor_protocol("floor_trials = 3"), "floor.toml");
+  const std::string manifest = st::recordings_manifest_template(p);
+  EXPECT_NE(manifest.find("id = \"rest/r03\""), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("rest trial (zero command"), std::string::npos);
+  const auto rec = clearshape::testing::fresh_temp_dir("clearshape_floor_rec");
+  for (const auto& e : std::filesystem::directory_iterator(sim / "runs")) {
+    if (e.path().extension() == ".csv") std::filesystem::copy_file(e.path(), rec / e.path().filename());
+  }
+  std::ofstream(rec / "manifest.toml") << manifest;
+  st::StudyOptions options;
+  options.out_dir = rec / "out";
+  options.threads = 2;
+  options.source = st::recordings_run_source(st::load_recordings_manifest(rec, p), p);
+  const st::StudyResult b = st::run_study(p, options);
+  EXPECT_EQ(floor_of(b).at("ours"), floor_of(a).at("ours"));
+  EXPECT_EQ(b.table("reach").at("headline"), a.table("reach").at("headline"));
+  std::filesystem::remove_all(sim);
+  std::filesystem::remove_all(rec);
 }
 
 TEST(MeasurementFloor, VerdictFollowsTheNumbers) {
