@@ -500,7 +500,8 @@ def render_transposed_table(t: tbl.Table) -> str:
     """One row per column of results.json, one column per row label; a column's other per-row
     values (e.g. delay_s) are shown under the value."""
     out = [f'<table class="results rows turned" id="table-{slug(t.id)}">',
-           _caption(t, "one row per shaper, one column per input"), '<thead><tr><th scope="col"></th>']
+           _caption(t, "one row per quantity, one column per input" if t.kind == "reach"  # the measurement floor
+                    else "one row per shaper, one column per input"), '<thead><tr><th scope="col"></th>']
     out += [f'<th scope="col">{esc(r)}</th>' for r in t.row_labels]
     out.append("</tr></thead><tbody>")
     for c in t.columns:
