@@ -1,9 +1,11 @@
 #pragma once
 // What the `recommend --model` CLI tests share: the spectrum they recommend from, a thesis-like
 // P3UZ drive for a fit-clearance document, and the unshaped MD `recommend` predicts on a model.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -58,6 +60,40 @@ inline double recommend_unshaped_md(const std::filesystem::path& fit, const std:
                          " --move-duration-s 3 --json");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return r.exit_code == 0 ? nlohmann::json::parse(r.out)["model"]["unshaped_md"].get<double>() : -1.0;
+}
+
+/// Eq. 2.19: V = exp(−ζωt_N)·|Σ A_i exp(ζωt_i) exp(jω_d t_i)| of a JSON impulse list.
+inline double linear_v(const nlohmann::json& impulses, double f_hz, double zeta) {
+  const double w = 2.0 * M_PI * f_hz, wd = w * std::sqrt(1.0 - zeta * zeta);
+  double c = 0.0, s = 0.0;
+  for (const auto& i : impulses) {
+    const double t = i["time_s"].get<double>(), a = i["amplitude"].get<double>();
+    c += a * std::exp(zeta * w * t) * std::cos(wd * t);
+    s += a * std::exp(zeta * w * t) * std::sin(wd * t);
+  }
+  return std::exp(-zeta * w * impulses.back()["time_s"].get<double>()) * std::hypot(c, s);
+}
+
+/// On a rigid link, `recommend --model … --json`'s predicted MDs must rank its available
+/// candidates (and "none", V = 1) as the linear V at the model's mode (f_hz, zeta) does; pairs
+/// within a factor 1.25 of V are near-ties and skipped. Returns the number of pairs compared.
+inline int expect_md_ranks_as_linear_v(const nlohmann::json& doc, double f_hz, double zeta) {
+  struct Row { std::string name; double v, md; };
+  std::vector<Row> rows{{"none", 1.0, doc["model"]["unshaped_md"].get<double>()}};
+  for (const auto& c : doc["candidates"]) {
+    if (c.contains("available") && !c["available"].get<bool>()) continue;
+    rows.push_back({c["name"], linear_v(c["impulses"], f_hz, zeta), c["predicted_md"].get<double>()});
+  }
+  int compared = 0;
+  for (const auto& a : rows) {
+    for (const auto& b : rows) {
+      if (a.v * 1.25 < b.v) {
+        ++compared;
+        EXPECT_LT(a.md, b.md) << a.name << " V " << a.v << " MD " << a.md << " vs " << b.name << " V " << b.v << " MD " << b.md;
+      }
+    }
+  }
+  return compared;
 }
 
 }  // namespace clearshape::testing
