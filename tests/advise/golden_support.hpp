@@ -1,10 +1,14 @@
 #pragma once
 // Shared by the advise tests: the golden files of tests/golden/gen_recommend.py.
 #include <fstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "clearshape/advise/mode_estimate.hpp"
+#include "clearshape/advise/recommend.hpp"
 #include "clearshape/advise/spectrum_input.hpp"
 #include "support/paths.hpp"
 
@@ -30,6 +34,21 @@ inline clearshape::advise::MeasuredSpectrum load(const std::string& file, const 
   r.path = clearshape::testing::golden_path(file);
   r.column = column;
   return clearshape::advise::load_spectrum(r);
+}
+
+/// A measured spectrum and the modes estimated from it: what a recommendation starts from.
+struct SpectrumCase {
+  clearshape::advise::MeasuredSpectrum spectrum;
+  std::vector<clearshape::advise::ModeEstimate> modes;
+};
+
+/// The recommendation's candidate called `name` (throws if it has none).
+inline const clearshape::advise::CandidateResult& find(const clearshape::advise::Recommendation& r,
+                                                       const std::string& name) {
+  for (const auto& c : r.candidates) {
+    if (c.name == name) return c;
+  }
+  throw std::runtime_error("no candidate " + name);
 }
 
 }  // namespace advise_test

@@ -11,14 +11,12 @@
 #include "golden_support.hpp"
 
 namespace ad = clearshape::advise;
+using advise_test::find;
 using advise_test::load;
 
 namespace {
 
-struct Fixture {
-  ad::MeasuredSpectrum spectrum;
-  std::vector<ad::ModeEstimate> modes;
-};
+using Fixture = advise_test::SpectrumCase;
 
 const Fixture& one_mode() {
   static const Fixture f = [] {
@@ -31,12 +29,6 @@ const Fixture& one_mode() {
   return f;
 }
 
-const ad::CandidateResult& find(const ad::Recommendation& r, const std::string& name) {
-  for (const auto& c : r.candidates) {
-    if (c.name == name) return c;
-  }
-  throw std::runtime_error("no candidate " + name);
-}
 
 }  // namespace
 

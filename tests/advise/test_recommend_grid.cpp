@@ -18,14 +18,12 @@
 
 namespace ad = clearshape::advise;
 namespace sh = clearshape::shaping;
+using advise_test::find;
 using advise_test::load;
 
 namespace {
 
-struct Case {
-  ad::MeasuredSpectrum spectrum;
-  std::vector<ad::ModeEstimate> modes;
-};
+using Case = advise_test::SpectrumCase;
 
 Case one_mode(const std::string& file, const std::string& column) {
   Case c{load(file, column), {}};
@@ -36,12 +34,6 @@ Case one_mode(const std::string& file, const std::string& column) {
   return c;
 }
 
-const ad::CandidateResult& find(const ad::Recommendation& r, const std::string& name) {
-  for (const auto& c : r.candidates) {
-    if (c.name == name) return c;
-  }
-  throw std::runtime_error("no candidate " + name);
-}
 
 // The worst-case remaining vibration of any shaper under the recommendation's scoring.
 double worst(const ad::Recommendation& r, const ad::MeasuredSpectrum& s, const sh::Shaper& shaper) {
