@@ -310,65 +310,57 @@ nlohmann::ordered_json shape_csv(const ShapeState& st, const DesignedShaper& d) 
           {"extended", extend}};
 }
 
-void run_shape(const ShapeState& st) {
-  if (given(st.export_option)) {
-    run_export(st);
-    return;
-  }
-  if (given(st.sample_time_option) || given(st.export_name_option) || given(st.export_axis_option)) {
-    throw InvalidArgument("shape: --sample-time, --export-name and --export-axis apply to --export FORMAT");
-  }
-  const AppliedShaper a = design_applied(st);
-  const DesignedShaper& d = a.applied;
-  const sh::Shaper& s = d.shaper;
+// The shape's band and its V at the design mode (when a mode was given).
+struct ShapeFigures {
   std::optional<sh::InsensitivityBand> band;
   std::optional<double> v_design;
-  if (d.mode) {
-    band = sh::insensitivity(s, *d.mode, kReportVtol);
-    v_design = sh::residual_vibration(s, *d.mode);
-  }
-  nlohmann::ordered_json csv;
-  if (!st.input.empty()) {
-    csv = shape_csv(st, d);
-  } else if (!st.output.empty() || !st.column.empty()) {
-    throw InvalidArgument("shape: --output and --column are for shaping a CSV column; give --input FILE.csv");
-  }
+};
 
-  if (st.json) {
-    auto doc = io::make_document();
-    doc["command"] = "shape";
-    doc["method"] = s.method();
-    if (d.mode) doc["mode"] = mode_json(*d.mode);
-    if (d.second_mode) doc["second_mode"] = mode_json(*d.second_mode);
-    const sh::Method m = sh::method_from_string(st.shaper.method);
-    if (m == sh::Method::ei || m == sh::Method::ei2 || m == sh::Method::ei3 || m == sh::Method::si) {
-      doc["vtol"] = st.shaper.vtol;
-    }
-    if (m == sh::Method::si) {
-      doc["band"] = {{"frequency_low_hz", st.shaper.band_low_hz}, {"frequency_high_hz", st.shaper.band_high_hz}};
-    }
-    nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
-    for (const sh::Impulse& p : s.impulses()) impulses.push_back({{"t", p.time_s}, {"a", p.amplitude}});
-    doc["impulses"] = impulses;
-    doc["units"] = {{"t", "s"}, {"a", "1 (fraction of the command; sum 1)"}};
-    doc["duration_s"] = s.duration_s();
-    doc["positive"] = s.is_positive();
-    doc["residual_at_design"] = v_design ? nlohmann::ordered_json(*v_design) : nlohmann::ordered_json(nullptr);
-    doc["insensitivity"] = band ? band_json(*band, *d.mode, kReportVtol) : nlohmann::ordered_json(nullptr);
-    if (a.designed) {  // the impulses above are on the drive's update grid
-      nlohmann::ordered_json designed = nlohmann::ordered_json::array();
-      for (const sh::Impulse& p : a.designed->impulses()) designed.push_back({{"t", p.time_s}, {"a", p.amplitude}});
-      doc["update_grid"] = {{"grid_hz", st.grid_hz},
-                            {"update_period_s", 1.0 / st.grid_hz},
-                            {"designed_impulses", designed},
-                            {"designed_duration_s", a.designed->duration_s()},
-                            {"designed_residual_at_design",
-                             d.mode ? nlohmann::ordered_json(sh::residual_vibration(*a.designed, *d.mode)) : nlohmann::ordered_json(nullptr)}};
-    }
-    if (!csv.is_null()) doc["shaped_csv"] = csv;
-    print_json(doc);
-    return;
+nlohmann::ordered_json shape_document(const ShapeState& st, const AppliedShaper& a, const ShapeFigures& fig,
+                                      const nlohmann::ordered_json& csv) {
+  const DesignedShaper& d = a.applied;
+  const sh::Shaper& s = d.shaper;
+  const auto& band = fig.band;
+  const auto& v_design = fig.v_design;
+  auto doc = io::make_document();
+  doc["command"] = "shape";
+  doc["method"] = s.method();
+  if (d.mode) doc["mode"] = mode_json(*d.mode);
+  if (d.second_mode) doc["second_mode"] = mode_json(*d.second_mode);
+  const sh::Method m = sh::method_from_string(st.shaper.method);
+  if (m == sh::Method::ei || m == sh::Method::ei2 || m == sh::Method::ei3 || m == sh::Method::si) {
+    doc["vtol"] = st.shaper.vtol;
   }
+  if (m == sh::Method::si) {
+    doc["band"] = {{"frequency_low_hz", st.shaper.band_low_hz}, {"frequency_high_hz", st.shaper.band_high_hz}};
+  }
+  nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
+  for (const sh::Impulse& p : s.impulses()) impulses.push_back({{"t", p.time_s}, {"a", p.amplitude}});
+  doc["impulses"] = impulses;
+  doc["units"] = {{"t", "s"}, {"a", "1 (fraction of the command; sum 1)"}};
+  doc["duration_s"] = s.duration_s();
+  doc["positive"] = s.is_positive();
+  doc["residual_at_design"] = v_design ? nlohmann::ordered_json(*v_design) : nlohmann::ordered_json(nullptr);
+  doc["insensitivity"] = band ? band_json(*band, *d.mode, kReportVtol) : nlohmann::ordered_json(nullptr);
+  if (a.designed) {  // the impulses above are on the drive's update grid
+    nlohmann::ordered_json designed = nlohmann::ordered_json::array();
+    for (const sh::Impulse& p : a.designed->impulses()) designed.push_back({{"t", p.time_s}, {"a", p.amplitude}});
+    doc["update_grid"] = {{"grid_hz", st.grid_hz},
+                          {"update_period_s", 1.0 / st.grid_hz},
+                          {"designed_impulses", designed},
+                          {"designed_duration_s", a.designed->duration_s()},
+                          {"designed_residual_at_design",
+                           d.mode ? nlohmann::ordered_json(sh::residual_vibration(*a.designed, *d.mode)) : nlohmann::ordered_json(nullptr)}};
+  }
+  if (!csv.is_null()) doc["shaped_csv"] = csv;
+  return doc;
+}
+
+void print_shape(const ShapeState& st, const AppliedShaper& a, const ShapeFigures& fig) {
+  const DesignedShaper& d = a.applied;
+  const sh::Shaper& s = d.shaper;
+  const auto& band = fig.band;
+  const auto& v_design = fig.v_design;
   fmt::print("method      {}\n", s.method());
   if (d.mode) {
     fmt::print("mode        {:.6g} Hz ({:.6g} rad/s), zeta {:.6g}\n", d.mode->natural_frequency_hz(),
@@ -396,6 +388,36 @@ void run_shape(const ShapeState& st) {
   } else {
     fmt::print("insensitivity: give --frequency-hz and --zeta to evaluate it\n");
   }
+}
+
+void run_shape(const ShapeState& st) {
+  if (given(st.export_option)) {
+    run_export(st);
+    return;
+  }
+  if (given(st.sample_time_option) || given(st.export_name_option) || given(st.export_axis_option)) {
+    throw InvalidArgument("shape: --sample-time, --export-name and --export-axis apply to --export FORMAT");
+  }
+  const AppliedShaper a = design_applied(st);
+  const DesignedShaper& d = a.applied;
+  const sh::Shaper& s = d.shaper;
+  ShapeFigures fig;
+  if (d.mode) {
+    fig.band = sh::insensitivity(s, *d.mode, kReportVtol);
+    fig.v_design = sh::residual_vibration(s, *d.mode);
+  }
+  nlohmann::ordered_json csv;
+  if (!st.input.empty()) {
+    csv = shape_csv(st, d);
+  } else if (!st.output.empty() || !st.column.empty()) {
+    throw InvalidArgument("shape: --output and --column are for shaping a CSV column; give --input FILE.csv");
+  }
+
+  if (st.json) {
+    print_json(shape_document(st, a, fig, csv));
+    return;
+  }
+  print_shape(st, a, fig);
 }
 
 const bool registered = register_command(

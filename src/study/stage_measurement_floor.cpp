@@ -102,38 +102,16 @@ json floor_of(const Context& c, const std::vector<Record>& rest, const json* rig
           {"searched_start_time_s_mean", mean_std(searched_start).mean}};
 }
 
-void tabulate_floor(Context& c, const std::vector<Record>& rest) {
-  const std::string unit = md_unit_of(c);
-  const int n = c.p.rig_tests.floor_trials;
-  json section;
-  section["trials"] = n;
-  json ids = json::array();
-  for (const auto& r : rest) ids.push_back(r.id);
-  section["runs"] = ids;
-  section["unit"] = unit;
-  section["target_improvement_percent"] = kReachTargetImprovementPercent;
-  json floors = json::object();
-  std::vector<std::string> csv_names{"trial"};
-  std::vector<std::vector<double>> csv{{}};
-  for (int r = 1; r <= n; ++r) csv[0].push_back(r);
-
+// The reach table's columns, one entry per rig table with a floor to compare (tabulate → table).
+struct ReachRows {
   json rows = json::array(), unshaped_mean = json::array(), unshaped_std = json::array(), target = json::array(),
        floor_mean = json::array(), floor_std = json::array(), best_mean = json::array(), best_keys = json::array(),
        best_labels = json::array(), verdicts = json::array(), headline = json::object();
   std::string note;
-  for (const auto& table : c.p.rig_tests.tables) {
-    const InputSpec& in = c.p.input(table.input);
-    const json* rig = rig_table_json(c, table.id);
-    const json f = floor_of(c, rest, rig, in);
-    floors[table.id] = f;
-    csv_names.push_back("md_" + table.id);
-    csv.push_back(f.at("ours").get<std::vector<double>>());
-    if (rig == nullptr) continue;  // the rig tests were skipped: a floor, but nothing to compare
-    const MeanStd floor{f.at("ours_mean").get<double>(), f.at("ours_std").get<double>()};
-    std::string best_key;
-    const ReachNumbers num = reach_numbers(*rig, floor, best_key);
-    const ReachVerdict v = reach_verdict(num, unit);
-    const std::string label = fmt::format("{} ({})", in.label, table.id);
+
+  void add(const std::string& table_id, const InputSpec& in, const json& f, const ReachNumbers& num,
+           const std::string& best_key, const ReachVerdict& v) {
+    const std::string label = fmt::format("{} ({})", in.label, table_id);
     rows.push_back(label);
     unshaped_mean.push_back(num.unshaped_mean);
     unshaped_std.push_back(num.unshaped_std);
@@ -144,7 +122,7 @@ void tabulate_floor(Context& c, const std::vector<Record>& rest) {
     best_keys.push_back(best_key.empty() ? json(nullptr) : json(best_key));
     best_labels.push_back(best_key.empty() ? json(nullptr) : json(num.best_label));
     verdicts.push_back(std::string(to_string(v.reach)));
-    headline[table.id] = {{"input", in.name},
+    headline[table_id] = {{"input", in.name},
                           {"unshaped_mean", num.unshaped_mean},
                           {"unshaped_std", num.unshaped_std},
                           {"target", v.target},
@@ -160,43 +138,76 @@ void tabulate_floor(Context& c, const std::vector<Record>& rest) {
                           {"sentence", v.sentence}};
     note += fmt::format("{}: {}. ", label, v.sentence);
   }
-  section["tables"] = floors;
-  c.sections["measurement_floor"] = section;
-  std::vector<const std::vector<double>*> data;
-  for (const auto& v : csv) data.push_back(&v);
-  write_data_csv(c, "measurement_floor.csv", csv_names, data);
-  if (rows.empty()) return;
+};
 
+json reach_table(const Context& c, const ReachRows& r, const std::string& unit) {
+  const int n = c.p.rig_tests.floor_trials;
   json t = make_table("reach", "reach",
                       fmt::format("What a command can reach here: the {:g} % target against the measurement floor",
                                   kReachTargetImprovementPercent),
                       unit);
-  t["row_labels"] = rows;
+  t["row_labels"] = r.rows;
   t["columns"] = json::array(
-      {{{"key", "unshaped_mean"}, {"label", "unshaped MD, mean"}, {"ours", unshaped_mean}},
-       {{"key", "unshaped_std"}, {"label", "unshaped MD, std"}, {"ours", unshaped_std}},
+      {{{"key", "unshaped_mean"}, {"label", "unshaped MD, mean"}, {"ours", r.unshaped_mean}},
+       {{"key", "unshaped_std"}, {"label", "unshaped MD, std"}, {"ours", r.unshaped_std}},
        {{"key", "target"},
         {"label", fmt::format("{:g} % target ({:g} × unshaped mean)", kReachTargetImprovementPercent,
                               1.0 - kReachTargetImprovementPercent / 100.0)},
-        {"ours", target}},
-       {{"key", "floor_mean"}, {"label", "measurement floor, mean"}, {"ours", floor_mean}},
-       {{"key", "floor_std"}, {"label", "measurement floor, std"}, {"ours", floor_std}},
+        {"ours", r.target}},
+       {{"key", "floor_mean"}, {"label", "measurement floor, mean"}, {"ours", r.floor_mean}},
+       {{"key", "floor_std"}, {"label", "measurement floor, std"}, {"ours", r.floor_std}},
        {{"key", "best_mean"},
         {"label", "best design's MD, mean"},
-        {"ours", best_mean},
-        {"best_column", best_keys},
-        {"best_label", best_labels}}});
-  t["verdicts"] = verdicts;  // per row: below-floor | reached | reachable (the sentences: headline, note)
-  t["headline"] = headline;
+        {"ours", r.best_mean},
+        {"best_column", r.best_keys},
+        {"best_label", r.best_labels}}});
+  t["verdicts"] = r.verdicts;  // per row: below-floor | reached | reachable (the sentences: headline, note)
+  t["headline"] = r.headline;
   t["note"] = fmt::format(
       "{}The measurement floor is Eq. 5.1 on {} rest trials (a zero command for {} s, run ids rest/rNN), {}, "
       "through the same sensor chain and gyro-bias removal, over the window the table's trials used (from the "
       "median of their steady-state starts to the end): what the MD reads when nothing moves. A {:g} % "
       "improvement needs an MD of {:g} × the "
       "unshaped mean; where that target is below the floor's mean, no command can show it on this rig's sensors.",
-      note, n, c.p.record_s, trials_kind(c), kReachTargetImprovementPercent,
+      r.note, n, c.p.record_s, trials_kind(c), kReachTargetImprovementPercent,
       1.0 - kReachTargetImprovementPercent / 100.0);
-  c.tables.push_back(t);
+  return t;
+}
+
+void tabulate_floor(Context& c, const std::vector<Record>& rest) {
+  const std::string unit = md_unit_of(c);
+  const int n = c.p.rig_tests.floor_trials;
+  json section;
+  section["trials"] = n;
+  json ids = json::array();
+  for (const auto& r : rest) ids.push_back(r.id);
+  section["runs"] = ids;
+  section["unit"] = unit;
+  section["target_improvement_percent"] = kReachTargetImprovementPercent;
+  json floors = json::object();
+  std::vector<std::string> csv_names{"trial"};
+  std::vector<std::vector<double>> csv{{}};
+  for (int r = 1; r <= n; ++r) csv[0].push_back(r);
+  ReachRows rows;
+  for (const auto& table : c.p.rig_tests.tables) {
+    const InputSpec& in = c.p.input(table.input);
+    const json* rig = rig_table_json(c, table.id);
+    const json f = floor_of(c, rest, rig, in);
+    floors[table.id] = f;
+    csv_names.push_back("md_" + table.id);
+    csv.push_back(f.at("ours").get<std::vector<double>>());
+    if (rig == nullptr) continue;  // the rig tests were skipped: a floor, but nothing to compare
+    const MeanStd floor{f.at("ours_mean").get<double>(), f.at("ours_std").get<double>()};
+    std::string best_key;
+    const ReachNumbers num = reach_numbers(*rig, floor, best_key);
+    rows.add(table.id, in, f, num, best_key, reach_verdict(num, unit));
+  }
+  section["tables"] = floors;
+  c.sections["measurement_floor"] = section;
+  std::vector<const std::vector<double>*> data;
+  for (const auto& v : csv) data.push_back(&v);
+  write_data_csv(c, "measurement_floor.csv", csv_names, data);
+  if (!rows.rows.empty()) c.tables.push_back(reach_table(c, rows, unit));
 }
 
 }  // namespace
