@@ -58,11 +58,11 @@ ScaledData scaled(const Experiment& experiment) {
   ScaledData s;
   s.su = rms(experiment.input) > 0.0 ? rms(experiment.input) : 1.0;
   s.sy = rms(experiment.output) > 0.0 ? rms(experiment.output) : 1.0;
-  s.u.resize(n_samples);
-  s.y.resize(n_samples);
+  s.u.reserve(n_samples);
+  s.y.reserve(n_samples);
   for (std::size_t k = 0; k < n_samples; ++k) {
-    s.u[k] = experiment.input[k] / s.su;
-    s.y[k] = experiment.output[k] / s.sy;
+    s.u.push_back(experiment.input[k] / s.su);
+    s.y.push_back(experiment.output[k] / s.sy);
   }
   return s;
 }

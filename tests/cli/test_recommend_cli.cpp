@@ -16,6 +16,7 @@
 #include "support/paths.hpp"
 
 using clearshape::testing::golden_path;
+using clearshape::testing::read_bytes;
 using clearshape::testing::run_cli;
 
 namespace {
@@ -24,11 +25,6 @@ std::string golden(const std::string& name) { return golden_path(name).string();
 
 std::filesystem::path temp(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("recommend_cli_" + std::to_string(::getpid()) + "_" + name);
-}
-
-std::string read_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 nlohmann::json json_of(const std::string& args) {
