@@ -4,6 +4,9 @@ add_library(clearshape_warnings INTERFACE)
 target_compile_options(clearshape_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow
                        -Wnon-virtual-dtor -Wold-style-cast -Wcast-align -Wunused -Woverloaded-virtual
                        -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+if(CLEARSHAPE_WERROR)
+  target_compile_options(clearshape_warnings INTERFACE -Werror)
+endif()
 
 include(GNUInstallDirs)  # CMAKE_INSTALL_INCLUDEDIR for the installed include path
 set(CLEARSHAPE_MODULES "" CACHE INTERNAL "modules of the clearshape library")
@@ -22,6 +25,9 @@ function(clearshape_add_module name)
     add_library(clearshape_${name} INTERFACE)
   endif()
   add_library(clearshape::${name} ALIAS clearshape_${name})
+  # The public headers are C++20 (std::span, defaulted operator==): a usage requirement, so a
+  # consumer of the installed package compiles as C++20 whatever its own default (GCC 12: C++17).
+  target_compile_features(clearshape_${name} ${scope} cxx_std_20)
   # Installed as clearshape::<name> (cmake/ClearshapeInstall.cmake), like the alias above.
   set_target_properties(clearshape_${name} PROPERTIES EXPORT_NAME ${name})
   target_include_directories(clearshape_${name} ${scope}

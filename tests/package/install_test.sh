@@ -2,6 +2,7 @@
 # The installed package (docs/package.md): `cmake --install` into a temporary prefix, then
 #   1. a separate CMake project builds examples/02_design_shapers.cpp against the installed
 #      clearshape::clearshape (find_package, nothing from the source or build tree) and runs it;
+#      it sets no C++ standard: C++20 must come from the exported targets (cxx_std_20);
 #   2. the same example built with the installed pkg-config file only, and run;
 #   3. the installed Python module imports from the prefix and designs a shaper.
 # Usage: install_test.sh BUILD_DIR SOURCE_DIR PYTHON
@@ -27,10 +28,14 @@ fi
 
 # 1. CMake consumer.
 cmake -S "$source/tests/package/consumer" -B "$work/consumer" -DCMAKE_BUILD_TYPE=Release \
-      -DCMAKE_PREFIX_PATH="$prefix" -DEXAMPLE_SOURCE="$example" > "$work/consumer.log" 2>&1 \
+      -DCMAKE_PREFIX_PATH="$prefix" -DEXAMPLE_SOURCE="$example" -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
+      > "$work/consumer.log" 2>&1 \
   || { cat "$work/consumer.log" >&2; exit 1; }
 grep -q "clearshape_DIR = $prefix/lib/cmake/clearshape" "$work/consumer.log" \
   || { echo "install_test: the consumer did not find the installed package" >&2; cat "$work/consumer.log" >&2; exit 1; }
+# The consumer sets no standard, so a -std=…20 flag can only come from clearshape's targets.
+grep -Eq -- '-std=(c|gnu)\+\+20' "$work/consumer/compile_commands.json" \
+  || { echo "install_test: the installed targets do not require C++20 (cxx_std_20)" >&2; cat "$work/consumer.log" >&2; exit 1; }
 cmake --build "$work/consumer" > "$work/consumer-build.log" 2>&1 || { cat "$work/consumer-build.log" >&2; exit 1; }
 "$work/consumer/consumer"
 
