@@ -1,27 +1,61 @@
 # clearshape — the two commands of the README, plus benchmarks.
-#   make run    install missing Debian packages, build (Release), run the main job
-#   make test   install missing Debian packages, build, run every test through ctest
+#   make run    install the Debian packages the main job needs, build the CLI only (Release),
+#               run the main job (scripts/run-main.sh)
+#   make test   install every Debian package, build everything (warnings are errors), run every
+#               test through ctest
 #   make bench  build and run the benchmarks side by side with their SciPy/NumPy peers
 #   make test-sanitize  every test under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)
 #   make fuzz   each libFuzzer target for FUZZ_SECONDS (clang, build-fuzz/; docs/data-safety.md)
+# What each costs on a fresh two-core Debian 12: README.md, "Set-up: two commands".
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
+# -Werror on the project's own code (CMake option CLEARSHAPE_WERROR). The same value for run and
+# test, so that switching between them never recompiles; `make run WERROR=OFF` for a compiler
+# other than Debian 12's GCC 12.
+WERROR ?= OFF
 
-.PHONY: run test bench deps configure build clean test-sanitize fuzz
+# A quiet build: no "gmake[N]: Entering directory" lines from the makes that cmake --build runs
+# (a build tree made with Unix Makefiles; a new tree uses Ninja, see configure below).
+MAKEFLAGS += --no-print-directory
+
+.PHONY: run test bench deps deps-run configure configure-run build build-run clean test-sanitize fuzz
 FUZZ_SECONDS ?= 60
 
 deps:
 	@bash scripts/install-deps.sh
 
+deps-run:
+	@bash scripts/install-deps.sh --run
+
+# cmake configure, its log in $(BUILD_DIR).configure.log (shown only when it fails). A new build
+# tree uses Ninja (Debian's ninja-build: one progress line, and objects of a target compile while
+# its dependencies link); an existing tree keeps the generator it was made with.
+#   $(1): the options for this configure
+define configure_tree
+	@gen=""; if [ ! -f $(BUILD_DIR)/CMakeCache.txt ] && command -v ninja > /dev/null; then gen="-G Ninja"; fi; \
+	echo "clearshape: configuring $(BUILD_DIR)/ (log: $(BUILD_DIR).configure.log)"; \
+	cmake -S . -B $(BUILD_DIR) $$gen -DCMAKE_BUILD_TYPE=Release -DCLEARSHAPE_WERROR=$(WERROR) $(1) $(CMAKE_FLAGS) \
+	  > $(BUILD_DIR).configure.log 2>&1 || { cat $(BUILD_DIR).configure.log; exit 1; }
+endef
+
+# Everything: library, CLI, Python module, firmware and its emulator, tests, examples, benchmarks.
 configure: deps
-	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > $(BUILD_DIR).configure.log 2>&1 \
-	  || (cat $(BUILD_DIR).configure.log; exit 1)
+	$(call configure_tree,-DCLEARSHAPE_BUILD_TESTS=ON -DCLEARSHAPE_BUILD_EXAMPLES=ON -DCLEARSHAPE_BUILD_BENCHMARKS=ON)
+
+# The main job needs the CLI only. A new tree is configured without tests, examples and
+# benchmarks (so GoogleTest and Google Benchmark need not be installed); an existing tree keeps
+# its options (after `make test` they are on, which costs nothing here: only the CLI is built).
+configure-run: deps-run
+	$(call configure_tree,$(if $(wildcard $(BUILD_DIR)/CMakeCache.txt),,-DCLEARSHAPE_BUILD_TESTS=OFF -DCLEARSHAPE_BUILD_EXAMPLES=OFF -DCLEARSHAPE_BUILD_BENCHMARKS=OFF))
 
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
-run: build
+build-run: configure-run
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target clearshape_cli
+
+run: build-run
 	@bash scripts/run-main.sh $(BUILD_DIR)
 
 test: build

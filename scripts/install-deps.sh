@@ -1,26 +1,39 @@
 #!/usr/bin/env bash
 # Installs the Debian packages clearshape needs to build, test, benchmark and report.
 # Idempotent: does nothing when every package is already installed.
-# Usage: scripts/install-deps.sh           what make run / make test need
+# Usage: scripts/install-deps.sh           everything: what make test / make bench need
+#        scripts/install-deps.sh --run     what make run needs: the CLI's build and the figures
 #        scripts/install-deps.sh --fuzz    what make fuzz needs (clang, its sanitizer runtimes)
-# Chromium (headless) is always installed: the report test opens report.html in it.
+# Chromium (headless) comes with the full set: the report test opens report.html in it.
 set -euo pipefail
 
+# make run: build the library and the CLI (the Python module is configured, so pybind11 and
+# the Python headers are needed to configure, not to build), then draw the figures and the
+# report (python/render_study.py: matplotlib, jinja2).
+run_packages=(
+  build-essential cmake pkg-config ninja-build
+  libeigen3-dev libsundials-dev libceres-dev libnlopt-cxx-dev libboost-dev
+  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev libserialport-dev
+  pybind11-dev python3-dev
+  python3 python3-numpy python3-matplotlib python3-jinja2 fonts-dejavu-core
+)
+# make test adds the test frameworks, SciPy (golden data), the firmware tool chain and simavr,
+# Chromium, and what sweeps and the real-time checks use.
 packages=(
-  build-essential cmake pkg-config
-  libeigen3-dev libsundials-dev libceres-dev libnlopt-cxx-dev
-  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-numpy python3-scipy python3-matplotlib python3-jinja2
-  pybind11-dev python3-dev python3-pytest python3-h5py python3-distributed
-  chromium fonts-dejavu-core
-  gcc-avr avr-libc simavr libsimavr-dev libserialport-dev
+  "${run_packages[@]}"
+  libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev
+  python3-scipy python3-pytest python3-h5py python3-distributed
+  chromium
+  gcc-avr avr-libc simavr libsimavr-dev
   rt-tests
 )
 
-if [[ "${1:-}" == "--fuzz" ]]; then
-  packages=(clang libclang-rt-14-dev)
-fi
+case "${1:-}" in
+  --run) packages=("${run_packages[@]}") ;;
+  --fuzz) packages=(clang libclang-rt-14-dev) ;;
+  "") ;;
+  *) echo "usage: scripts/install-deps.sh [--run|--fuzz]" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do
