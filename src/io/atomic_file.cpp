@@ -112,6 +112,66 @@ void rename_into_place(Temporary& tmp, const fs::path& target) {
 
 }  // namespace
 
+namespace {
+
+const char* file_kind(const fs::file_status& st) {
+  switch (st.type()) {
+    case fs::file_type::directory: return "a folder";
+    case fs::file_type::character: return "a character device";
+    case fs::file_type::block: return "a block device";
+    case fs::file_type::fifo: return "a FIFO (named pipe)";
+    case fs::file_type::socket: return "a socket";
+    default: return "not a regular file";
+  }
+}
+
+}  // namespace
+
+std::string regular_file_problem(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) return fmt::format("cannot be opened: {}", ec.message());
+  if (!fs::exists(st)) {
+    return fs::is_symlink(fs::symlink_status(path, ec)) ? "is a symbolic link to nothing" : "does not exist";
+  }
+  if (fs::is_regular_file(st)) return "";
+  if (fs::is_directory(st)) return "is a folder, not a file";
+  return fmt::format("is {}, not a regular file", file_kind(st));
+}
+
+fs::path resolve_output(const fs::path& path) {
+  fs::path p = path;
+  for (int hops = 0; hops < 40; ++hops) {  // the kernel's own limit on a chain of links (ELOOP)
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(p, ec);
+    if (ec || !fs::exists(st)) return p;  // a new file (a dangling link's target is created)
+    if (fs::is_regular_file(st)) return p;
+    if (fs::is_symlink(st)) {
+      const fs::path target = fs::read_symlink(p, ec);
+      if (ec) throw RuntimeError(fmt::format("{}: cannot read the symbolic link: {}", p.string(), ec.message()));
+      p = target.is_absolute() ? target : p.parent_path() / target;
+      continue;
+    }
+    const std::string via = p == path ? std::string() : fmt::format(" (a link to {})", p.string());
+    throw InvalidArgument(fmt::format("output {}{} is {}, not a regular file; outputs are written only to regular "
+                                      "files or new paths — choose another output path",
+                                      path.string(), via, file_kind(st)));
+  }
+  throw InvalidArgument(fmt::format("output {}: more than 40 symbolic links to follow; choose another output path",
+                                    path.string()));
+}
+
+bool is_input(const fs::path& path) {
+  FileId id;
+  if (!file_id(path, id)) return false;
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  for (const auto& [known, name] : r.inputs) {
+    if (known == id) return true;
+  }
+  return false;
+}
+
 void note_input(const fs::path& path) {
   FileId id;
   if (!file_id(path, id)) return;
@@ -144,10 +204,10 @@ void clear_inputs() {
 }
 
 std::string read_own_output_file(const fs::path& path) {
-  std::error_code ec;
-  const auto status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) throw InputError(path.string(), 0, "", "no such file");
-  if (fs::is_directory(status)) throw InputError(path.string(), 0, "", "is a folder, not a file");
+  // A FIFO or a device would block or never end: only regular files are read.
+  if (const std::string problem = regular_file_problem(path); !problem.empty()) {
+    throw InputError(path.string(), 0, "", problem);
+  }
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) {
     throw InputError(path.string(), 0, "", fmt::format("cannot open for reading: {}", std::strerror(errno)));
@@ -171,19 +231,20 @@ std::string read_text_file(const fs::path& path) {
 
 void write_text_atomic(const fs::path& path, std::string_view content) {
   check_not_input(path);
-  create_parent(path);
-  Temporary tmp(path);
+  const fs::path target = resolve_output(path);
+  create_parent(target);
+  Temporary tmp(target);
   write_temporary(tmp.path(), path, content);
-  rename_into_place(tmp, path);
+  rename_into_place(tmp, target);
 }
 
 AtomicBatch::~AtomicBatch() = default;
 
 void AtomicBatch::add(const fs::path& path, std::string content) {
   check_not_input(path);
-  const fs::path target = fs::weakly_canonical(fs::absolute(path));
+  const fs::path target = fs::weakly_canonical(fs::absolute(resolve_output(path)));
   for (const auto& [known, text] : files_) {
-    if (fs::weakly_canonical(fs::absolute(known)) == target) {
+    if (fs::weakly_canonical(fs::absolute(resolve_output(known))) == target) {
       throw InvalidArgument(fmt::format(
           "two outputs name the same file {}; give them different paths", path.string()));
     }
@@ -193,13 +254,15 @@ void AtomicBatch::add(const fs::path& path, std::string content) {
 
 void AtomicBatch::commit() {
   std::vector<std::unique_ptr<Temporary>> temps;
+  std::vector<fs::path> targets;
   for (const auto& [path, content] : files_) {
     check_not_input(path);
-    create_parent(path);
-    temps.push_back(std::make_unique<Temporary>(path));
+    targets.push_back(resolve_output(path));
+    create_parent(targets.back());
+    temps.push_back(std::make_unique<Temporary>(targets.back()));
     write_temporary(temps.back()->path(), path, content);
   }
-  for (std::size_t i = 0; i < files_.size(); ++i) rename_into_place(*temps[i], files_[i].first);
+  for (std::size_t i = 0; i < files_.size(); ++i) rename_into_place(*temps[i], targets[i]);
   files_.clear();
 }
 

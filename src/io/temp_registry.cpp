@@ -2,11 +2,16 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
+
+#include <pthread.h>
 
 #include <unistd.h>
 
+#include "clearshape/core/error.hpp"
 #include "clearshape/io/atomic_file.hpp"
+#include "clearshape/io/interrupt.hpp"
 
 namespace clearshape::io {
 namespace detail {
@@ -42,12 +47,43 @@ void release_temporary(int slot) noexcept {
 
 namespace {
 
-extern "C" void on_terminating_signal(int signo) {
+// The signals that end a job: an interrupt (Ctrl-C), a termination request (timeout, a batch
+// scheduler), a closed terminal and a closed pipe. Each leaves no temporary file behind.
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+
+std::atomic<bool> g_deferring{false};
+std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_signal{0};
+
+void remove_temporaries() noexcept {
   for (auto& slot : g_slots) {
     if (slot.state.load() == 2) ::unlink(slot.path);
   }
+}
+
+[[noreturn]] void end_by(int signo) noexcept {
+  remove_temporaries();
   std::signal(signo, SIG_DFL);
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, signo);
+  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
   std::raise(signo);
+  _exit(128 + signo);  // not reached: the default action ends the process
+}
+
+extern "C" void on_terminating_signal(int signo) {
+  if (g_deferring.load()) {
+    int none = 0;
+    if (g_signal.compare_exchange_strong(none, signo)) {
+      static constexpr char kLine[] = "clearshape: interrupted; stopping first (the run ends at its next cycle)\n";
+      const ssize_t ignored = ::write(STDERR_FILENO, kLine, sizeof kLine - 1);
+      (void)ignored;
+    }
+    g_interrupted.store(true);
+    return;
+  }
+  end_by(signo);
 }
 
 }  // namespace
@@ -58,8 +94,45 @@ void install_signal_cleanup() {
   action.sa_handler = detail::on_terminating_signal;
   sigemptyset(&action.sa_mask);
   action.sa_flags = 0;
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
+  for (const int signo : detail::kSignals) sigaction(signo, &action, nullptr);
+}
+
+const std::atomic<bool>& interrupt_requested() noexcept { return detail::g_interrupted; }
+int pending_interrupt() noexcept { return detail::g_signal.load(); }
+
+DeferredInterrupts::DeferredInterrupts() {
+  bool expected = false;
+  if (!detail::g_deferring.compare_exchange_strong(expected, true)) {
+    throw RuntimeError("io::DeferredInterrupts: a scope is already active (one at a time)");
+  }
+  detail::g_signal.store(0);
+  detail::g_interrupted.store(false);
+  install_signal_cleanup();
+}
+
+DeferredInterrupts::~DeferredInterrupts() {
+  detail::g_deferring.store(false);
+  detail::g_interrupted.store(false);
+  detail::g_signal.store(0);
+}
+
+void DeferredInterrupts::end_process_if_interrupted() {
+  const int signo = detail::g_signal.load();
+  if (signo == 0) return;
+  detail::g_deferring.store(false);
+  std::fflush(stdout);
+  std::fflush(stderr);
+  detail::end_by(signo);
+}
+
+const char* interrupt_name(int signo) noexcept {
+  switch (signo) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    case SIGPIPE: return "SIGPIPE";
+    default: return "a signal";
+  }
 }
 
 }  // namespace clearshape::io

@@ -2,6 +2,10 @@
 // names are recognised (and only they are), one BOM rule.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -10,6 +14,7 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/atomic_file.hpp"
+#include "clearshape/io/interrupt.hpp"
 #include "clearshape/io/table.hpp"
 
 namespace fs = std::filesystem;
@@ -56,13 +61,12 @@ TEST(AtomicFile, BatchRefusesTwoOutputsWithOneNameAndWritesNothing) {
 TEST(AtomicFile, BatchThatFailsLeavesTheOldFilesAndNoTemporaries) {
   const fs::path dir = temp_dir("fail");
   write(dir / "a.csv", "old a");
-  fs::create_directories(dir / "b.csv");  // a folder where a file must go: its rename fails
-  fs::create_directories(dir / "b.csv" / "keep");
+  write(dir / "blocker", "a file where b.csv's folder must go");
   io::AtomicBatch batch;
-  batch.add(dir / "b.csv", "new b");
-  batch.add(dir / "a.csv", "new a");
+  batch.add(dir / "a.csv", "new a");            // its temporary is written first …
+  batch.add(dir / "blocker" / "b.csv", "new b");  // … then b's folder cannot be made
   EXPECT_THROW(batch.commit(), clearshape::RuntimeError);
-  EXPECT_EQ(read(dir / "a.csv"), "old a");  // renamed only after every write and in order: b first
+  EXPECT_EQ(read(dir / "a.csv"), "old a");  // renamed only after every write succeeded
   for (const auto& e : fs::directory_iterator(dir)) {
     EXPECT_FALSE(io::is_temporary_name(e.path().filename().string())) << e.path();
   }
@@ -95,4 +99,103 @@ TEST(AtomicFile, ReadTextFileDropsOneByteOrderMarkAndNamesFolders) {
     EXPECT_NE(std::string(e.what()).find("folder"), std::string::npos) << e.what();
   }
   io::clear_inputs();
+}
+
+// Issue 21 item 2: an output that is a symbolic link replaces the link's target (the link stays);
+// one that is a FIFO, a character device or a folder is refused by name and left as it was.
+TEST(AtomicFile, AnOutputFollowsItsLinkAndNeverReplacesANonRegularFile) {
+  const fs::path dir = temp_dir("special");
+  write(dir / "target.csv", "old");
+  fs::create_symlink("target.csv", dir / "link.csv");
+  io::write_text_atomic(dir / "link.csv", "new");
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "link.csv")));
+  EXPECT_EQ(read(dir / "target.csv"), "new");
+  {
+    io::AtomicBatch batch;  // the batch resolves the same way
+    batch.add(dir / "link.csv", "newer");
+    EXPECT_THROW(batch.add(dir / "target.csv", "twice"), clearshape::InvalidArgument);  // one file, two names
+    batch.commit();
+  }
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "link.csv")));
+  EXPECT_EQ(read(dir / "target.csv"), "newer");
+
+  ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+  fs::create_symlink(dir / "fifo", dir / "to_fifo");
+  fs::create_directories(dir / "folder");
+  std::vector<fs::path> refused = {dir / "fifo", dir / "to_fifo", dir / "folder"};
+  const bool device = ::mknod((dir / "null").c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0;  // needs root
+  if (device) refused.push_back(dir / "null");
+  for (const fs::path& out : refused) {
+    try {
+      io::write_text_atomic(out, "data");
+      ADD_FAILURE() << out << " was written";
+    } catch (const clearshape::InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find(out.string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+    io::AtomicBatch batch;
+    EXPECT_THROW(batch.add(out, "data"), clearshape::InvalidArgument) << out;
+  }
+  EXPECT_TRUE(fs::is_fifo(dir / "fifo"));
+  EXPECT_TRUE(fs::is_directory(dir / "folder"));
+  if (device) {
+    EXPECT_TRUE(fs::is_character_file(dir / "null"));
+  }
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_FALSE(io::is_temporary_name(e.path().filename().string())) << e.path();
+  }
+  EXPECT_EQ(io::regular_file_problem(dir / "fifo"), "is a FIFO (named pipe), not a regular file");
+  EXPECT_EQ(io::regular_file_problem(dir / "folder"), "is a folder, not a file");
+  EXPECT_EQ(io::regular_file_problem(dir / "none"), "does not exist");
+  EXPECT_EQ(io::regular_file_problem(dir / "target.csv"), "");
+  fs::create_symlink("loop_b", dir / "loop_a");
+  fs::create_symlink("loop_a", dir / "loop_b");
+  EXPECT_NE(io::regular_file_problem(dir / "loop_a").find("symbolic links"), std::string::npos)
+      << io::regular_file_problem(dir / "loop_a");
+  // Reading a FIFO would block for ever: it is refused by name instead.
+  EXPECT_THROW((void)io::read_text_file(dir / "fifo"), clearshape::InputError);
+  fs::remove_all(dir);
+}
+
+TEST(AtomicFile, IsInputSeesEveryPathToARegisteredInput) {
+  io::clear_inputs();
+  const fs::path dir = temp_dir("is_input");
+  write(dir / "in.csv", "x");
+  fs::create_symlink(dir / "in.csv", dir / "link.csv");
+  EXPECT_FALSE(io::is_input(dir / "in.csv"));
+  io::note_input(dir / "in.csv");
+  EXPECT_TRUE(io::is_input(dir / "link.csv"));
+  EXPECT_TRUE(io::is_input(dir / "." / "in.csv"));
+  EXPECT_FALSE(io::is_input(dir / "absent.csv"));
+  io::clear_inputs();
+  fs::remove_all(dir);
+}
+
+// SIGINT inside a DeferredInterrupts scope is recorded, not fatal; end_process_if_interrupted
+// then removes the temporaries in flight and ends the process by that signal (run in a child).
+TEST(DeferredInterrupts, ASignalIsRecordedThenEndsTheProcessWhenAsked) {
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    io::DeferredInterrupts scope;
+    if (io::interrupt_requested().load()) ::_exit(10);
+    ::raise(SIGINT);
+    if (!io::interrupt_requested().load() || io::pending_interrupt() != SIGINT) ::_exit(11);
+    ::raise(SIGTERM);  // the first signal is the one that ends the process
+    if (io::pending_interrupt() != SIGINT) ::_exit(12);
+    scope.end_process_if_interrupted();
+    ::_exit(13);  // not reached
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "exit code " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  EXPECT_EQ(WTERMSIG(status), SIGINT);
+  // Outside a scope nothing is pending and the flag is clear.
+  EXPECT_EQ(io::pending_interrupt(), 0);
+  EXPECT_FALSE(io::interrupt_requested().load());
+  {
+    io::DeferredInterrupts scope;
+    EXPECT_THROW(io::DeferredInterrupts nested, clearshape::RuntimeError);
+    scope.end_process_if_interrupted();  // nothing recorded: returns
+  }
 }

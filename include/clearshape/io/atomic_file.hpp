@@ -36,10 +36,22 @@ void note_input(const std::filesystem::path& path);
 /// Throws InvalidArgument when `output` resolves to a registered input (same file, through any
 /// relative path, link or hard link), naming both.
 void check_not_input(const std::filesystem::path& output);
+/// True when `path` resolves to a registered input (a cleaner must leave it alone).
+bool is_input(const std::filesystem::path& path);
+/// Where an output to `path` is written: `path` itself, or the file a chain of symbolic links
+/// ends at (the link is kept, its target replaced). Throws InvalidArgument naming the path when
+/// that file exists and is not a regular file (a folder, a device such as /dev/null, a FIFO, a
+/// socket): an output never replaces one.
+std::filesystem::path resolve_output(const std::filesystem::path& path);
+/// Why `path` (links followed) is not a regular file to read — "does not exist", "is a folder,
+/// not a file", "is a FIFO (named pipe), not a regular file", "cannot be opened: Too many levels
+/// of symbolic links", … — or "" when it is one.
+std::string regular_file_problem(const std::filesystem::path& path);
 /// Forgets every registered input (tests; a long-lived process between jobs).
 void clear_inputs();
 
-/// Writes `content` to `path` atomically. Creates missing parent folders. Refuses an input.
+/// Writes `content` to `path` atomically (through resolve_output: a symbolic link's target is
+/// replaced, a non-regular file refused). Creates missing parent folders. Refuses an input.
 /// Throws clearshape::RuntimeError naming the path on failure (the old file is then untouched).
 void write_text_atomic(const std::filesystem::path& path, std::string_view content);
 
