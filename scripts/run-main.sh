@@ -10,18 +10,27 @@ build_dir="${1:-build}"
 exe="$build_dir/bin/clearshape"
 mkdir -p out
 studies=(thesis-position thesis-speed large-play-position)
+# A study's report (one single-threaded Python process) is drawn while the next study runs.
+render=()
+[[ -f python/render_study.py ]] && render=(/usr/bin/python3 python/render_study.py)
+pids=()
+trap 'for p in "${pids[@]}"; do kill "$p" 2> /dev/null || true; done' EXIT  # a study failed
 for s in "${studies[@]}"; do
   "$exe" study "studies/$s.toml" --out "out/$s" > /dev/null
+  if (( ${#render[@]} > 0 )); then
+    "${render[@]}" "out/$s" > /dev/null &
+    pids+=($!)
+  fi
 done
 reports=()
-if [[ -f python/render_study.py ]]; then
-  for s in "${studies[@]}"; do
-    if ! /usr/bin/python3 python/render_study.py "out/$s" > /dev/null; then
-      echo "clearshape: warning: some figures of out/$s failed to draw; report.html names them" >&2
-    fi
-    [[ -f "out/$s/report.html" ]] && reports+=("$(pwd)/out/$s/report.html")
-  done
-fi
+for i in "${!pids[@]}"; do
+  s=${studies[$i]}
+  if ! wait "${pids[$i]}"; then
+    echo "clearshape: warning: some figures of out/$s failed to draw; report.html names them" >&2
+  fi
+  [[ -f "out/$s/report.html" ]] && reports+=("$(pwd)/out/$s/report.html")
+done
+pids=()
 echo
 for s in "${studies[@]}"; do
   echo "$s: tables out/$s/tables.md, data out/$s/results.json"
