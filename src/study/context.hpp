@@ -118,6 +118,19 @@ void write_data_csv(const Context& c, const std::string& name, const std::vector
 /// or measurements on a physical or recorded rig.
 json ambiguities(const Protocol& p, std::string_view rig_kind);
 
+/// results.json "rig": what the rig is, in words the report prints as they are — kind, description,
+/// summary (one sentence on what it is), calibrated_to_thesis (its truth was fitted to the thesis's
+/// unshaped measurements: only the built-in thesis rig), scored_against_thesis (its numbers get
+/// verdicts: the thesis rig, or a physical/recorded rig repeating the experiment) and, for a
+/// built-in what-if rig, documented {contact_exponent, play_deg} (its documented joint, so the
+/// report can say when a fit misses it).
+json rig_document(std::string_view kind, std::string_view description);
+
+/// Every table column's thesis numbers as the thesis printed them (thesis_printed,
+/// thesis_mean_printed, thesis_improvement_printed): a column of trials keeps its common number of
+/// decimals (0.270, 0.0009), numbers below 10⁻³ keep the thesis's ×10ⁿ form (1.56×10⁻⁴).
+void add_thesis_printed(json& tables);
+
 /// tables.md from results.json.
 std::string render_tables_markdown(const json& results);
 

@@ -378,9 +378,9 @@ void parse_clearance(const TomlSection& top, Protocol& p) {
   c.window_s = s->positive("window_s", 2.0);
   c.max_evaluations = static_cast<int>(s->integer("max_evaluations", 150, 1, 100000));
   if (const auto th = s->table("thesis")) {
-    c.thesis_stiffness = th->number("stiffness", 0.0);
-    c.thesis_damping = th->number("damping", 0.0);
-    c.thesis_agreement = th->number("agreement", 0.0);
+    if (th->has("stiffness")) c.thesis_stiffness = th->number("stiffness");
+    if (th->has("damping")) c.thesis_damping = th->number("damping");
+    if (th->has("agreement")) c.thesis_agreement = th->number("agreement");
     th->finish("stiffness, damping, agreement");
   }
   s->finish("input, exponent, link_inertia_kg_m2, play_deg, stiffness_n_m_per_rad_pow_n, "
@@ -413,10 +413,11 @@ RigColumn parse_rig_column(const TomlSection& c, const RigTable& table) {
   }
   col.label = c.text("label", col.key());
   col.thesis = parse_column(c, "thesis", "thesis_mean", col.label);
+  if (c.has("thesis_improvement")) col.thesis_improvement = c.number("thesis_improvement");
   for (const auto& other : table.columns) {
     if (other.key() == col.key()) c.fail("shaper", fmt::format("column '{}' appears twice", col.key()));
   }
-  c.finish("shaper, mode_source, label, thesis, thesis_mean");
+  c.finish("shaper, mode_source, label, thesis, thesis_mean, thesis_improvement");
   return col;
 }
 

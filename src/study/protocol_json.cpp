@@ -9,11 +9,13 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
+json optional_json(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+
 json column_json(const ThesisColumn& c) {
   json j;
   j["label"] = c.label;
   j["values"] = c.values;
-  j["mean"] = c.mean ? json(*c.mean) : json(nullptr);
+  j["mean"] = optional_json(c.mean);
   return j;
 }
 
@@ -74,7 +76,8 @@ json clearance_json(const ClearanceStage& c) {
           {"window_s", c.window_s},
           {"max_evaluations", c.max_evaluations},
           {"thesis",
-           {{"stiffness", c.thesis_stiffness}, {"damping", c.thesis_damping}, {"agreement", c.thesis_agreement}}}};
+           {{"stiffness", optional_json(c.thesis_stiffness)}, {"damping", optional_json(c.thesis_damping)},
+            {"agreement", optional_json(c.thesis_agreement)}}}};
   if (c.contact_law != "dashpot") {  // the default writes nothing: older results stay byte-identical
     j["contact_law"] = c.contact_law;
     j["restitution"] = c.restitution;
@@ -98,6 +101,7 @@ json rig_table_json(const RigTable& t) {
                     {"mode_source", col.mode_source},
                     {"label", col.label},
                     {"thesis", column_json(col.thesis)}});
+    if (col.thesis_improvement) cols.back()["thesis_improvement"] = *col.thesis_improvement;
   }
   tj["columns"] = cols;
   return tj;

@@ -1,5 +1,7 @@
 // The settled ambiguities and tables.md (human tables with the thesis beside ours).
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -85,41 +87,77 @@ void add_model_ambiguities(Ambiguities& a, bool position) {
         "low-jerk step or the spacing and size of the double step.");
 }
 
+// What each kind of rig is (results.json "rig", the rig-truth ambiguity, the report's rig texts).
+struct RigProfile {
+  std::string_view kind;
+  bool calibrated_to_thesis;
+  bool scored_against_thesis;
+  std::string_view summary;
+  std::optional<double> contact_exponent;  ///< documented joint of a built-in what-if rig
+  std::optional<double> play_deg;
+};
+
+constexpr std::string_view kUnknownSimulated =
+    "a built-in simulated rig that is not the thesis's: its truth is not calibrated to the thesis's "
+    "measurements, so the thesis's numbers beside ours are for scale only.";
+
+const RigProfile* rig_profile(std::string_view kind) {
+  static const RigProfile profiles[] = {
+      {"simulated-thesis", true, true,
+       "clearshape's simulated thesis rig: its hidden play, soft linear flank, damping and gyro noise were "
+       "calibrated once (clearshape calibrate-rig) so that its unshaped responses reproduce the thesis's unshaped "
+       "('without IS') means of Tables B.1–B.5, the spread of its trials and the repeatability of Tables 4.1–4.2; "
+       "shaped results were never fitted and are predictions.",
+       std::nullopt, std::nullopt},
+      {"simulated-large-play", false, false,
+       "the simulated large-play rig (docs/large-play.md): the calibrated thesis rig's drive, sensors and "
+       "run-to-run variation with a 1° steel pin in a bored aluminium link — Hertz stiffness from the materials "
+       "and geometry (n = 1.5), Flores restitution dissipation (e = 0.6), bearing friction. It is not fitted to "
+       "any measurement, so the thesis's numbers beside ours are for scale only.",
+       1.5, 1.0},
+      {"simulated-worn-coupling", false, false,
+       "the simulated worn-coupling rig: the thesis rig's drive and sensors with 1° of play on the calibrated "
+       "soft linear flank (n = 1) and a 0.01 N·m bearing Coulomb torque. Only its flank comes from the thesis "
+       "rig's calibration; the play and the friction do not, so its numbers are not calibrated to the thesis's "
+       "and are shown beside them for scale only.",
+       1.0, 1.0},
+      {"simulated-config", false, false,
+       "a simulated rig whose hidden truth comes from the rig configuration file given to --rig-config (named "
+       "with its hash in the description): not calibrated to the thesis, so the thesis's numbers beside ours are "
+       "for scale only.",
+       std::nullopt, std::nullopt},
+      {"physical", false, true,
+       "a physical rig over its serial link (rig::SerialRig): every run, shaped or not, is a measurement of that "
+       "rig, compared with the thesis's as a repetition of its experiment on another rig.",
+       std::nullopt, std::nullopt},
+      {"recordings", false, true,
+       "runs recorded elsewhere (the recordings manifest): every run is a measurement of the rig that recorded "
+       "it, compared with the thesis's as a repetition of its experiment on another rig.",
+       std::nullopt, std::nullopt},
+  };
+  for (const auto& p : profiles) {
+    if (p.kind == kind) return &p;
+  }
+  return nullptr;
+}
+
+std::string rig_summary(std::string_view kind) {
+  const RigProfile* p = rig_profile(kind);
+  return std::string(p ? p->summary : kUnknownSimulated);
+}
+
 // What rig gave the runs (RunSource::kind).
 void add_rig_ambiguity(Ambiguities& a, std::string_view rig_kind) {
-  if (rig_kind == "simulated-large-play") {
-    a.add("rig-truth", "What is the simulated rig?",
-          "rig::SimRig with the built-in large-play truth (docs/large-play.md): the calibrated thesis rig's "
-          "drive, sensors and run-to-run variation with a 1 deg steel pin in a bored aluminium link — Hertz "
-          "stiffness from the materials and geometry (Eq. 2.5–2.6, n = 1.5), Flores restitution dissipation "
-          "(e = 0.6), bearing friction. It is not fitted to any measurement: the thesis's numbers beside ours "
-          "are for scale only; the study never reads the truth, and the shaped results are predictions.",
-          "The thesis's rig plays 0.03 deg at its calibration (truth.hpp); this rig asks what its method "
-          "does where the play dominates (issue 12).");
-  } else if (rig_kind == "simulated-config") {
-    a.add("rig-truth", "What is the simulated rig?",
-          "rig::SimRig with the truth of the rig configuration given to --rig-config (results.json "
-          "rig.description names the file and its hash). That truth is not calibrated to the thesis: the "
-          "thesis's numbers beside ours are for scale only and are not scored; the study never reads the "
-          "truth, and the shaped results are predictions.",
-          "A what-if rig: its play, contact and inertia are the configuration's, not the thesis's rig's.");
-  } else if (rig_kind.rfind("simulated", 0) == 0) {
-    a.add("rig-truth", "What is the simulated rig?",
-          "rig::SimRig with its built-in truth, calibrated once (clearshape calibrate-rig) so that its "
-          "unshaped responses reproduce the thesis's unshaped ('without IS') means, the spread of its trials and "
-          "the repeatability of Tables 4.1–4.2 (seeded run-to-run variation, rig/variation.hpp); "
-          "the study never reads that truth, and the shaped results are predictions.",
-          "docs/design.md §2: the simulated rig's truth is calibrated to the thesis's measurements, never to our results.");
-  } else {
-    a.add("rig-truth", "What rig gave the runs?",
-          rig_kind == "physical"
-              ? "A physical rig over its serial link (rig::SerialRig; results.json rig.description): every run, "
-                "shaped or not, is a measurement of that rig, not a calibrated prediction; a run that lost a "
-                "sample was refused. Only the simulated tests (stage 5) are predictions of the identified model."
-              : "Runs recorded elsewhere (the recordings manifest): every run is a measurement of the rig that "
-                "recorded it, not a calibrated prediction. Only the simulated tests (stage 5) are predictions.",
-          "The rig is not the thesis's: its numbers are compared with the thesis's, not fitted to them.");
-  }
+  const RigProfile* p = rig_profile(rig_kind);
+  const bool measured = p != nullptr && p->scored_against_thesis && !p->calibrated_to_thesis;
+  std::string settled = "The rig is " + rig_summary(rig_kind);
+  settled += measured ? " Only the simulated tests (stage 5) are predictions of the identified model."
+                      : " The study never reads the rig's truth.";
+  a.add("rig-truth", measured ? "What rig gave the runs?" : "What is the simulated rig?", std::move(settled),
+        p != nullptr && p->calibrated_to_thesis
+            ? "docs/design.md §2: the simulated rig's truth is calibrated to the thesis's unshaped measurements, "
+              "never to our results or to a shaped trial."
+            : "The rig is not the thesis's: its numbers are compared with the thesis's, never fitted to them.");
 }
 
 }  // namespace
@@ -133,10 +171,91 @@ json ambiguities(const Protocol& p, std::string_view rig_kind) {
   return a.list;
 }
 
+json rig_document(std::string_view kind, std::string_view description) {
+  const RigProfile* p = rig_profile(kind);
+  json doc = {{"kind", kind},
+              {"description", description},
+              {"summary", rig_summary(kind)},
+              {"calibrated_to_thesis", p != nullptr && p->calibrated_to_thesis},
+              {"scored_against_thesis", p != nullptr && p->scored_against_thesis}};
+  if (p != nullptr && (p->contact_exponent || p->play_deg)) {
+    doc["documented"] = {{"contact_exponent", p->contact_exponent ? json(*p->contact_exponent) : json(nullptr)},
+                         {"play_deg", p->play_deg ? json(*p->play_deg) : json(nullptr)}};
+  }
+  return doc;
+}
+
+namespace {
+
+// Fewest decimals (0 … 8) with which `v` prints back as itself.
+int decimals_of(double v) {
+  for (int d = 0; d < 8; ++d) {
+    if (std::abs(std::stod(fmt::format("{:.{}f}", v, d)) - v) <= 1e-9 * std::max(1.0, std::abs(v))) return d;
+  }
+  return 8;
+}
+
+std::string superscript(int e) {
+  static const char* digits[] = {"⁰", "¹", "²", "³", "⁴", "⁵", "⁶", "⁷", "⁸", "⁹"};
+  std::string out = e < 0 ? "⁻" : "";
+  for (const char ch : std::to_string(std::abs(e))) out += digits[ch - '0'];
+  return out;
+}
+
+// A thesis column as printed: `uniform` (a column of trials and its mean) keeps one number of
+// decimals for all; numbers all below 10⁻³ are printed m×10ⁿ with the largest one's exponent.
+std::vector<std::string> printed(const std::vector<double>& v, bool uniform) {
+  std::vector<std::string> out;
+  if (v.empty()) return out;
+  double top = 0.0;
+  for (const double x : v) top = std::max(top, std::abs(x));
+  if (top > 0.0 && top < 1e-3) {
+    const int e = static_cast<int>(std::floor(std::log10(top)));
+    const double scale = std::pow(10.0, e);
+    for (const double x : v) {
+      const double m = x / scale;
+      out.push_back(fmt::format("{:.{}f}×10{}", m, decimals_of(m), superscript(e)));
+    }
+    return out;
+  }
+  int common = 0;
+  for (const double x : v) common = std::max(common, decimals_of(x));
+  for (const double x : v) out.push_back(fmt::format("{:.{}f}", x, uniform ? common : decimals_of(x)));
+  return out;
+}
+
+}  // namespace
+
+void add_thesis_printed(json& tables) {
+  for (auto& t : tables) {
+    const std::string kind = t.value("kind", std::string());
+    const bool uniform = kind == "consistency" || kind == "mean-deviation" || kind == "improvement";
+    for (auto& col : t["columns"]) {
+      if (!col.contains("thesis") || !col["thesis"].is_array()) continue;
+      std::vector<double> values;  // the column's numbers, then its mean: printed alike
+      for (const auto& x : col["thesis"]) {
+        if (x.is_number()) values.push_back(x.get<double>());
+      }
+      const bool has_mean = col.contains("thesis_mean") && col["thesis_mean"].is_number();
+      if (has_mean) values.push_back(col["thesis_mean"].get<double>());
+      if (values.empty()) continue;
+      const std::vector<std::string> text = printed(values, uniform);
+      json arr = json::array();
+      std::size_t k = 0;
+      for (const auto& x : col["thesis"]) arr.push_back(x.is_number() ? json(text[k++]) : json(nullptr));
+      col["thesis_printed"] = arr;
+      if (has_mean) col["thesis_mean_printed"] = text[k];
+      if (col.contains("thesis_improvement_percent") && col["thesis_improvement_percent"].is_number()) {
+        col["thesis_improvement_printed"] = printed({col["thesis_improvement_percent"].get<double>()}, false)[0];
+      }
+    }
+  }
+}
+
 namespace {
 
 std::string num(const json& v) {
-  if (v.is_null()) return "";
+  if (v.is_null()) return "—";  // missing is missing, never 0
   if (!v.is_number()) return v.is_string() ? v.get<std::string>() : v.dump();
   const double x = v.get<double>();
   if (!std::isfinite(x)) return "—";
@@ -148,6 +267,22 @@ std::string num(const json& v) {
 
 bool has_values(const json& col, const char* key) {
   return col.contains(key) && col.at(key).is_array() && !col.at(key).empty();
+}
+
+// An improvement % to one decimal, as the thesis prints them (a printed thesis string as it is).
+std::string percent(const json& v) { return v.is_number() ? fmt::format("{:.1f}", v.get<double>()) : num(v); }
+
+// The mark of a result worse than unshaped (a negative improvement, a shaped MD above the unshaped).
+constexpr const char* kWorseMark = "▼ worse than unshaped";
+
+// " [lo, hi]" of a 95 % bootstrap interval (per row of a summary when `row` is given), with
+// "not significant" when it contains 0.
+std::string interval(const json& ci, std::optional<std::size_t> row) {
+  const json* c = &ci;
+  if (row && ci.is_array() && *row < ci.size()) c = &ci[*row];
+  if (!c->is_array() || c->size() != 2 || !(*c)[0].is_number() || !(*c)[1].is_number()) return "";
+  const double lo = (*c)[0].get<double>(), hi = (*c)[1].get<double>();
+  return fmt::format(" [{:.1f}, {:.1f}]{}", lo, hi, lo <= 0.0 && hi >= 0.0 ? " not significant" : "");
 }
 
 void row(std::ostringstream& out, const std::vector<std::string>& cells) {
@@ -192,18 +327,37 @@ void render_summary_rows(std::ostringstream& out, const std::string& kind, const
   std::vector<std::string> sd{"std (ours)"};
   std::vector<std::string> imp{"improvement %"};
   bool any_imp = false;
+  std::vector<std::string> recomputed{"improvement % recomputed from the thesis's means"};
+  bool any_recomputed = false;
   for (const auto& c : l.cells) {
     const bool ours = std::string(c.key) == "ours";
-    mean.push_back("**" + num(c.col->value(ours ? "ours_mean" : "thesis_mean", json(nullptr))) + "**");
+    const json mean_v = ours ? c.col->value("ours_mean", json(nullptr))
+                             : c.col->value("thesis_mean_printed", c.col->value("thesis_mean", json(nullptr)));
+    mean.push_back("**" + num(mean_v) + "**");
     sd.push_back(ours ? num(c.col->value("ours_std", json(nullptr))) : "");
     const char* ik = ours ? "improvement_percent" : "thesis_improvement_percent";
     if (c.col->contains(ik)) any_imp = true;
-    imp.push_back(num(c.col->value(ik, json(nullptr))));
+    const json iv = ours ? c.col->value(ik, json(nullptr))
+                         : c.col->value("thesis_improvement_printed", c.col->value(ik, json(nullptr)));
+    std::string cell = !c.col->contains(ik) ? "" : percent(iv);  // no improvement for the unshaped column
+    if (iv.is_number() && iv.get<double>() < 0.0) cell += std::string(" ") + kWorseMark;
+    if (ours) cell += interval(c.col->value("improvement_ci95_percent", json(nullptr)), std::nullopt);
+    imp.push_back(cell);
+    const json rv = ours ? json(nullptr) : c.col->value("thesis_improvement_recomputed_percent", json(nullptr));
+    const json pv = c.col->value("thesis_improvement_percent", json(nullptr));  // the printed value
+    if (rv.is_number() && (!pv.is_number() || std::abs(rv.get<double>() - pv.get<double>()) >= 0.05)) {
+      any_recomputed = true;
+      recomputed.push_back(fmt::format("{:.2f}", rv.get<double>()) +
+                           (pv.is_number() ? fmt::format(" (printed {})", num(iv)) : " (not printed)"));
+    } else {
+      recomputed.push_back("");
+    }
   }
   if (kind == "mean-deviation" && rows.size() > 0 && rows[0].is_string() && rows[0].get<std::string>() == "1") {
     row(out, mean);
     row(out, sd);
     if (any_imp) row(out, imp);
+    if (any_recomputed) row(out, recomputed);
   } else if (kind == "consistency") {
     row(out, mean);
   }
@@ -222,13 +376,15 @@ void render_column_notes(std::ostringstream& out, const json& cols) {
     if (om.is_number() && tm.is_number() && tm.get<double>() != 0.0) {
       const double o = om.get<double>(), th = tm.get<double>();
       out << fmt::format("- {}: ours {} vs thesis {} ({:+.0f} %).\n", col.value("label", std::string()), num(om),
-                         num(tm), 100.0 * (o - th) / std::abs(th));
+                         num(col.value("thesis_mean_printed", tm)), 100.0 * (o - th) / std::abs(th));
     }
     const json oi = col.value("improvement_percent", json(nullptr));
-    const json ti = col.value("thesis_improvement_percent", json(nullptr));
-    if (oi.is_number() && ti.is_number()) {
-      out << fmt::format("- {}: improvement ours {} % vs thesis {} %.\n", col.value("label", std::string()), num(oi),
-                         num(ti));
+    const json ti = col.value("thesis_improvement_printed", col.value("thesis_improvement_percent", json(nullptr)));
+    if (oi.is_number()) {
+      out << fmt::format("- {}: improvement ours {} %{}{} vs thesis {}.\n", col.value("label", std::string()), percent(oi),
+                         interval(col.value("improvement_ci95_percent", json(nullptr)), std::nullopt),
+                         oi.get<double>() < 0.0 ? std::string(" ") + kWorseMark : std::string(),
+                         ti.is_null() ? std::string("— (not printed)") : num(ti) + " % (as printed)");
     }
   }
 }
@@ -242,11 +398,28 @@ void render_table(std::ostringstream& out, const json& t) {
   const TableLayout l = layout_of(cols, t.value("kind", std::string()) == "reach");
   row(out, l.header);
   row(out, std::vector<std::string>(l.header.size(), "---"));
+  const std::string kind = t.value("kind", std::string());
+  const bool trials = kind == "mean-deviation" && !rows.empty() && rows[0] == "1";
+  const json* unshaped = nullptr;  // a results table's unshaped column: a larger MD in its row is worse
+  for (const auto& col : cols) {
+    if (col.value("key", std::string()) == "none" && has_values(col, "ours")) unshaped = &col;
+  }
   for (std::size_t r = 0; r < rows.size(); ++r) {
     std::vector<std::string> line{rows[r].is_string() ? rows[r].get<std::string>() : rows[r].dump()};
     for (const auto& c : l.cells) {
-      const json& v = c.col->at(c.key);
-      line.push_back(r < v.size() ? num(v[r]) : "");
+      const bool ours = std::string(c.key) == "ours";
+      const json& v = c.col->at(!ours && c.col->contains("thesis_printed") ? "thesis_printed" : c.key);
+      std::string cell = r < v.size() ? (ours && kind == "improvement" ? percent(v[r]) : num(v[r])) : "";
+      if (ours && r < v.size() && v[r].is_number()) {
+        const double x = v[r].get<double>();
+        const bool worse = kind == "improvement" ? x < 0.0
+                           : (!trials && kind == "mean-deviation" && unshaped != nullptr && unshaped != c.col &&
+                              r < unshaped->at("ours").size() && unshaped->at("ours")[r].is_number() &&
+                              x > unshaped->at("ours")[r].get<double>());
+        if (worse) cell += std::string(" ") + kWorseMark;
+        if (kind == "improvement") cell += interval(c.col->value("improvement_ci95_percent", json(nullptr)), r);
+      }
+      line.push_back(cell);
     }
     row(out, line);
   }
@@ -268,6 +441,14 @@ std::string render_tables_markdown(const json& results) {
                      s.at("title").get<std::string>(), s.at("mode").get<std::string>(),
                      s.at("quick").get<bool>() ? " (quick variant: fewer repetitions, shorter records)" : "",
                      s.at("rig").get<std::string>(), s.at("protocol_hash").get<std::string>());
+  if (results.contains("rig") && results.at("rig").contains("summary")) {
+    out << fmt::format("The rig is {}\n\n", results.at("rig").at("summary").get<std::string>());
+  }
+  out << fmt::format("Thesis numbers are quoted as the thesis printed them; a value recomputed from them is labelled "
+                     "so. \"{}\" marks a result worse than unshaped (a negative improvement, or a shaped mean "
+                     "deviation above the unshaped one in its row); [lo, hi] after an improvement is its 95 % "
+                     "bootstrap interval over the trials (seeded), \"not significant\" when it contains 0; \"—\" is a "
+                     "missing value.\n\n", kWorseMark);
   out << "## Ambiguities settled\n\n";
   for (const auto& a : results.at("ambiguities")) {
     out << fmt::format("- **{}** {} — {}\n", a.at("question").get<std::string>(), a.at("settled").get<std::string>(),

@@ -42,6 +42,14 @@ std::optional<double> improvement(double without, double with);
 /// An optional number as JSON (null when absent).
 json opt(const std::optional<double>& v);
 
+/// 95 % percentile bootstrap interval [lo, hi] of the improvement 100 (1 − mean(with)/mean(without))
+/// of `groups` = {without, with} (minus that of {thesis without, thesis with} when four groups are
+/// given: the interval of the difference ours − thesis). Each group is resampled with replacement on
+/// its own (trials are not paired), kBootstrapResamples times, from an mt19937_64 seeded by `seed`;
+/// null when a group has fewer than 2 trials or an unshaped resample mean is not positive.
+inline constexpr int kBootstrapResamples = 4000;
+json bootstrap_improvement_ci(const std::vector<const std::vector<double>*>& groups, std::uint64_t seed);
+
 RigTestPlan plan_rig_tests(Context& c);
 void tabulate_rig_table(Context& c, const RigTable& table, const RigTestPlan& plan, const std::vector<Record>& records,
                         RigTestTables& out);

@@ -336,13 +336,14 @@ json results_document(const detail::Context& c, const Protocol& protocol) {
                   {"protocol_hash", c.hash},
                   {"seed", protocol.seed},
                   {"rig", c.source->description()}};
-  doc["rig"] = {{"kind", c.source->kind()}, {"description", c.source->description()}};
+  doc["rig"] = detail::rig_document(c.source->kind(), c.source->description());
   doc["protocol"] = to_json(protocol);
   doc["units"] = units_json(protocol);
   doc["ambiguities"] = detail::ambiguities(protocol, c.source->kind());
   doc["skipped_stages"] = c.skipped;
   doc["sections"] = c.sections;
   doc["tables"] = c.tables;
+  detail::add_thesis_printed(doc["tables"]);
   doc["figures_index"] = "figures.json";
   return doc;
 }

@@ -19,6 +19,7 @@
 #include "clearshape/plant/gyroscope.hpp"
 #include "clearshape/study/measures.hpp"
 #include "context.hpp"
+#include "rig_tests.hpp"  // opt()
 
 namespace clearshape::study {
 
@@ -217,9 +218,9 @@ json clearance_table(const Context& c, const ClearanceRun& run) {
       {{"key", "rigid"}, {"label", "rigid link (no play), for reference"},
        {"ours", {null, null, null, 0.0, J, run.rigid_agreement, null, null, null, fit.sensor_low_pass_hz, null, null}}},
       {{"key", "thesis"}, {"label", "thesis (units unstated)"},
-       {"thesis", {cl.thesis_stiffness, cl.thesis_damping, 1.5, null, null, cl.thesis_agreement, null, null, null,
-                   null, null, null}}}};
-  table["headline"] = {{"agreement_ours", fit.agreement}, {"agreement_thesis", cl.thesis_agreement}};
+       {"thesis", {opt(cl.thesis_stiffness), opt(cl.thesis_damping), cl.thesis_stiffness ? json(1.5) : null, null, null,
+                   opt(cl.thesis_agreement), null, null, null, null, null, null}}}};
+  table["headline"] = {{"agreement_ours", fit.agreement}, {"agreement_thesis", opt(cl.thesis_agreement)}};
   table["note"] = fmt::format(
       "Fitted: {}; {}. Searches: {}. Identifiable at the optimum (local 1σ below 10 %, from σ²(JᵀJ)⁻¹ with the "
       "residual's autocorrelation): {}{}.{} The thesis states K and D without units and with a link of unknown "
@@ -333,8 +334,9 @@ void clearance_figure(Context& c, const ClearancePlan& plan, const ClearanceRun&
   c.figures.push_back({{"id", "clearance-fit"},
                        {"thesis_figure", c.p.mode == rig::CommandMode::speed ? "4.19" : "4.20"},
                        {"kind", "time-series"},
-                       {"title", fmt::format("Model with clearance vs gyro, {} (Eq. 4.1 agreement {:.4f}; thesis {:.4f})",
-                                             c.p.input(cl.input).label, fit.agreement, cl.thesis_agreement)},
+                       {"title", fmt::format("Model with clearance vs gyro, {} (Eq. 4.1 agreement {:.4f}; thesis {})",
+                                             c.p.input(cl.input).label, fit.agreement,
+                                             cl.thesis_agreement ? fmt::format("{:g}", *cl.thesis_agreement) : "—")},
                        {"file", c.data_file("clearance_fit.csv")},
                        {"x", {{"column", "time_s"}, {"label", "time (s)"}}},
                        {"y_label", "link rate (deg/s)"},

@@ -134,7 +134,8 @@ void tabulate_drive_models(Context& c, const DriveFits& f) {
     json thesis_col;
     thesis_col["key"] = "thesis";
     thesis_col["label"] = fmt::format("thesis ({} model)", t.selected_input.empty() ? "selected" : t.selected_input);
-    thesis_col["thesis"] = {t.kp, t.tz_s, t.zeta, t.tw_s, t.tp3_s, t.tw_s > 0 ? 1.0 / t.tw_s : 0.0, nullptr, nullptr};
+    // ωn: the thesis prints the formula (1/Tw), not a number; a recomputation is not the thesis's number.
+    thesis_col["thesis"] = {t.kp, t.tz_s, t.zeta, t.tw_s, t.tp3_s, nullptr, nullptr, nullptr};
     cols.push_back(thesis_col);
   }
   table["columns"] = cols;

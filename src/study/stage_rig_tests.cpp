@@ -154,6 +154,7 @@ void tabulate_rig_table(Context& c, const RigTable& table, const RigTestPlan& pl
   json headline = json::object();
   double without_mean = std::numeric_limits<double>::quiet_NaN();
   std::optional<double> thesis_without;
+  std::vector<double> without_values, thesis_without_values;
   // Figure data: trial 1 of every column (command, link rate, MD signal).
   RigFigureData fd;
   auto& names = fd.names;
@@ -194,15 +195,35 @@ void tabulate_rig_table(Context& c, const RigTable& table, const RigTestPlan& pl
     }
     if (pl.column->key() == "none") {
       without_mean = ms.mean;
+      without_values = values;
+      thesis_without_values = pl.column->thesis.values;
       thesis_without = pl.column->thesis.mean;
+      if (!thesis_without && !thesis_without_values.empty()) thesis_without = mean_std(thesis_without_values).mean;
     } else {
       const auto ours = improvement(without_mean, ms.mean);
-      std::optional<double> thesis;
-      if (thesis_without && pl.column->thesis.mean) thesis = improvement(*thesis_without, *pl.column->thesis.mean);
+      // The thesis's improvement as it printed it (verbatim), and apart from it the value recomputed
+      // from its means (its printed means, else the mean of its trials): the two differ where the
+      // thesis rounded or miscalculated (5.1: printed 52.1 %, recomputed 51.3 %).
+      const std::vector<double>& thesis_with_values = pl.column->thesis.values;
+      std::optional<double> thesis_with = pl.column->thesis.mean;
+      if (!thesis_with && !thesis_with_values.empty()) thesis_with = mean_std(thesis_with_values).mean;
+      std::optional<double> recomputed;
+      if (thesis_without && thesis_with) recomputed = improvement(*thesis_without, *thesis_with);
+      const std::string seed_id = fmt::format("bootstrap/{}/{}", table.id, pl.column->key());
+      const json ci = bootstrap_improvement_ci({&without_values, &values}, run_seed(c.p.seed, seed_id));
       col["improvement_percent"] = opt(ours);
-      col["thesis_improvement_percent"] = opt(thesis);
+      col["improvement_ci95_percent"] = ci;  // seeded bootstrap over the trials (rig_tests.hpp)
+      col["improvement_significant"] = ci.is_array() ? json(ci[0].get<double>() > 0.0 || ci[1].get<double>() < 0.0)
+                                                     : json(nullptr);
+      col["thesis_improvement_percent"] = opt(pl.column->thesis_improvement);
+      col["thesis_improvement_recomputed_percent"] = opt(recomputed);
+      col["thesis_improvement_ci95_percent"] =
+          bootstrap_improvement_ci({&thesis_without_values, &thesis_with_values}, run_seed(c.p.seed, seed_id + "/thesis"));
+      col["improvement_difference_ci95_percent"] = bootstrap_improvement_ci(
+          {&without_values, &values, &thesis_without_values, &thesis_with_values}, run_seed(c.p.seed, seed_id + "/diff"));
       headline[pl.column->key()] = {{"ours_mean", ms.mean}, {"thesis_mean", opt(pl.column->thesis.mean)},
-                                    {"improvement_percent", opt(ours)}, {"thesis_improvement_percent", opt(thesis)}};
+                                    {"improvement_percent", opt(ours)},
+                                    {"thesis_improvement_percent", opt(pl.column->thesis_improvement)}};
     }
     if (pl.column->key() == "none") {
       headline["none"] = {{"ours_mean", ms.mean}, {"thesis_mean", opt(pl.column->thesis.mean)}};

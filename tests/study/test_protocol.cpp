@@ -44,7 +44,7 @@ TEST(Protocol, ThesisPositionCarriesThePublishedTables) {
     }
   }
   EXPECT_DOUBLE_EQ(p.identification.thesis.zeta, 0.9968);
-  EXPECT_DOUBLE_EQ(p.clearance.thesis_agreement, 0.0042);
+  EXPECT_DOUBLE_EQ(p.clearance.thesis_agreement.value_or(0.0), 0.0042);
   EXPECT_DOUBLE_EQ(p.input("step-20").last_move_start_s, 0.5);
   EXPECT_DOUBLE_EQ(p.input("double-step-16").last_move_start_s, 1.0);
   ASSERT_EQ(p.rig_tests.summaries.size(), 2u);

@@ -136,9 +136,10 @@ struct ClearanceStage {
   bool filter_gyro = false;
   double window_s = 2.0;                 ///< record length compared (from the input's start)
   int max_evaluations = 150;
-  double thesis_stiffness = 0.0;  ///< thesis §4.2 (units unstated)
-  double thesis_damping = 0.0;
-  double thesis_agreement = 0.0;  ///< Eq. 4.1 agreement the thesis reached
+  /// Thesis §4.2 (units unstated); absent (null in results.json) for a protocol that gives none.
+  std::optional<double> thesis_stiffness;
+  std::optional<double> thesis_damping;
+  std::optional<double> thesis_agreement;  ///< Eq. 4.1 agreement the thesis reached
 };
 
 struct SimulationStage {
@@ -162,6 +163,9 @@ struct RigColumn {
   std::string mode_source;      ///< "drive-model" | "link-mode" | "clearance-model" (empty for none)
   std::string label;
   ThesisColumn thesis;          ///< empty values when the thesis has no such column
+  /// The improvement % the thesis printed for this column (Appendix B, §5.1.2), verbatim; absent
+  /// when it printed none (results.json then gives only the value recomputed from its means).
+  std::optional<double> thesis_improvement;
   /// "none", or "<shaper>@<mode_source>" (e.g. "zvdd@link-mode").
   std::string key() const;
 };
