@@ -103,11 +103,16 @@ def fmt(v, digits: int = 4) -> str:
         mant, exp = f"{v:.{digits - 1}e}".split("e")
         if "." in mant:
             mant = mant.rstrip("0").rstrip(".")
-        return f"{mant}×10{str(int(exp)).translate(_SUP)}"
+        return minus(f"{mant}×10{str(int(exp)).translate(_SUP)}")
     s = f"{v:.{digits}g}"
     if "e" in s:
         s = f"{v:.0f}"
-    return s
+    return minus(s)
+
+
+def minus(s: str) -> str:
+    """A number's sign as the typographic minus (U+2212), the same in every cell."""
+    return s.replace("-", "−")
 
 
 def fmt_signed(v) -> str:
@@ -116,11 +121,41 @@ def fmt_signed(v) -> str:
     if float(v) == 0:
         return "0"
     s = fmt(v)
-    return s if s.startswith("-") else "+" + s
+    return s if s.startswith("−") else "+" + s
 
 
 def fmt_pct(rel) -> str:
-    return "—" if rel is None else f"{100 * rel:+.1f} %"
+    return "—" if rel is None else minus(f"{100 * rel:+.1f} %")
+
+
+def thesis_num(v, text: str | None = None) -> str:
+    """A thesis number as the thesis printed it (results.json carries its digits: 0.270, 1.56×10⁻⁴)."""
+    return esc(text) if text else fmt(v)
+
+
+WORSE_MARK = '<span class="worse-mark" title="worse than unshaped">▼ worse than unshaped</span>'
+
+
+def interval_html(ci) -> str:
+    """A 95 % bootstrap interval [lo, hi], marked "not significant" when it holds 0."""
+    if not ci:
+        return ""
+    ns = ci[0] <= 0.0 <= ci[1]
+    return (f' <span class="ci" title="95 % bootstrap interval over the trials">{minus(f"[{ci[0]:.1f}, {ci[1]:.1f}]")}</span>'
+            + (' <span class="ns" title="the interval contains 0">not significant</span>' if ns else ""))
+
+
+def improvement_html(v, ci=None) -> str:
+    """Our improvement %: one decimal (as the thesis prints it), its interval, and the worse-than-unshaped
+    mark when it is negative."""
+    if v is None:
+        return "—"
+    return minus(f"{v:.1f} %") + (" " + WORSE_MARK if v < 0 else "") + interval_html(ci)
+
+
+def worse_td(content: str, worse: bool, extra_class: str = "") -> str:
+    cls = " ".join(x for x in (extra_class, "worse" if worse else "") if x)
+    return f'<td{f" class={chr(34)}{cls}{chr(34)}" if cls else ""}>{content}</td>'
 
 
 def unit_text(u) -> str:
@@ -133,11 +168,26 @@ def with_unit(v, unit: str) -> str:
     return f"{s} {esc(unit)}" if unit and v is not None else s
 
 
-def verdict_cell(agrees, colspan: int = 1) -> str:
+def verdict_cell(agrees, colspan: int = 1, better: bool = False) -> str:
+    """agrees / differs / not compared; a difference in clearshape's favour (a larger improvement, a
+    smaller shaped mean deviation) is not drawn in the warning colour."""
     span = f' colspan="{colspan}"' if colspan > 1 else ""
     if agrees is None:
         return f'<td class="verdict na"{span}>not compared</td>'
-    return (f'<td class="verdict ok"{span}>agrees</td>' if agrees else f'<td class="verdict diff"{span}>differs</td>')
+    if agrees:
+        return f'<td class="verdict ok"{span}>agrees</td>'
+    if better:
+        return f'<td class="verdict diff better"{span}>differs (ours better)</td>'
+    return f'<td class="verdict diff"{span}>differs</td>'
+
+
+def ours_better(c) -> bool:
+    """Whether a difference is in clearshape's favour: a larger improvement, a smaller shaped mean."""
+    if c is None or c.diff is None or c.agrees is not False:
+        return False
+    if c.kind == "improvement":
+        return c.diff > 0
+    return c.kind == "mean" and c.column is not None and not c.column.unshaped and c.diff < 0
 
 
 def slug(s) -> str:
@@ -215,9 +265,6 @@ def section_of_table(t: tbl.Table) -> str:
 # Context and the reasons for differences
 
 
-# Rig kinds (results.json "rig.kind") whose numbers are not scored against the thesis's.
-NOT_SCORED_KINDS = {"simulated-config": "a simulated rig whose truth comes from a rig configuration file",
-                    "simulated-large-play": "the simulated large-play rig (1° play), not fitted to any measurement"}
 NOT_SCORED_CRITERION = "not scored: this rig is not the thesis's, so its number is shown for scale only"
 
 
@@ -236,10 +283,16 @@ class Context:
                                                                    else "physical")
         rig = results.get("rig") if isinstance(results.get("rig"), dict) else {}
         self.rig_description = str(rig.get("description") or self.rig_text)
-        # Only the thesis's rig is scored against the thesis: the calibrated simulated thesis rig, or
-        # a physical or recorded rig that repeats its experiment. A what-if rig (--rig-config, the
-        # large-play truth) shows the thesis's numbers for scale only.
-        self.scored = self.rig_kind not in NOT_SCORED_KINDS
+        # What the rig is comes from results.json "rig" (study/report.cpp rig_document): its summary,
+        # whether its truth was calibrated to the thesis's unshaped measurements (only the built-in
+        # thesis rig) and whether its numbers are scored against the thesis's (that rig, or a physical
+        # or recorded rig repeating the experiment; a what-if rig shows them for scale only). Results
+        # written before those keys existed are read as the thesis rig when simulated-thesis.
+        thesis_rig = self.rig_kind == "simulated-thesis"
+        self.calibrated = bool(rig.get("calibrated_to_thesis", thesis_rig))
+        self.scored = bool(rig.get("scored_against_thesis", thesis_rig or not self.simulated_rig))
+        self.rig_summary = str(rig.get("summary") or "")
+        self.documented = rig.get("documented") if isinstance(rig.get("documented"), dict) else {}
         self.synthetic = bool(results.get("synthetic")) or "fixture" in self.rig_text.lower()
         self.sections = results.get("sections", {}) if isinstance(results.get("sections"), dict) else {}
 
@@ -288,7 +341,7 @@ def why(ctx: Context, t: tbl.Table, c: tbl.Comparison) -> str:
         return ("Follows from the two mean deviations it divides: the unshaped one is a calibration target, the "
                 "shaped one a prediction; see their own lines." + own)
     if col is not None and col.unshaped:
-        if ctx.simulated_rig and ctx.mode == "position":
+        if ctx.calibrated and ctx.mode == "position":
             return ("Calibration target: the simulated rig's play, flank stiffness and damping and gyro noise are "
                     "fitted once (clearshape calibrate-rig) so that its unshaped trials reproduce the unshaped ('without IS') "
                     f"means of Tables B.1–B.5 together; ours is {direction} by the calibration residual for this "
@@ -306,18 +359,15 @@ def why(ctx: Context, t: tbl.Table, c: tbl.Comparison) -> str:
 
 
 def improvement_spreads(tables: list[tbl.Table]) -> dict:
-    """Our improvement % (rounded) → (spread, criterion name) from the trial tables, so that a table
-    that repeats an improvement (B.6) judges it with the same criterion as its trial table."""
+    """Our improvement % (rounded) → the bootstrap interval of ours − thesis from the trial tables, so
+    that a table that repeats an improvement (B.6) judges it with the same criterion as its trial table."""
     out = {}
     for t in tables:
         if not t.is_trials:
             continue
-        base = next((c for c in t.columns if c.unshaped), None)
         for c in t.columns:
-            if base is not None and c is not base and c.improvement is not None:
-                sd = tbl.thesis_improvement_sd(base, c)
-                if sd:
-                    out[round(c.improvement, 9)] = sd
+            if c.improvement is not None and c.difference_ci:
+                out[round(c.improvement, 9)] = c.difference_ci
     return out
 
 
@@ -325,9 +375,9 @@ def comparisons_of(ctx: Context, t: tbl.Table, spreads: dict | None = None) -> l
     out = tbl.compare_table(t)
     if t.kind == "improvement" and spreads:
         for c in out:
-            sd = spreads.get(round(c.ours, 9)) if c.ours is not None else None
-            if sd:
-                v = tbl.verdict(c.ours, c.thesis, sd, "s.d. of the thesis's per-trial improvements")
+            ci = spreads.get(round(c.ours, 9)) if c.ours is not None else None
+            if ci:
+                v = tbl.interval_verdict(c.ours, c.thesis, ci)
                 c.diff, c.rel, c.agrees, c.criterion = v["diff"], v["rel"], v["agrees"], v["criterion"]
     # Contact parameters whose units the thesis does not state cannot be compared (docs/design.md §2).
     _, thesis_col = tbl.parameter_pair(t) if t.kind == "parameters" else (None, None)
@@ -355,6 +405,21 @@ def _caption(t: tbl.Table, extra: str = "") -> str:
     return f"<caption>{head}<span class=\"unit\">{sub}</span></caption>"
 
 
+def recomputed_cell(printed, recomputed, printed_text: str | None = None, unit: str = "") -> str:
+    """A thesis number recomputed from the thesis's own numbers, beside (never under) its printed one:
+    shown when it was not printed, or differs from the printed one beyond the printed digits."""
+    if recomputed is None:
+        return '<td colspan="2"></td>'
+    shown = printed_text if printed_text and "×" not in printed_text else (repr(float(printed)) if printed is not None
+                                                                          else "")
+    digits = len(shown.split(".")[1]) if "." in shown and "e" not in shown else 4
+    if printed is not None and abs(recomputed - printed) <= 0.5 * 10 ** -digits * (1 + 1e-9):  # rounds to it
+        return '<td colspan="2"></td>'
+    what = "not printed" if printed is None else f"printed {thesis_num(printed, printed_text)}{unit}"
+    return (f'<td colspan="2" class="recomputed">{fmt(round(recomputed, digits + 1))}{unit} '
+            f'<span class="sub">recomputed ({what})</span></td>')
+
+
 def render_trial_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
     """Repeated trials: per column ours beside the thesis's trials; mean, s.d., Δ of the means,
     improvement and verdicts in the footer. Trials are exchangeable (trial i here has nothing to do
@@ -377,7 +442,7 @@ def render_trial_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
             o = c.ours[i] if i < len(c.ours) else None
             th = c.thesis[i] if i < len(c.thesis) else None
             out.append(f"<td>{fmt(o) if i < len(c.ours) else ''}</td><td class=\"thesis\">"
-                       f"{fmt(th) if i < len(c.thesis) else ''}</td>")
+                       f"{thesis_num(th, c.thesis_text(i)) if i < len(c.thesis) else ''}</td>")
         out.append("</tr>")
     out.append("</tbody><tfoot>")
     by = {(id(c.column), c.kind): c for c in comps}
@@ -385,33 +450,42 @@ def render_trial_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
     def line(label, cls, cells):
         return f'<tr class="{cls}"><th scope="row">{label}</th>{"".join(cells)}</tr>'
 
-    means, sds, deltas, verdicts = [], [], [], []
+    means, sds, deltas, verdicts, recomputed_means = [], [], [], [], []
     for c in cols:
         m = by.get((id(c), "mean"))
         om = m.ours if m else (c.ours_mean if c.ours_mean is not None else tbl.mean_sd(c.ours)[0])
-        tm = m.thesis if m else c.thesis_mean
-        means.append(f"<td>{fmt(om)}</td><td class=\"thesis\">{fmt(tm)}</td>")
+        tm = c.thesis_mean
+        means.append(f"<td>{fmt(om)}</td><td class=\"thesis\">{thesis_num(tm, c.thesis_mean_printed)}</td>")
+        recomputed_means.append(recomputed_cell(tm, tbl.mean_sd(c.thesis)[0], c.thesis_mean_printed))
         osd = c.ours_sd if c.ours_sd is not None else tbl.mean_sd(c.ours)[1]
         sds.append(f"<td>{fmt(osd)}</td><td class=\"thesis\">{fmt(tbl.mean_sd(c.thesis)[1])}</td>")
         deltas.append(f'<td colspan="2" class="delta">{fmt_signed(m.diff) if m else "—"}'
                       f'{(" (" + fmt_pct(m.rel) + ")") if m and m.rel is not None else ""}</td>')
-        verdicts.append(verdict_cell(m.agrees if m else None, 2))
+        verdicts.append(verdict_cell(m.agrees if m else None, 2, ours_better(m)))
     out.append(line("mean", "mean", means))
+    if any("recomputed" in x for x in recomputed_means):
+        out.append(line("mean of the thesis's trials, recomputed", "recomputed", recomputed_means))
     out.append(line("s.d.", "sd", sds))
     out.append(line("Δ of the means", "delta", deltas))
     out.append(line("mean vs thesis", "verdicts", verdicts))
     if any(c.improvement is not None or c.thesis_improvement is not None for c in cols):
-        imps, ivs = [], []
+        imps, ivs, recomputed = [], [], []
         for c in cols:
             m = by.get((id(c), "improvement"))
             if m is None:
                 imps.append('<td colspan="2"></td>')
                 ivs.append('<td colspan="2"></td>')
+                recomputed.append('<td colspan="2"></td>')
                 continue
-            imps.append(f"<td>{fmt(m.ours, 3)} %</td><td class=\"thesis\">{fmt(m.thesis, 3)}"
-                        f"{' %' if m.thesis is not None else ''}</td>")
-            ivs.append(verdict_cell(m.agrees, 2))
+            thesis = (thesis_num(m.thesis, c.thesis_improvement_printed) + " %") if m.thesis is not None else "—"
+            imps.append(worse_td(improvement_html(m.ours, c.improvement_ci), m.ours is not None and m.ours < 0)
+                        + f'<td class="thesis">{thesis}</td>')
+            ivs.append(verdict_cell(m.agrees, 2, ours_better(m)))
+            recomputed.append(recomputed_cell(c.thesis_improvement, c.thesis_improvement_recomputed,
+                                              c.thesis_improvement_printed, " %"))
         out.append(line("improvement", "improvement", imps))
+        if any("recomputed" in x for x in recomputed):
+            out.append(line("thesis's improvement recomputed from its means", "recomputed", recomputed))
         out.append(line("improvement vs thesis", "verdicts", ivs))
     out.append("</tfoot></table>")
     return "".join(out)
@@ -472,21 +546,40 @@ def render_rowwise_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
         if c.thesis:
             out.append('<th scope="col" class="thesis">thesis</th><th scope="col">Δ</th><th scope="col">verdict</th>')
     out.append("</tr></thead><tbody>")
+    base = next((c for c in cols if c.unshaped and c.ours), None)
     for i, row in enumerate(t.row_labels):
         out.append(f'<tr><th scope="row">{esc(row)}</th>')
         for c in cols:
             if c.ours:
-                out.append(f"<td>{fmt(c.ours[i]) if i < len(c.ours) else '—'}</td>")
+                v = c.ours[i] if i < len(c.ours) else None
+                if t.kind == "improvement":
+                    ci = c.improvement_ci[i] if isinstance(c.improvement_ci, list) and i < len(c.improvement_ci) \
+                        and isinstance(c.improvement_ci[i], list) else None
+                    out.append(worse_td(improvement_html(v, ci), v is not None and v < 0))
+                else:
+                    worse = worse_than_unshaped(t, base, c, i)
+                    out.append(worse_td(fmt(v) + ((" " + WORSE_MARK) if worse else ""), worse))
             for arr in c.extra.values():
                 out.append(f"<td>{fmt(arr[i]) if i < len(arr) else '—'}</td>")
             if c.thesis:
                 q = f"{row}" + (f" — {c.label}" if len(cols) > 1 else "")
                 m = comp.get((id(c), q)) or comp.get((id(c), f"{row} — {c.label}")) or comp.get((id(c), str(row)))
-                out.append(f"<td class=\"thesis\">{fmt(c.thesis[i]) if i < len(c.thesis) else '—'}</td>"
-                           f"<td class=\"delta\">{fmt_signed(m.diff) if m else '—'}</td>{verdict_cell(m.agrees if m else None)}")
+                th = thesis_num(c.thesis[i], c.thesis_text(i)) if i < len(c.thesis) else "—"
+                out.append(f"<td class=\"thesis\">{th}</td>"
+                           f"<td class=\"delta\">{fmt_signed(m.diff) if m else '—'}</td>"
+                           f"{verdict_cell(m.agrees if m else None, 1, ours_better(m))}")
         out.append("</tr>")
     out.append("</tbody></table>")
     return "".join(out)
+
+
+def worse_than_unshaped(t: tbl.Table, base: tbl.Column | None, c: tbl.Column, i: int) -> bool:
+    """A shaped mean deviation above the unshaped one of its row (a results table with a "none" column)."""
+    if base is None or c is base or t.kind != "mean-deviation" or t.is_trials:
+        return False
+    v = c.ours[i] if i < len(c.ours) else None
+    b = base.ours[i] if i < len(base.ours) else None
+    return v is not None and b is not None and v > b
 
 
 def transposed(t: tbl.Table) -> bool:
@@ -504,6 +597,7 @@ def render_transposed_table(t: tbl.Table) -> str:
                     else "one row per shaper, one column per input"), '<thead><tr><th scope="col"></th>']
     out += [f'<th scope="col">{esc(r)}</th>' for r in t.row_labels]
     out.append("</tr></thead><tbody>")
+    base = next((c for c in t.columns if c.unshaped and c.ours), None)
     for c in t.columns:
         out.append(f'<tr><th scope="row">{esc(c.label)}</th>')
         for i in range(len(t.row_labels)):
@@ -511,7 +605,8 @@ def render_transposed_table(t: tbl.Table) -> str:
             extra = "".join(f'<span class="sub">{esc(k.removesuffix("_s").replace("_", " "))} {fmt(arr[i])}'
                             f'{" s" if k.endswith("_s") else ""}</span>'
                             for k, arr in c.extra.items() if i < len(arr) and arr[i] is not None)
-            out.append(f"<td>{fmt(v)}{extra}</td>")
+            worse = worse_than_unshaped(t, base, c, i)
+            out.append(worse_td(f"{fmt(v)}{(' ' + WORSE_MARK) if worse else ''}{extra}", worse))
         out.append("</tr>")
     out.append("</tbody></table>")
     return "".join(out)
@@ -651,7 +746,7 @@ def md_summary_spec(results: dict) -> dict | None:
             rows.append({"table": t.id, "label": label, "role": c.role,
                          "ours_without": base.ours_mean, "thesis_without": base.thesis_mean,
                          "ours_with": c.ours_mean, "thesis_with": c.thesis_mean, "ours_improvement": c.improvement,
-                         "thesis_improvement": c.thesis_improvement})
+                         "ours_improvement_ci95": c.improvement_ci, "thesis_improvement": c.thesis_improvement})
             unit = t.unit
     if not rows:
         return None
@@ -759,28 +854,20 @@ def facts_html(items) -> str:
 
 
 def rig_note(ctx: Context) -> str:
-    """What the rig is and what its numbers mean beside the thesis's, per results.json rig.kind."""
+    """What the rig is and what its numbers mean beside the thesis's, from results.json "rig"."""
     desc = f" ({esc(ctx.rig_description)})" if ctx.rig_description else ""
-    kind = ctx.rig_kind
-    if kind == "simulated-config":
-        return ("The rig is a simulated rig whose hidden truth comes from a rig configuration file (--rig-config)"
-                f"{desc}. That truth is <em>not</em> calibrated to the thesis: the thesis's numbers are shown beside "
-                "ours for scale only and are not scored. The study never reads the truth, and every shaped result "
-                "is a prediction.")
-    if kind == "simulated-large-play":
-        return ("The rig is the simulated large-play rig, a 1° play with its contact from the materials and geometry"
-                f"{desc}. It is not fitted to any measurement: the thesis's numbers are shown beside ours for scale "
-                "only and are not scored. The study never reads the truth, and every shaped result is a prediction.")
-    if kind.startswith("simulated"):
-        return ("The rig is clearshape's simulated thesis rig. Its hidden parameters were calibrated to what the "
-                "thesis measured <em>without</em> shaping (docs/design.md §2); the study never reads them, and every "
-                "shaped result is a prediction.")
-    if kind == "physical":
-        return (f"The rig is a physical rig over its serial link{desc}. Every run, shaped or not, is a measurement "
-                "of that rig, not a calibrated prediction; its numbers are compared with the thesis's as a "
-                "repetition of its experiment on another rig.")
-    return (f"The runs were recorded elsewhere{desc}. Every run is a measurement of the rig that recorded it; its "
-            "numbers are compared with the thesis's as a repetition of its experiment on another rig.")
+    what = esc(ctx.rig_summary.rstrip(". ")) if ctx.rig_summary else f"a rig of kind {esc(ctx.rig_kind)}"
+    text = f"The rig is {what}{desc}."
+    if ctx.calibrated:
+        text += (" Because it was calibrated to what the thesis measured <em>without</em> shaping (docs/design.md "
+                 "§2), its unshaped means are calibration targets — agreement there is by construction, not a "
+                 "finding; the study never reads the rig's truth, and every shaped result is a prediction.")
+    elif ctx.scored:
+        text += " Every run is a measurement, not a calibrated prediction."
+    else:
+        text += (" Its numbers are <strong>not scored</strong> against the thesis's; the study never reads the "
+                 "rig's truth, and every shaped result is a prediction.")
+    return text
 
 
 def identification_facts(ctx: Context) -> str:
@@ -905,9 +992,13 @@ def flank_discussion(ctx: Context, results: dict) -> str:
     flank = (f"The study's clearance stage fits a contact of K = {fmt(k, 3)} N·m/rad<sup>n</sup>, "
              f"D = {fmt(d, 3)} N·m·s/rad, n = {fmt(n, 3)} and a total play of {fmt(play, 3)}° to the gyro record "
              f"(link inertia fixed at {fmt(j, 3)} kg·m²).")
+    # "Soft" is a comparison, made only against a contact law the thesis gives: its K at least ten
+    # times ours. A rig without the thesis's law (a what-if rig) gets the numbers, not the word.
+    soft = bool(th.get("K")) and th["K"] > 10 * k
     if abs(n - 1.0) < 0.1:
         f_c = math.sqrt(k / j) / (2 * math.pi)
-        flank += (f" That is a nearly linear, soft flank: on the link alone it is a mode of √(K/J)/2π = "
+        flank += (f" That is a nearly linear{', soft' if soft else ''} flank: on the link alone it is a mode of "
+                  f"√(K/J)/2π = "
                   f"{fmt(f_c, 3)} Hz with ζ = D/(2√(KJ)) = {fmt(d / (2 * math.sqrt(k * j)), 2)}. The link's residual "
                   f"mode, identified independently from the gyro's free response, is {fmt(f_link, 3)} Hz, "
                   f"ζ = {fmt(z_link, 2)}")
@@ -917,6 +1008,17 @@ def flank_discussion(ctx: Context, results: dict) -> str:
     else:
         flank += f" The exponent n = {fmt(n, 3)} makes the flank nonlinear (stiffer as it is pressed)."
     p.append(flank)
+    # A built-in what-if rig documents its joint (results.json rig.documented): say where the fit misses it.
+    doc_n, doc_play = tbl.num(ctx.documented.get("contact_exponent")), tbl.num(ctx.documented.get("play_deg"))
+    missed = []
+    if doc_n is not None and abs(n - doc_n) > 0.1:
+        missed.append(f"its contact exponent is n = {fmt(doc_n, 3)}, the fit's n = {fmt(n, 3)}")
+    if doc_play is not None and abs(play - doc_play) > 0.25 * doc_play:
+        missed.append(f"its total play is {fmt(doc_play, 3)}°, the fit's {fmt(play, 3)}°")
+    if missed:
+        p.append("This rig's documented joint differs from the fit: " + "; ".join(missed) + ". The gyro record "
+                 "this fit sees does not determine those parameters, so the fitted flank is an effective "
+                 "description of the ringing it shows, not the rig's joint.")
     if th.get("K") and th.get("D"):
         n_th = th.get("n", 1.5)
         zeta_th = th["D"] / (2 * j * w_link)
@@ -928,7 +1030,7 @@ def flank_discussion(ctx: Context, results: dict) -> str:
         txt += (": the link would be locked to the motor, follow the drive's well-damped response and leave no "
                 "residual ringing for Eq. 5.1 to measure." if zeta_th > 1 else ".")
         p.append(txt)
-    if md_without is not None:
+    if md_without is not None and ctx.calibrated:
         txt = (f"Why the calibration lands on a springy flank: the rig's truth is calibrated to the thesis's "
                f"<em>unshaped</em> mean deviations (Table {esc(tid)}: ours {fmt(md_without, 3)} {unit})"
                + (", which grow in proportion to the step (B.3, B.2, B.1) — the signature of a lightly damped linear "
@@ -949,14 +1051,22 @@ def flank_discussion(ctx: Context, results: dict) -> str:
             trust += (f" and {fmt(play / md_with, 2)}× even the shaped one ({fmt(md_with, 3)}°), so the model is "
                       "linear at every amplitude the tables measure, and the shaped mean deviations are set by the "
                       "gyro's drift and what the shaper leaves of the mode")
-    trust += (". If the real contact is the stiff, impacting law the thesis identified, its vibration depends on "
-              "amplitude and each impact excites a broad band that a shaper tuned to one mode cannot cancel: the "
-              "shaped mean deviations and improvements here are then the best case for the modelled physics, and "
-              "their agreement with the thesis's shaped trials says that the thesis's rig, too, behaved as a lightly "
-              "damped mode as seen by its gyroscope — not that its contact law was soft.")
+    if ctx.calibrated:
+        trust += (". If the real contact is the stiff, impacting law the thesis identified, its vibration depends on "
+                  "amplitude and each impact excites a broad band that a shaper tuned to one mode cannot cancel: the "
+                  "shaped mean deviations and improvements here are then the best case for the modelled physics, and "
+                  "their agreement with the thesis's shaped trials says that the thesis's rig, too, behaved as a "
+                  "lightly damped mode as seen by its gyroscope — not that its contact law was soft.")
+        head = "The calibrated flank: soft and lightly damped, unlike the thesis\'s contact law"
+    else:
+        trust = ("What it means for the shaped predictions: this rig is not calibrated to the thesis, so nothing "
+                 "here was tuned to any measurement and the shaped numbers are predictions for this rig alone; "
+                 "they are not compared with the thesis's shaped trials. Where the rig's joint is not the fitted "
+                 "linear flank, a shaper designed from the identified mode leaves what that mode does not "
+                 "describe.")
+        head = "The fitted flank: what the gyro record shows of this rig's joint"
     p.append(trust)
-    return ('<h3>The calibrated flank: soft and lightly damped, unlike the thesis\'s contact law</h3>'
-            + "".join(f"<p>{x}</p>" for x in p))
+    return f"<h3>{head}</h3>" + "".join(f"<p>{x}</p>" for x in p)
 
 
 def shapers_html(ctx: Context) -> str:
@@ -1000,11 +1110,13 @@ def comparison_rows(rows: list[tuple[str, tbl.Comparison]], reasons: bool = True
     for sec, c in rows:
         unit = unit_text(c.unit)
         cls, text = (("na", "not compared") if c.agrees is None else ("ok", "agrees") if c.agrees
-                     else ("diff", "differs"))
+                     else ("diff better", "differs (ours better)") if ours_better(c) else ("diff", "differs"))
+        compared = c.agrees is not None  # no Δ under "not compared": it would read as a verdict
         out.append({"where": f"{SECTION_TITLES.get(sec, sec)} · {'Table ' if re.match(r'^[0-9B]', c.table) else ''}"
                              f"{c.table}",
                     "quantity": c.quantity, "ours": Markup(with_unit(c.ours, unit)),
-                    "thesis": Markup(with_unit(c.thesis, unit)), "diff": fmt_signed(c.diff), "rel": fmt_pct(c.rel),
+                    "thesis": Markup(thesis_num(c.thesis, c.thesis_text) + (f" {esc(unit)}" if unit and c.thesis
+                                                                            is not None else "")), "diff": fmt_signed(c.diff) if compared else "—", "rel": fmt_pct(c.rel) if compared else "—",
                     "verdict_class": cls, "verdict": text, "criterion": c.criterion,
                     "why": c.why if reasons else ""})
     return str(parts().comparisons(out))
@@ -1016,18 +1128,18 @@ def differences_html(all_comps: list[tuple[str, tbl.Comparison]], ctx: Context |
         return '<p class="empty">No number of this study has a published thesis value to compare with.</p>'
     if ctx is not None and not ctx.scored:
         return (f"<p>{len(comps)} published numbers beside ours, <strong>not scored</strong>: the rig is "
-                f"{esc(NOT_SCORED_KINDS.get(ctx.rig_kind, ctx.rig_kind))}, not the thesis's, so agreeing or "
-                "differing with the thesis would say nothing about either.</p><h3>For scale</h3>"
-                + comparison_rows(comps))
+                f"{esc(ctx.rig_summary or ctx.rig_kind)} Agreeing or differing with the thesis would say nothing "
+                "about either.</p><h3>For scale</h3>" + comparison_rows(comps))
     agree = [x for x in comps if x[1].agrees]
     differ = [x for x in comps if x[1].agrees is False]
     other = [x for x in comps if x[1].agrees is None]
     out = [f"<p>{len(comps)} published numbers compared: <strong>{len(agree)} agree</strong>, "
-           f"<strong>{len(differ)} differ</strong>" + (f", {len(other)} not comparable" if other else "") + ". "
-           "Means of repeated trials agree when their difference is within the thesis's own trial-to-trial "
-           "standard deviation; improvements when within the spread of the thesis's per-trial improvements; "
-           "other numbers when within 10 %. Tables the thesis prints twice (5.2 = B.1 + B.5; B.6 = the "
-           "improvements of B.1–B.5) are counted once.</p>"]
+           f"<strong>{len(differ)} differ</strong>, {len(other)} not comparable. "
+           "Means of repeated trials agree when their difference is within twice the standard error of the "
+           "difference of the two means (not one trial's s.d.); improvements when the seeded 95 % bootstrap "
+           "interval of ours − thesis contains 0; other numbers when within 10 %. Thesis numbers are quoted as "
+           "printed. Tables the thesis prints twice (5.2 = B.1 + B.5; B.6 = the improvements of B.1–B.5) are "
+           "counted once.</p>"]
     if differ:
         out.append("<h3>Where clearshape differs</h3>" + comparison_rows(differ))
     if agree:
@@ -1055,20 +1167,95 @@ def dedupe(comps: list) -> list[tuple[str, tbl.Comparison]]:
     return [(s, c) for i, (s, c, _) in enumerate(comps) if i in keep]
 
 
-def headline_html(all_comps: list[tuple[str, tbl.Comparison]], ctx: Context | None = None) -> str:
+def shaped_results(tables: list[tbl.Table]) -> list[dict]:
+    """Every shaped column of the rig's trial tables: its improvement, bootstrap interval and the thesis's
+    printed improvement (composite tables, which repeat other tables' columns, left out)."""
+    ids = {t.id for t in tables}
+    out = []
+    for t in tables:
+        if not t.is_trials or t.kind != "mean-deviation" or section_of_table(t) != "rig" or is_composite(t, ids):
+            continue
+        for c in t.columns:
+            if c.unshaped or c.improvement is None:
+                continue
+            ci = c.improvement_ci if c.improvement_ci and not isinstance(c.improvement_ci[0], list) else None
+            out.append({"table": t.id, "label": c.label, "ours": c.improvement, "ci": ci,
+                        "noise": bool(ci) and ci[0] <= 0.0 <= ci[1], "thesis": c.thesis_improvement,
+                        "thesis_text": c.thesis_improvement_printed, "column": c})
+    return out
+
+
+def _result_item(r: dict, comp: tbl.Comparison | None) -> str:
+    thesis = ""
+    if r["thesis"] is not None:
+        thesis = f" (thesis {thesis_num(r['thesis'], r['thesis_text'])} %"
+        thesis += f"; {esc(comp.criterion)})" if comp is not None and comp.agrees is not None else ")"
+    return f"<li>Table {esc(r['table'])}, {esc(r['label'])}: {improvement_html(r['ours'], r['ci'])}{thesis}</li>"
+
+
+def reach_sentences(tables: list[tbl.Table]) -> list[str]:
+    """The measurement floor's sentences ("What a command can reach here"), one per rig table."""
+    t = next((x for x in tables if x.kind == "reach"), None)
+    if t is None:
+        return []
+    return [str(v.get("sentence")) for v in t.headline.values() if isinstance(v, dict) and v.get("sentence")]
+
+
+def headline_html(all_comps: list[tuple[str, tbl.Comparison]], ctx: Context, tables: list[tbl.Table]) -> str:
+    """The finding, at the top of the page: what was reproduced, what was not, what is within noise and
+    what is worse than unshaped, with every count of the comparison (not comparable ones included)."""
     comps = [c for _, c in all_comps if c.thesis is not None]
-    if ctx is not None and not ctx.scored:
-        return (f'<div class="summary"><p>Not scored against the thesis: the rig is '
-                f'{esc(NOT_SCORED_KINDS.get(ctx.rig_kind, ctx.rig_kind))}, not the thesis\'s. {len(comps)} '
-                'published numbers are shown beside ours for scale (<a href="#differences">list</a>).</p></div>')
+    results = shaped_results(tables)
+    by_col = {id(c.column): c for c in comps if c.kind == "improvement" and c.column is not None}
+    groups = []
+    if ctx.scored:
+        groups += [("Reproduced", "reproduced",
+                    [r for r in results if by_col.get(id(r["column"])) and by_col[id(r["column"])].agrees]),
+                   ("Not reproduced", "not-reproduced",
+                    [r for r in results if by_col.get(id(r["column"])) and by_col[id(r["column"])].agrees is False])]
+    groups += [("Within noise (the 95 % interval holds 0)", "noise", [r for r in results if r["noise"]]),
+               ("Worse than unshaped", "worse", [r for r in results if r["ours"] < 0])]
+    if not ctx.scored:
+        groups.insert(0, ("Improvements on this rig (not scored against the thesis)", "rig-results",
+                          [r for r in results if not r["noise"] and r["ours"] >= 0]))
+    out = ['<div class="summary" id="finding"><h2>Finding</h2>']
+    out.append(f'<p class="rig-line">{rig_note(ctx)}</p>')
+    for title, cls, rows in groups:
+        if not rows:
+            continue
+        items = "".join(_result_item(r, by_col.get(id(r["column"]))) for r in rows)
+        out.append(f'<p class="finding {cls}"><strong>{esc(title)}:</strong></p><ul class="finding {cls}">{items}</ul>')
     agree = sum(1 for c in comps if c.agrees)
     differ = sum(1 for c in comps if c.agrees is False)
-    imps = [c for _, c in all_comps if c.kind == "improvement" and c.thesis is not None and c.ours is not None]
-    lines = "".join(f"<li>Table {esc(c.table)}, {esc(c.quantity.replace(' — improvement', ''))}: improvement "
-                    f"<strong>{fmt(c.ours, 3)} %</strong> (thesis {fmt(c.thesis, 3)} %)</li>" for c in imps[:8])
-    return (f'<div class="summary"><p>{len(comps)} published numbers compared with the thesis: {agree} agree, '
-            f'{differ} differ (<a href="#differences">details</a>).</p>'
-            + (f"<ul>{lines}</ul>" if lines else "") + "</div>")
+    other = sum(1 for c in comps if c.agrees is None)
+    if ctx.scored:
+        line = (f"{len(comps)} published numbers compared with the thesis: {agree} agree, {differ} differ, "
+                f"{other} not comparable (<a href=\"#differences\">details</a>).")
+    else:
+        line = (f"Not scored against the thesis: {len(comps)} published numbers are shown beside ours for scale "
+                "(<a href=\"#differences\">list</a>).")
+    out.append(f"<p>{line}</p>")
+    identity: dict[str, list[str]] = {}
+    for r in results:
+        if str(r["column"].note).startswith("identity shaper"):
+            identity.setdefault(r["label"], []).append(r["table"])
+    if identity:
+        named = "; ".join(f"{lab} (Table{'s' if len(ts) > 1 else ''} {', '.join(ts)})" for lab, ts in identity.items())
+        out.append("<p><strong>The thesis's own design does nothing here:</strong> "
+                   + esc(named) + " is the identity (one impulse: the drive model has ζ ≈ 1), so "
+                   "its trials are unshaped trials again and their 'improvement' is noise; the gains above come "
+                   "from the design for the link's identified mode.</p>")
+    sources = sorted({r["column"].source for r in results if r["thesis"] is not None and r["column"].source})
+    if sources and sources != ["drive-model"]:
+        out.append("<p>The thesis designed its shapers from its drive model (§3.3); its shaped numbers stand "
+                   f"beside clearshape's {esc(', '.join(sources))} design, which is a different shaper.</p>")
+    reach = reach_sentences(tables)
+    if reach:
+        out.append('<p><strong>What a command can reach here</strong> (the measurement floor, '
+                   '<a href="#table-reach">table</a>):</p><ul class="reach">'
+                   + "".join(f"<li>{esc(x)}</li>" for x in reach) + "</ul>")
+    out.append("</div>")
+    return "".join(out)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -1150,7 +1337,7 @@ def build(study_dir: Path, records: list[dict] | None = None, output: Path | Non
     body.append(section("ambiguities", ambiguities_html(results.get("ambiguities"))))
     body.append(section("differences", differences_html(all_comps, ctx)))
 
-    page = page_html(ctx, body, headline_html(all_comps, ctx), records)
+    page = page_html(ctx, body, headline_html(all_comps, ctx, tables), records)
     output = Path(output) if output else study_dir / "report.html"
     tmp = output.with_name(output.name + ".tmp")
     tmp.write_text(page, encoding="utf-8")

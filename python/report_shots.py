@@ -6,9 +6,11 @@ given width, and the page printed to PDF.
 
 Writes <dir>/<section>.png (the section alone, full height up to 16000 px) for every
 <section id> of the page, <dir>/report.pdf (Chromium's --print-to-pdf, the page's print CSS) and
-<dir>/layout.json: the page's height, each section's height, and every table, figure or block
+<dir>/layout.json: the page's height, each section's height, every table, figure or block
 that runs past the page's column at this width with its overflow in px (a table cut off at this
-width, or scrolled inside its box, is listed). The report is never modified; the views are
+width, or scrolled inside its box, is listed), and page_overflow_px / offscreen: how far the page
+itself runs past the screen and what runs past it outside a scroll box (a phone's reader loses
+those values; it should be 0 and empty at every width, 390 px included). The report is never modified; the views are
 temporary copies with one extra style rule each. --no-shots writes layout.json (and the PDF) only.
 Exit codes: 0 written, 1 Chromium failed,
 2 bad input.
@@ -38,8 +40,24 @@ MEASURE = """<script>window.addEventListener('load', function () {
   document.querySelectorAll('main > section[id]').forEach(function (s) {
     sections[s.id] = Math.ceil(s.getBoundingClientRect().height);
   });
+  // Past the screen itself (the page scrolls sideways: values fall off a phone's screen), apart from
+  // what scrolls inside its own box (.table-wrap, pre).
+  var vw = Math.min(document.documentElement.clientWidth, document.documentElement.getBoundingClientRect().width),
+      offscreen = [];
+  document.querySelectorAll('main *, header *').forEach(function (e) {
+    if (e.closest('.table-wrap, pre')) return;
+    var r = e.getBoundingClientRect();
+    if (r.width > 0 && r.right > vw + 1) offscreen.push([e.tagName.toLowerCase() + (e.id ? '#' + e.id : ''),
+                                                         Math.round(r.right - vw)]);
+    // Text squeezed to nothing (a grid column pushed off by its neighbour) is lost as well.
+    else if (/^(DD|P|LI|FIGCAPTION|H[1-3])$/.test(e.tagName) && e.textContent.trim() && r.width < 24)
+      offscreen.push([e.tagName.toLowerCase() + ' squeezed', Math.round(r.width)]);
+  });
   document.body.setAttribute('data-layout', JSON.stringify({height: document.documentElement.scrollHeight,
-                                                           overflow: out, sections: sections}));
+                                                           overflow: out, sections: sections,
+                                                           page_overflow_px: offscreen.reduce(function (m, x) {
+                                                             return /squeezed/.test(x[0]) ? m : Math.max(m, x[1]); }, 0),
+                                                           offscreen: offscreen.slice(0, 50)}));
 });</script>"""
 
 
@@ -50,18 +68,23 @@ def chromium(args: list[str], profile: Path) -> subprocess.CompletedProcess:
     return subprocess.run(base + args, capture_output=True, text=True, check=False)
 
 
-def view(html: str, section: str | None) -> str:
+# Headless Chromium lays a window out at least 500 px wide; a narrower view (a 390 px phone) is the
+# page's root box held at that width (the page's narrow-screen rules apply from 640 px down).
+MIN_WINDOW_PX = 500
+
+
+def view(html: str, section: str | None, width: int = MIN_WINDOW_PX) -> str:
     """The page with one section shown alone (None: the whole page), plus the measuring script."""
-    style = ""
+    style = f"<style>html{{width:{width}px}}</style>" if width < MIN_WINDOW_PX else ""
     if section:
-        style = (f"<style>header,nav.toc,footer{{display:none}}main>section:not(#{section}){{display:none}}"
+        style += (f"<style>header,nav.toc,footer{{display:none}}main>section:not(#{section}){{display:none}}"
                  "</style>")
     # The report's CSP allows inline scripts and styles only; the measuring script is inline.
     return html.replace("</head>", style + "</head>", 1).replace("</body>", MEASURE + "</body>", 1)
 
 
 def layout(path: Path, width: int, profile: Path) -> dict:
-    r = chromium([f"--window-size={width},1000", "--dump-dom", f"file://{path}"], profile)
+    r = chromium([f"--window-size={max(width, MIN_WINDOW_PX)},1000", "--dump-dom", f"file://{path}"], profile)
     m = re.search(r"data-layout=\"([^\"]*)\"", r.stdout)
     if not m:
         raise RuntimeError(f"chromium did not lay out {path}: {r.stderr[-300:]}")
@@ -98,15 +121,16 @@ def main(argv=None) -> int:
         tmp = Path(tmp)
         try:
             whole = tmp / "page.html"
-            whole.write_text(view(html, None), encoding="utf-8")
+            whole.write_text(view(html, None, width), encoding="utf-8")
             lay = layout(whole, width, tmp / "profile")
             result["height_px"], result["overflow"] = lay["height"], lay["overflow"]
+            result["page_overflow_px"], result["offscreen"] = lay.get("page_overflow_px", 0), lay.get("offscreen", [])
             for sid in sections if shots else []:
                 page = tmp / f"{sid}.html"
-                page.write_text(view(html, sid), encoding="utf-8")
+                page.write_text(view(html, sid, width), encoding="utf-8")
                 h = int(lay.get("sections", {}).get(sid, 2000))
                 height = min(MAX_HEIGHT_PX, max(200, h + 60))
-                chromium([f"--window-size={width},{height}", f"--screenshot={out / (sid + '.png')}",
+                chromium([f"--window-size={max(width, MIN_WINDOW_PX)},{height}", f"--screenshot={out / (sid + '.png')}",
                           f"file://{page}"], tmp / "profile")
                 result["sections"][sid] = {"height_px": h}
             if pdf:

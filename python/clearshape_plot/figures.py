@@ -489,6 +489,8 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
 # "Without shaping" bars: a neutral dark grey that no shaper uses, so no shaped bar can be
 # mistaken for an unshaped one (ZVD's orange sits next to the unshaped vermillion).
 WITHOUT_BAR_COLOUR = "#4D4D4D"
+# A result worse than unshaped (the report's --worse colour): cross-hatched bars and their label.
+WORSE_COLOUR = "#B3003C"
 
 
 def _draw_md_summary(axes, spec: dict) -> None:
@@ -512,18 +514,44 @@ def _draw_md_summary(axes, spec: dict) -> None:
     ax.set_xticks(x, [r["label"] for r in rows])
     ax.grid(axis="x", visible=False)
     ax.set_ylabel(roles.label_with_unit(f"mean deviation, Eq. 5.1 ({spec.get('unit', '')})"))
-    top = np.nanmax([v for r in rows for v in (r.get("ours_without"), r.get("thesis_without"),
-                                               r.get("ours_with"), r.get("thesis_with")) if v is not None])
-    ax.set_ylim(0, 1.1 * top)
+    values = [v for r in rows for v in (r.get("ours_without"), r.get("thesis_without"),
+                                         r.get("ours_with"), r.get("thesis_with")) if v is not None and v > 0]
+    top = np.nanmax(values)
+    if min(values) < top / 10:  # shaped bars a tenth of the unshaped: a log axis keeps both readable
+        ax.set_yscale("log")
+        ax.set_ylim(min(values) / 2, 2 * top)
+    else:
+        ax.set_ylim(0, 1.1 * top)
     ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=2, borderaxespad=0.0)
     ours = [np.nan if r.get("ours_improvement") is None else r["ours_improvement"] for r in rows]
     th = [np.nan if r.get("thesis_improvement") is None else r["thesis_improvement"] for r in rows]
-    ax2.bar(x - 0.18, ours, 0.36, color=shaped_colours, edgecolor="#333333", label="clearshape",
-            zorder=3, linewidth=0.8)
+    # Error bars: each improvement's 95 % bootstrap interval (results.json), where the study gives one.
+    ci = [r.get("ours_improvement_ci95") if isinstance(r.get("ours_improvement_ci95"), list) else None for r in rows]
+    err = np.array([[o - c[0], c[1] - o] if c and not np.isnan(o) else [np.nan, np.nan] for o, c in zip(ours, ci)]).T
+    bars = ax2.bar(x - 0.18, ours, 0.36, color=shaped_colours, edgecolor="#333333", label="clearshape",
+                   zorder=3, linewidth=0.8, yerr=err if np.isfinite(err).any() else None,
+                   error_kw={"ecolor": "#1a1a1a", "capsize": 2.5, "elinewidth": 0.9, "zorder": 4})
     ax2.bar(x + 0.18, th, 0.36, label="thesis", zorder=3, linewidth=0.8, **roles.THESIS_BAR)
     ax2.set_xticks(x, [r["label"] for r in rows])
     ax2.grid(axis="x", visible=False)
-    ax2.set_ylim(0, 105)
+    # The axis holds every bar and interval: an improvement below 0 (worse than unshaped) is drawn below
+    # the zero line, cross-hatched in the worse colour and labelled, never cut off.
+    lows = [v for v in ours + th if not np.isnan(v)] + [c[0] for c in ci if c]
+    highs = [v for v in ours + th if not np.isnan(v)] + [c[1] for c in ci if c]
+    lo = min([0.0] + lows)
+    hi = max([100.0] + highs)
+    pad = 0.08 * (hi - lo)
+    ax2.set_ylim(lo - (pad if lo < 0 else 0), hi + 0.05 * (hi - lo))
+    ax2.axhline(0.0, color="#1a1a1a", linewidth=0.8, zorder=5)
+    for b, v in zip(bars, ours):
+        if not np.isnan(v) and v < 0:
+            b.set_hatch("xxx")
+            b.set_edgecolor(WORSE_COLOUR)
+            ax2.annotate("▼ worse than\nunshaped", (b.get_x() + b.get_width() / 2, v), xytext=(0, -3),
+                         textcoords="offset points", ha="center", va="top", fontsize=6.5, color=WORSE_COLOUR,
+                         zorder=6)
+    if lo < 0:
+        ax2.set_ylim(lo - 2.2 * pad, ax2.get_ylim()[1])
     ax2.set_ylabel("improvement by shaping (%)")
     ax2.legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=2, borderaxespad=0.0)
     for a in (ax, ax2):

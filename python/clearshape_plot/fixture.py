@@ -156,19 +156,39 @@ def write_fixture(out: Path, trials: int = 3, seed: int = 7) -> Path:
     w = [c[0] for c in cols["zvdd@link-mode"]]
     imp = 100 * (np.mean(u) - np.mean(w)) / np.mean(u)
     b1 = thesis.TABLE_B["B.1"]
+
+    def bootstrap(groups, n=2000):  # as the study does (rig_tests.hpp): each group resampled on its own
+        stats = []
+        for _ in range(n):
+            m = [float(np.mean(rng.choice(g, len(g)))) for g in groups]
+            v = 100 * (1 - m[1] / m[0])
+            stats.append(v - 100 * (1 - m[3] / m[2]) if len(m) == 4 else v)
+        return [float(np.percentile(stats, 2.5)), float(np.percentile(stats, 97.5))]
+
+    ci = bootstrap([u, w])
+    printed = {"thesis_printed": [f"{v:.3f}" for v in b1["zvdd"]], "thesis_mean_printed": f"{b1['mean']['zvdd']:.3f}"}
     tables.append({"id": "B.1", "kind": "mean-deviation", "title": "Mean deviations, step input 20°", "unit": "deg",
                    "row_labels": [str(i + 1) for i in range(trials)],
                    "columns": [{"key": "none", "label": "without IS", "ours": u, "ours_mean": float(np.mean(u)),
                                 "ours_std": float(np.std(u, ddof=1)), "thesis": b1["unshaped"],
-                                "thesis_mean": b1["mean"]["unshaped"]},
+                                "thesis_mean": b1["mean"]["unshaped"],
+                                "thesis_printed": [f"{v:.3f}" for v in b1["unshaped"]],
+                                "thesis_mean_printed": f"{b1['mean']['unshaped']:.3f}"},
                                {"key": "zvdd@link-mode", "label": "with IS (ZVDD, link mode)", "ours": w,
                                 "ours_mean": float(np.mean(w)), "ours_std": float(np.std(w, ddof=1)),
                                 "thesis": b1["zvdd"], "thesis_mean": b1["mean"]["zvdd"],
-                                "improvement_percent": float(imp), "thesis_improvement_percent": 95.7}]})
+                                "improvement_percent": float(imp), "improvement_ci95_percent": ci,
+                                "improvement_significant": not ci[0] <= 0 <= ci[1],
+                                "thesis_improvement_percent": thesis.TABLE_B_6["B.1"],
+                                "thesis_improvement_recomputed_percent":
+                                    100 * (1 - b1["mean"]["zvdd"] / b1["mean"]["unshaped"]),
+                                "improvement_difference_ci95_percent": bootstrap([u, w, b1["unshaped"], b1["zvdd"]]),
+                                "thesis_improvement_printed": f"{thesis.TABLE_B_6['B.1']:g}", **printed}]})
     tables.append({"id": "B.6", "kind": "improvement", "title": "Mean of the improvements (ZVDD), %", "unit": "%",
                    "row_labels": ["Step 20°"],
                    "columns": [{"key": "improvement", "label": "improvement", "ours": [float(imp)],
-                                "thesis": [thesis.TABLE_B_6["B.1"]]}]})
+                                "thesis": [thesis.TABLE_B_6["B.1"]], "improvement_ci95_percent": [ci],
+                                "thesis_printed": [f"{thesis.TABLE_B_6['B.1']:g}"]}]})
     md0, m0, s0 = cols["none"][0]
     figures += [
         {"id": "rig-B.1", "thesis_figure": "5.19", "kind": "time-series", "title": "Rig trial 1, Step 20°: link angle",
@@ -191,6 +211,11 @@ def write_fixture(out: Path, trials: int = 3, seed: int = 7) -> Path:
         "schema_version": 1, "results_schema_version": 1, "clearshape_version": "fixture", "synthetic": True,
         "study": {"name": "synthetic-fixture", "title": "Synthetic fixture (made-up numbers)", "mode": "position",
                   "quick": True, "seed": seed, "rig": "synthetic fixture (closed-form responses, not a simulation)"},
+        "rig": {"kind": "simulated-thesis", "description": "synthetic fixture",
+                "summary": "a synthetic fixture standing for clearshape's simulated thesis rig (made-up numbers).",
+                "calibrated_to_thesis": True, "scored_against_thesis": True},
+        "protocol": {"rig_tests": {"tables": [{"id": "B.1", "columns": [
+            {"key": "none"}, {"key": "zvdd@link-mode", "thesis_improvement": thesis.TABLE_B_6["B.1"]}]}]}},
         "units": {"time": "s", "mean_deviation": "deg"},
         "ambiguities": [{"id": "which-mode", "question": "Which mode are the shapers designed for?",
                          "settled": "Both, side by side.", "why": "The position-mode drive model has ζ ≈ 1."}],

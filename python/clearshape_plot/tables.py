@@ -6,11 +6,17 @@ improvement), title, unit, row_labels, note, and columns — each with key, labe
 study fewer), ``ours_mean``/``ours_std``/``thesis_mean`` and, for shaped columns,
 ``improvement_percent``/``thesis_improvement_percent``.
 
-Verdicts. A mean of repeated trials *agrees* with the thesis's when the difference is within the
-thesis's own trial-to-trial standard deviation (our mean would pass for one more of its trials).
-An improvement % agrees when within the s.d. of the thesis's per-trial improvements
-(1 − with_i/without_i over its trial pairs). Other numbers (identified parameters, agreement
-figures) agree within 10 % of the thesis's value. Every verdict carries its criterion.
+Verdicts. A mean of repeated trials *agrees* with the thesis's when the difference is within twice
+the standard error of the difference of the two means, √(s²/n + s_t²/n_t) (the two sets of trials
+are not distinguishable at about 95 %), not within one trial's s.d. An improvement % agrees when
+the seeded 95 % bootstrap interval of ours − thesis (results.json
+``improvement_difference_ci95_percent``) contains 0. Other numbers (identified parameters,
+agreement figures) agree within 10 % of the thesis's value. Every verdict carries its criterion.
+
+Thesis numbers are the ones the thesis printed: ``thesis_improvement_percent`` is the printed
+improvement (null where it printed none; ``thesis_improvement_recomputed_percent`` is the value
+recomputed from its means, never shown as the thesis's), and ``thesis_printed`` /
+``thesis_mean_printed`` / ``thesis_improvement_printed`` give its digits as printed (0.270, 0.0009).
 """
 from __future__ import annotations
 
@@ -57,6 +63,19 @@ class Column:
     note: str = ""
     extra: dict = field(default_factory=dict)  # other per-row arrays (e.g. delay_s)
     raw: dict = field(default_factory=dict)
+    # 95 % bootstrap interval of our improvement [lo, hi] (per row in an improvement table)
+    improvement_ci: list | None = None
+    thesis_improvement_recomputed: float | None = None  # from the thesis's means, not printed by it
+    difference_ci: list | None = None  # bootstrap interval of ours − thesis (improvement)
+    thesis_printed: list = field(default_factory=list)  # the thesis's digits, per row
+    thesis_mean_printed: str | None = None
+    thesis_improvement_printed: str | None = None
+
+    def thesis_text(self, i: int) -> str | None:
+        """Row i's thesis number as the thesis printed it (None when there is none)."""
+        if i < len(self.thesis_printed) and isinstance(self.thesis_printed[i], str):
+            return self.thesis_printed[i]
+        return None
 
     @property
     def role(self) -> str:
@@ -96,7 +115,17 @@ class Table:
 
 
 _KNOWN = {"key", "label", "ours", "thesis", "ours_std", "ours_mean", "thesis_mean", "improvement_percent",
-          "thesis_improvement_percent", "note", "shaper", "thesis_std"}
+          "thesis_improvement_percent", "note", "shaper", "thesis_std", "improvement_ci95_percent",
+          "improvement_significant", "thesis_improvement_recomputed_percent", "thesis_improvement_ci95_percent",
+          "improvement_difference_ci95_percent", "thesis_printed", "thesis_mean_printed",
+          "thesis_improvement_printed"}
+
+
+def interval(v):
+    """A [lo, hi] pair of finite numbers, or None."""
+    if isinstance(v, list) and len(v) == 2 and all(num(x) is not None for x in v):
+        return [num(v[0]), num(v[1])]
+    return None
 
 
 def plain_label(text: str) -> str:
@@ -120,6 +149,16 @@ def normalise(t: dict) -> Table:
                      raw=c)
         if not any(v is not None for v in col.thesis):  # a thesis column with no value is no thesis column
             col.thesis = []
+        ci = c.get("improvement_ci95_percent")
+        col.improvement_ci = ([interval(x) for x in ci] if isinstance(ci, list) and ci and isinstance(ci[0], list)
+                              or (isinstance(ci, list) and ci and ci[0] is None) else interval(ci))
+        col.thesis_improvement_recomputed = num(c.get("thesis_improvement_recomputed_percent"))
+        col.difference_ci = interval(c.get("improvement_difference_ci95_percent"))
+        tp = c.get("thesis_printed")
+        col.thesis_printed = list(tp) if isinstance(tp, list) else []
+        col.thesis_mean_printed = c.get("thesis_mean_printed") if isinstance(c.get("thesis_mean_printed"), str) else None
+        tip = c.get("thesis_improvement_printed")
+        col.thesis_improvement_printed = tip if isinstance(tip, str) else None
         col.extra = {k: nums(v) for k, v in c.items() if k not in _KNOWN and isinstance(v, list)
                      and v and all(isinstance(x, (int, float)) or x is None for x in v)}
         cols.append(col)
@@ -158,6 +197,27 @@ def verdict(ours, thesis, spread=None, spread_name="", rel_tol=DEFAULT_REL_TOLER
             "criterion": f"|Δ| = {100 * abs(rel):.3g} % of the thesis value, {'≤' if ok else '>'} {100 * rel_tol:g} %"}
 
 
+def standard_error_of_difference(ours: list, thesis: list):
+    """√(s²/n + s_t²/n_t) of the difference of two means of trials; None with fewer than 2 of either."""
+    o, t = [x for x in ours if x is not None], [x for x in thesis if x is not None]
+    if len(o) < 2 or len(t) < 2:
+        return None
+    return math.sqrt(mean_sd(o)[1] ** 2 / len(o) + mean_sd(t)[1] ** 2 / len(t))
+
+
+def interval_verdict(ours, thesis, ci) -> dict:
+    """An improvement against the thesis's: agrees when the bootstrap interval of ours − thesis holds 0."""
+    v = verdict(ours, thesis)
+    if v["diff"] is None or ci is None:
+        return v
+    ok = ci[0] <= 0.0 <= ci[1]
+    v["agrees"] = ok
+    span = f"[{ci[0]:.1f}, {ci[1]:.1f}]".replace("-", "−")
+    v["criterion"] = (f"95 % bootstrap interval of Δ {span} {'contains' if ok else 'excludes'} 0"
+                      f"{'' if ok else ': the difference is significant'}")
+    return v
+
+
 def thesis_improvement_sd(without: Column, with_: Column):
     """s.d. of the thesis's per-trial improvements 100·(1 − with_i/without_i) over its trial pairs."""
     pairs = [(u, w) for u, w in zip(without.thesis, with_.thesis) if u and w is not None]
@@ -180,6 +240,7 @@ class Comparison:
     kind: str  # "mean", "improvement", "parameter"
     column: Column | None = None
     why: str = ""
+    thesis_text: str | None = None  # the thesis's number as it printed it
 
 
 def _cmp(table, quantity, unit, ours, thesis, kind, column=None, spread=None, spread_name="") -> Comparison:
@@ -192,18 +253,19 @@ def compare_table(t: Table) -> list[Comparison]:
     """Every number of the table that the thesis also published, with a verdict."""
     out: list[Comparison] = []
     if t.is_trials:
-        base = next((c for c in t.columns if c.unshaped), None)
         for c in t.columns:
             om = c.ours_mean if c.ours_mean is not None else mean_sd(c.ours)[0]
             tm = c.thesis_mean if c.thesis_mean is not None else mean_sd(c.thesis)[0]
-            tsd = mean_sd(c.thesis)[1]
+            se = standard_error_of_difference(c.ours, c.thesis)
             if tm is not None or om is not None:
-                out.append(_cmp(t.id, f"{c.label} — mean", t.unit, om, tm, "mean", c, tsd,
-                                "thesis trial-to-trial s.d."))
+                out.append(_cmp(t.id, f"{c.label} — mean", t.unit, om, tm, "mean", c, 2 * se if se else None,
+                                "2 × the standard error of the difference of the means"))
+                out[-1].thesis_text = c.thesis_mean_printed if c.thesis_mean is not None else None
             if c.improvement is not None or c.thesis_improvement is not None:
-                sd = thesis_improvement_sd(base, c) if base else None
-                out.append(_cmp(t.id, f"{c.label} — improvement", "%", c.improvement, c.thesis_improvement,
-                                "improvement", c, sd, "s.d. of the thesis's per-trial improvements"))
+                v = interval_verdict(c.improvement, c.thesis_improvement, c.difference_ci)
+                out.append(Comparison(table=t.id, quantity=f"{c.label} — improvement", unit="%",
+                                      ours=c.improvement, thesis=c.thesis_improvement, kind="improvement",
+                                      column=c, thesis_text=c.thesis_improvement_printed, **v))
         return out
     if t.kind == "parameters":
         ours_col, thesis_col = parameter_pair(t)
@@ -215,6 +277,7 @@ def compare_table(t: Table) -> list[Comparison]:
             if th is None:
                 continue
             out.append(_cmp(t.id, row, "", o, th, "parameter", ours_col))
+            out[-1].thesis_text = thesis_col.thesis_text(i)
         return out
     # Row-wise tables with ours and thesis in the same column (e.g. B.6).
     for c in t.columns:
@@ -227,6 +290,7 @@ def compare_table(t: Table) -> list[Comparison]:
                 continue
             out.append(_cmp(t.id, f"{row}" + (f" — {c.label}" if len(t.columns) > 1 else ""), t.unit, o, th,
                             "improvement" if t.kind == "improvement" else "parameter", c))
+            out[-1].thesis_text = c.thesis_text(i)
     return out
 
 

@@ -303,7 +303,8 @@ def check_failing_criterion(html: str, python_dir: Path, **_) -> None:
     crits = re.findall(r'<span class="crit">([^<]*)</span>', differ)
     print(f"{len(crits)} failing rows")
     for c in crits:
-        expect("≤" not in c and (">" in c or "&gt;" in c or "no relative criterion" in c), f"failing row reads: {c}")
+        expect("≤" not in c and "contains 0" not in c and (">" in c or "&gt;" in c or "no relative criterion" in c
+                                                           or "excludes 0" in c), f"failing row reads: {c}")
 
 
 def check_no_outside_references(html: str, repo: Path, **_) -> None:
@@ -356,12 +357,264 @@ def check_rig_kind(study: Path, results: dict, tmp: Path, **_) -> None:
     print(f"(scored, called calibrated) per rig kind: {seen}")
 
 
+# ----------------------------------------------------------------------------------------------
+# Issue 22: a report that survives a sceptical reader.
+
+WORSE = "worse than unshaped"
+
+
+def _rig_trial_tables(results: dict) -> list[dict]:
+    return [t for t in results.get("tables", []) if t.get("kind") == "mean-deviation" and t.get("row_labels")
+            and str(t["row_labels"][0]) == "1" and not any(":" in c.get("key", "") for c in t.get("columns", []))]
+
+
+def _table_html(html: str, tid: str) -> str:
+    """Every part of the table with id `tid` in the page."""
+    slug = re.sub(r"[^a-z0-9]+", "-", tid.lower()).strip("-")
+    parts = re.findall(rf'<table[^>]*id="table-{re.escape(slug)}(?:-part\d+)?"[^>]*>.*?</table>', html, re.S)
+    return "".join(parts)
+
+
+def _cells_of_row(table_html: str, row_label: str) -> list[str]:
+    rows = re.findall(r"<tr[^>]*>(.*?)</tr>", table_html, re.S)
+    out = []
+    for r in rows:
+        head = re.search(r"<th[^>]*>(.*?)</th>", r, re.S)
+        if head and re.sub(r"<[^>]+>", "", head.group(1)).strip() == row_label:
+            out += re.findall(r"<td[^>]*>(.*?)</td>", r, re.S)
+    return out
+
+
+def _worse_copy(results: dict) -> dict:
+    """results.json with the first shaped rig column made worse than unshaped (its MDs doubled over the
+    unshaped mean), the B.6-like summary negative, and a simulated shaper above the unshaped in row 1."""
+    r = copy.deepcopy(results)
+    for t in _rig_trial_tables(r):
+        base = next((c for c in t["columns"] if c.get("key") == "none"), None)
+        shaped = next((c for c in t["columns"] if c.get("key") != "none"), None)
+        if base and shaped:
+            shaped["ours"] = [2 * base["ours_mean"] for _ in shaped["ours"]]
+            shaped["ours_mean"] = 2 * base["ours_mean"]
+            shaped["improvement_percent"] = -100.0
+            shaped["improvement_ci95_percent"] = [-130.0, -70.0]
+            shaped["improvement_significant"] = True
+            break
+    for t in r.get("tables", []):
+        if t.get("kind") == "improvement":
+            t["columns"][0]["ours"] = [-37.0] + t["columns"][0]["ours"][1:]
+        if t.get("id", "").endswith("-simulation"):
+            base = next((c for c in t["columns"] if c.get("key") == "none"), None)
+            other = next((c for c in t["columns"] if c.get("key") != "none"), None)
+            if base and other:
+                other["ours"] = [2 * base["ours"][0]] + other["ours"][1:]
+    return r
+
+
+def check_worse_marked(study: Path, results: dict, html: str, python_dir: Path, tmp: Path, **_) -> None:
+    """22.1: every result worse than unshaped is marked in tables.md, in the HTML tables and in the summary
+    figure, whose improvement axis reaches below 0; shaper bars in the shaper's colour (EI pink)."""
+    md = (study / "tables.md").read_text(encoding="utf-8") if (study / "tables.md").exists() else ""
+    negatives = 0
+    for t in _rig_trial_tables(results):
+        for c in t["columns"]:
+            v = c.get("improvement_percent")
+            if isinstance(v, (int, float)) and v < 0:
+                negatives += 1
+                cells = _cells_of_row(_table_html(html, t["id"]), "improvement")
+                expect(any(WORSE in x for x in cells), f"Table {t['id']} {c['key']}: {v:.1f} % not marked in the page")
+                if md:
+                    line = next((ln for ln in md.splitlines() if ln.startswith(f"- {c['label']}: improvement ours")
+                                 and f"{v:.1f}" in ln), "")
+                    expect(WORSE in line, f"tables.md: {c['label']} ({v:.1f} %) not marked: {line!r}")
+    print(f"{negatives} negative improvements in this study")
+    worse = _worse_copy(results)
+    page = render_copy(study, worse, tmp)
+    for t in _rig_trial_tables(worse):
+        for c in t["columns"]:
+            if c.get("improvement_percent", 0) and c["improvement_percent"] < 0:
+                cells = _cells_of_row(_table_html(page, t["id"]), "improvement")
+                expect(any(WORSE in x and 'class="worse"' in page for x in cells), f"forced negative in {t['id']} not marked")
+    for t in worse.get("tables", []):
+        if t.get("kind") == "improvement":
+            first = _cells_of_row(_table_html(page, t["id"]), t["row_labels"][0])
+            expect(bool(first) and WORSE in first[0], f"Table {t['id']}: a negative improvement row is not marked")
+        if t.get("id", "").endswith("-simulation") and any(c.get("key") == "none" for c in t["columns"]):
+            expect(WORSE in _table_html(page, t["id"]), f"Table {t['id']}: a shaped MD above unshaped is not marked")
+    sys.path.insert(0, str(python_dir))
+    from matplotlib.colors import to_hex  # noqa: E402
+    from clearshape_plot import figures  # noqa: E402
+    figures.use_style()
+    rows = [{"table": f"B.{i}", "label": f"B.{i}", "role": "ei", "ours_without": 0.3, "thesis_without": None,
+             "ours_with": w, "thesis_with": None, "ours_improvement": 100 * (1 - w / 0.3),
+             "ours_improvement_ci95": [100 * (1 - w / 0.3) - 10, 100 * (1 - w / 0.3) + 10],
+             "thesis_improvement": None} for i, w in ((1, 0.4), (2, 0.61), (3, 0.1))]
+    fig = figures.draw({"id": "s", "kind": "md-summary", "unit": "deg", "title": "t", "rows": rows}, None)
+    ax2 = fig.axes[1]
+    low = min(r["ours_improvement_ci95"][0] for r in rows)
+    print(f"improvement axis {ax2.get_ylim()}, lowest interval end {low:.1f}")
+    expect(ax2.get_ylim()[0] <= low, "the improvement axis cuts off results worse than unshaped")
+    texts = [t.get_text() for t in ax2.texts]
+    expect(sum(WORSE.replace(" ", "") in x.replace("\n", "").replace(" ", "") for x in texts) == 2,
+           f"negative bars not labelled worse than unshaped: {texts}")
+    colour = to_hex(ax2.patches[0].get_facecolor())
+    expect(colour.lower() == "#cc79a7", f"EI's bars are {colour}, not EI's pink")
+    expect(any(c.get_children() for c in ax2.containers if hasattr(c, "errorbar") and c.errorbar),
+           "no error bars (bootstrap intervals) on the improvement bars")
+    plt_close(fig)
+
+
+def check_missing_is_null(study: Path, results: dict, html: str, **_) -> None:
+    """22.3: a number the thesis does not give is null in results.json and "—" in the page, never 0."""
+    zeros = []
+    for t in results.get("tables", []):
+        for c in t.get("columns", []):
+            th = c.get("thesis")
+            if isinstance(th, list) and th and all(v in (0, 0.0, None) for v in th) and any(v == 0 for v in th):
+                zeros.append(f"{t['id']}:{c.get('key')}")
+    proto_cl = results.get("protocol", {}).get("clearance", {}).get("thesis", {})
+    print(f"thesis columns of zeros: {zeros or 'none'}; protocol clearance thesis {proto_cl}")
+    expect(not zeros, f"thesis columns that hold 0 for no value: {zeros}")
+    for k, v in proto_cl.items():
+        expect(v != 0, f"protocol clearance.thesis.{k} = 0 stands for a missing value")
+    figs = json.loads((study / "figures.json").read_text(encoding="utf-8")).get("figures", [])
+    bad = [f["title"] for f in figs if re.search(r"thesis 0\.0+\b", str(f.get("title", "")))]
+    expect(not bad, f"a figure title reads 'thesis 0': {bad}")
+    md = (study / "tables.md").read_text(encoding="utf-8") if (study / "tables.md").exists() else ""
+    for t in results.get("tables", []):
+        for c in t.get("columns", []):
+            ours = c.get("ours")
+            if isinstance(ours, list) and None in ours and md:
+                expect("| — |" in md or "— |" in md, f"tables.md prints a null of {t['id']} as nothing")
+
+
+def check_thesis_verbatim(study: Path, results: dict, html: str, **_) -> None:
+    """22.5: thesis numbers as printed — the printed improvement (not one recomputed from the means), the
+    trial columns' digits (0.270), and no recomputed value in a thesis column; a recomputation that
+    differs is said to be one."""
+    proto = results.get("protocol", {}).get("rig_tests", {}).get("tables", [])
+    printed = {(t["id"], c["key"]): c["thesis_improvement"] for t in proto for c in t.get("columns", [])
+               if c.get("thesis_improvement") is not None}
+    print(f"printed improvements in the protocol: {printed}")
+    head = html[:html.find('<section id="setup"')]
+    for t in _rig_trial_tables(results):
+        for c in t["columns"]:
+            key = (t["id"], c["key"])
+            if key in printed:
+                p = printed[key]
+                expect(c.get("thesis_improvement_percent") == p,
+                       f"{key}: results.json thesis improvement {c.get('thesis_improvement_percent')} ≠ printed {p}")
+                cells = _cells_of_row(_table_html(html, t["id"]), "improvement")
+                expect(any(f"{p:g} %" in x for x in cells), f"{key}: the page does not quote the printed {p:g} %")
+                if f"Table {t['id']}" in head:
+                    expect(f"thesis {p:g} %" in head, f"{key}: the header does not quote {p:g} %")
+                rec = c.get("thesis_improvement_recomputed_percent")
+                if isinstance(rec, (int, float)) and round(rec, 1) != p:
+                    expect("recomputed" in _table_html(html, t["id"]), f"{key}: recomputed {rec:.2f} not noted")
+            elif c.get("key") != "none":
+                expect(c.get("thesis_improvement_percent") is None,
+                       f"{key}: a thesis improvement the thesis never printed ({c.get('thesis_improvement_percent')})")
+            th, tp = c.get("thesis") or [], c.get("thesis_printed") or []
+            if th:
+                expect(len(tp) == len(th), f"{key}: no thesis_printed digits")
+                body = _table_html(html, t["id"])
+                for text in tp:
+                    expect(f'class="thesis">{text}<' in body, f"{key}: thesis {text} not shown as printed")
+                decimals = {len(x.split(".")[1]) for x in tp if x and "." in x and "×" not in x}
+                expect(len(decimals) <= 1, f"{key}: one column printed with {decimals} decimals")
+    for t in results.get("tables", []):
+        if t.get("kind") == "parameters":
+            for c in t.get("columns", []):
+                for lab, v in zip(t.get("row_labels", []), c.get("thesis") or []):
+                    expect(not ("=" in str(lab) and v is not None), f"{t['id']}: a recomputed '{lab}' = {v} "
+                           "stands in the thesis column")
+
+
+def check_rig_words(study: Path, results: dict, tmp: Path, **_) -> None:
+    """22.2: each rig's report has its own words, from results.json rig (summary, calibrated_to_thesis,
+    scored_against_thesis, documented): only the calibrated thesis rig is said to be calibrated to the
+    thesis's unshaped means, has its flank called soft against the thesis's law and is compared with the
+    thesis's shaped trials."""
+    rig = results.get("rig", {})
+    expect(isinstance(rig.get("summary"), str) and rig["summary"], "results.json rig has no summary")
+    expect("calibrated_to_thesis" in rig and "scored_against_thesis" in rig, "results.json rig lacks its flags")
+    phrases = ("calibrated to the thesis's <em>unshaped</em>", "agreement with the thesis's shaped trials",
+               "calibrated to what the thesis measured")
+    seen = {}
+    for kind, summary, documented in (
+            ("simulated-worn-coupling", "the worn test rig: 1° of play on a soft flank, a Coulomb torque.",
+             {"contact_exponent": 1.0, "play_deg": 1.0}),
+            ("simulated-large-play", "the large test rig: a 1° steel pin.", {"contact_exponent": 1.5, "play_deg": 1.0}),
+            ("simulated-config", "a configured test rig.", None)):
+        r = copy.deepcopy(results)
+        r["rig"] = {"kind": kind, "description": "test", "summary": summary, "calibrated_to_thesis": False,
+                    "scored_against_thesis": False}
+        if documented:
+            r["rig"]["documented"] = documented
+        page = render_copy(study, r, tmp)
+        found = [p for p in phrases if p in page]
+        seen[kind] = found
+        expect(not found, f"{kind}: the thesis rig's words on another rig: {found}")
+        expect(summary.rstrip(". ") in page, f"{kind}: the rig's own summary is not in the report")
+        cl = section(page, "clearance")
+        cl_res = r.get("sections", {}).get("clearance", {})
+        n = cl_res.get("exponent")
+        if documented and isinstance(n, (int, float)) and abs(n - documented["contact_exponent"]) > 0.1 \
+                and "The fitted flank" in cl:
+            expect("documented joint differs" in cl, f"{kind}: a fit that misses the documented n is not said to")
+    print(f"thesis-rig phrases found per rig: {seen}")
+
+
+def check_finding(study: Path, results: dict, html: str, **_) -> None:
+    """22.4/22.7/22.8: the header holds the finding — counts that include the not comparable ones and
+    match the differences section, what is within noise (bootstrap intervals holding 0, marked "not
+    significant" in the tables), verdicts on means against the standard error, not one trial's s.d."""
+    head = html[:html.find('<section id="setup"')]
+    expect('id="finding"' in head, "no finding in the header")
+    m = re.search(r"(\d+) published numbers compared with the thesis: (\d+) agree, (\d+) differ, (\d+) not "
+                  r"comparable", head)
+    scored = results.get("rig", {}).get("scored_against_thesis", True)
+    if scored:
+        expect(m is not None, "the header's count omits the not comparable ones")
+        d = section(html, "differences")
+        m2 = re.search(r"(\d+) published numbers compared: <strong>(\d+) agree</strong>, <strong>(\d+) differ"
+                       r"</strong>, (\d+) not comparable", d)
+        expect(m is not None and m2 is not None and m.groups() == m2.groups(),
+               f"header {m and m.groups()} and differences {m2 and m2.groups()} disagree")
+        if m:
+            expect(int(m.group(1)) == sum(int(x) for x in m.groups()[1:]), "the counts do not add up")
+    ci_cols = 0
+    for t in _rig_trial_tables(results):
+        for c in t["columns"]:
+            if c.get("key") == "none" or c.get("improvement_percent") is None:
+                continue
+            ci = c.get("improvement_ci95_percent")
+            expect(isinstance(ci, list) and len(ci) == 2 and ci[0] <= ci[1],
+                   f"{t['id']} {c['key']}: no bootstrap interval in results.json")
+            if not isinstance(ci, list):
+                continue
+            ci_cols += 1
+            cells = _cells_of_row(_table_html(html, t["id"]), "improvement")
+            shown = f"[{ci[0]:.1f}, {ci[1]:.1f}]".replace("-", "−")
+            expect(any(shown in x for x in cells), f"{t['id']} {c['key']}: interval {shown} not shown")
+            expect(not any(re.search(r"(?<![\w.])-\d", re.sub(r"<[^>]+>", "", x)) for x in cells),
+                   f"{t['id']}: a hyphen-minus among the improvement cells (the page uses −)")
+            if ci[0] <= 0 <= ci[1]:
+                expect(any("not significant" in x for x in cells), f"{t['id']} {c['key']}: not marked not significant")
+                expect(f"{c['label']}" in head and "Within noise" in head, f"{t['id']} {c['key']}: not in the "
+                       "header's 'within noise'")
+    print(f"{ci_cols} shaped columns with bootstrap intervals")
+    crits = re.findall(r'<span class="crit">([^<]*)</span>', section(html, "differences"))
+    means = [c for c in crits if "trial-to-trial" in c]
+    expect(not means, f"verdicts still judged within one thesis trial s.d.: {means[:2]}")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
     "sensitivity": check_sensitivity, "md-summary": check_md_summary, "repeatability": check_repeatability,
     "failing-criterion": check_failing_criterion, "outside-references": check_no_outside_references,
-    "rig-kind": check_rig_kind,
+    "rig-kind": check_rig_kind, "worse-marked": check_worse_marked, "missing-null": check_missing_is_null,
+    "thesis-verbatim": check_thesis_verbatim, "rig-words": check_rig_words, "finding": check_finding,
 }
 
 

@@ -1,8 +1,8 @@
 // The study report renders: python/render_study.py draws every figure of a study output folder
 // (PNG + PDF, same bytes for the same inputs) and writes a self-contained report.html, which
 // headless Chromium opens offline with every figure decoded (data-figures-loaded == number of
-// <img>, data-figures-failed == 0); a corrupted figure is detected. Issue 13's defects each have
-// a check in tests/report/report_checks.py, run here on the rendered report; the page is laid out
+// <img>, data-figures-failed == 0); a corrupted figure is detected. Issue 13's and issue 22's defects
+// each have a check in tests/report/report_checks.py, run here on the rendered report; the page is laid out
 // at 1400 px and printed to PDF by python/report_shots.py. The study output is the
 // quick thesis-position study when `clearshape study` exists, else a synthetic fixture
 // (python/clearshape_plot/fixture.py).
@@ -87,6 +87,13 @@ std::string body_attribute(const std::string& dom, const std::string& name) {
   std::smatch m;
   if (!std::regex_search(tag, m, std::regex(name + "=\"([^\"]*)\""))) return "";
   return m[1].str();
+}
+
+std::string fmt_one_decimal(const nlohmann::json& v) {
+  if (!v.is_number()) return "—";
+  std::array<char, 32> b{};
+  std::snprintf(b.data(), b.size(), "%.1f", v.get<double>());
+  return b.data();
 }
 
 std::size_t count(const std::string& text, const std::string& needle) {
@@ -281,6 +288,70 @@ REPORT_CHECK(FailingRowStatesItsCriterionAsFailed, "failing-criterion")       //
 REPORT_CHECK(NothingPointsOutsideTheRepository, "outside-references")         // 10
 REPORT_CHECK(OnlyTheThesisRigIsScoredAgainstTheThesis, "rig-kind")            // 11
 
+// Issue 22: a report that survives a sceptical reader (tests/report/report_checks.py).
+REPORT_CHECK(ResultsWorseThanUnshapedAreMarkedEverywhere, "worse-marked")     // 22.1
+REPORT_CHECK(MissingValuesAreNullAndDashNeverZero, "missing-null")            // 22.3
+REPORT_CHECK(ThesisNumbersAreQuotedAsPrinted, "thesis-verbatim")              // 22.5
+REPORT_CHECK(EachRigHasItsOwnWords, "rig-words")                              // 22.2
+REPORT_CHECK(TheHeaderHoldsTheFindingWithIntervals, "finding")                // 22.4, 22.7, 22.8
+
+// Issue 22 on another rig: the quick large-play study (a what-if rig, no thesis contact law or Eq. 4.1
+// figure in its protocol) writes null, never 0, where the thesis gives nothing, and its report
+// speaks of that rig from results.json's own rig description, not of the calibrated thesis rig.
+TEST(ReportOtherRig, LargePlayHasNullsAndItsOwnWords) {
+  const fs::path protocol = repo_root() / "studies" / "large-play-position.toml";
+  if (clearshape::testing::run_cli("study --help").exit_code != 0 || !fs::exists(protocol)) {
+    GTEST_SKIP() << "clearshape study or the large-play protocol is not available";
+  }
+  const fs::path dir = fs::temp_directory_path() / ("clearshape_report_lp_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const auto r = clearshape::testing::run_cli("study " + quote(protocol) + " --quick --out " + quote(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(render(dir).exit_code, 0);
+  const auto results = nlohmann::json::parse(read_file(dir / "results.json"));
+  EXPECT_EQ(results.at("rig").at("calibrated_to_thesis"), false);
+  EXPECT_EQ(results.at("rig").at("scored_against_thesis"), false);
+  EXPECT_FALSE(results.at("rig").at("summary").get<std::string>().empty());
+  for (const auto& t : results.at("tables")) {
+    if (t.at("id") != "4.3-clearance") continue;
+    for (const auto& c : t.at("columns")) {
+      if (c.at("key") != "thesis") continue;
+      for (const auto& v : c.at("thesis")) EXPECT_TRUE(v.is_null()) << "a thesis value where the thesis gives none: " << v;
+    }
+  }
+  for (const char* check : {"missing-null", "rig-words", "worse-marked", "finding"}) {
+    const Shell c = report_check(check, dir);
+    EXPECT_EQ(c.exit_code, 0) << check << "\n" << c.out;
+  }
+  const std::string html = read_file(dir / "report.html");
+  EXPECT_EQ(html.find("calibrated to the thesis's <em>unshaped</em>"), std::string::npos);
+  EXPECT_EQ(html.find("agreement with the thesis's shaped trials"), std::string::npos);
+  EXPECT_NE(html.find(results.at("rig").at("summary").get<std::string>().substr(0, 40)), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// Issue 22.13: the numbers docs/cli.md quotes for Table B.6 are the full position study's output (to
+// one decimal), so the page fails when the study drifts from what the documentation says.
+TEST(ReportDocs, CliQuotesTheStudysB6) {
+  const fs::path protocol = repo_root() / "studies" / "thesis-position.toml";
+  if (clearshape::testing::run_cli("study --help").exit_code != 0) GTEST_SKIP() << "clearshape study is not available";
+  const std::string doc = read_file(repo_root() / "docs" / "cli.md");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(doc, m, std::regex("improves the mean deviation by ([0-9./]+) %"))) << "docs/cli.md";
+  const fs::path dir = fs::temp_directory_path() / ("clearshape_report_full_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const auto r = clearshape::testing::run_cli("study " + quote(protocol) + " --out " + quote(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto results = nlohmann::json::parse(read_file(dir / "results.json"));
+  std::string ours;
+  for (const auto& t : results.at("tables")) {
+    if (t.at("id") != "B.6") continue;
+    for (const auto& v : t.at("columns").at(0).at("ours")) ours += (ours.empty() ? "" : "/") + fmt_one_decimal(v);
+  }
+  EXPECT_EQ(m[1].str(), ours) << "docs/cli.md quotes B.6 as " << m[1].str() << ", the study gives " << ours;
+  fs::remove_all(dir);
+}
+
 // The report as its readers see it: laid out by Chromium at 1400 px, nothing runs past the page's
 // column (layout.json lists any table or figure that does), and printed to PDF. With
 // $CLEARSHAPE_TEST_ARTEFACTS set (CI), one screenshot per section is kept there as well (about
@@ -304,6 +375,23 @@ TEST_F(Report, ReadsAt1400PxAndInPrint) {
   }
   EXPECT_EQ(read_file(dir / "report.pdf").substr(0, 5), "%PDF-");
   RecordProperty("artefacts", dir.string());
+}
+
+// Issue 22.12: on a 390 px phone nothing runs past the screen outside its own scroll box and no text
+// is squeezed to nothing (report_shots.py's offscreen list, the page's narrow-screen rules).
+TEST_F(Report, ReadsAt390Px) {
+  if (!have_chromium()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
+  const char* env = std::getenv("CLEARSHAPE_TEST_ARTEFACTS");
+  const bool shots = env != nullptr && *env != '\0';
+  const fs::path dir = (shots ? fs::path(env) : fs::current_path() / "artefacts") / "report-390px";
+  fs::remove_all(dir);
+  const Shell r = run("/usr/bin/python3 " + quote(python_dir() / "report_shots.py") + " " +
+                      quote(study_ / "report.html") + " " + quote(dir) + " --width 390 --no-pdf" +
+                      (shots ? "" : " --no-shots"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto layout = nlohmann::json::parse(read_file(dir / "layout.json"));
+  EXPECT_EQ(layout.at("page_overflow_px"), 0);
+  EXPECT_TRUE(layout.at("offscreen").empty()) << "lost at 390 px: " << layout.at("offscreen").dump();
 }
 
 TEST(ReportDeterminism, SameInputsSameFigureBytes) {
