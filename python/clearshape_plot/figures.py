@@ -248,10 +248,19 @@ def _active_window(curves, threshold: float = 0.006, margin: float = 0.5):
         tail = max(1, len(y) // 50)
         moved = np.flatnonzero(np.abs(y - y[0]) > threshold * span)
         away = np.flatnonzero(np.abs(y - np.mean(y[-tail:])) > threshold * span)
+        # A slow drift (an integrated gyro's) keeps a curve away from its final value to the end of the
+        # record although nothing happens: what happens is what departs from its own running mean.
+        k = max(3, len(y) // 25) | 1
+        smooth = np.convolve(np.pad(y, k // 2, mode="edge"), np.ones(k) / k, mode="valid")
+        resid = y - smooth
+        late = resid[-max(3, len(y) // 3):]
+        noise = 1.4826 * float(np.median(np.abs(late - np.median(late))))  # the sensor's noise, robustly
+        busy = np.flatnonzero(np.abs(resid) > max(threshold * span, 5.0 * noise))
         if len(moved):
             t_lo = min(t_lo, float(x[moved[0]]))
         if len(away):
-            t_hi = max(t_hi, float(x[away[-1]]))
+            last = away[-1] if not len(busy) else min(away[-1], busy[-1] + k)
+            t_hi = max(t_hi, float(x[min(last, len(x) - 1)]))
     if not (math.isfinite(t_lo) and math.isfinite(t_hi)) or t_hi <= t_lo:
         return None
     pad = margin * (t_hi - t_lo)

@@ -23,6 +23,10 @@ ROLE_STYLES: dict[str, dict] = {
     "ei3": {"color": "#7F7F7F", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
     "si": {"color": "#B8860B", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
     "umzv": {"color": "#6A3D9A", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
+    # clearshape's own designs on the fitted clearance model (Tol's wine and olive: no collision with the
+    # unshaped vermillion or MZV's blue)
+    "clearanceaware": {"color": "#882255", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
+    "takeup": {"color": "#999933", "linestyle": "-", "linewidth": 1.3, "zorder": 4},
     "measured": {"color": "#404040", "linestyle": "-", "linewidth": 1.2, "zorder": 3},
     "model": {"color": "#7B3FA0", "linestyle": (0, (5, 1.5)), "linewidth": 1.4, "zorder": 4},
     "thesis": {"color": "#9E9E9E", "linestyle": ":", "linewidth": 1.2, "zorder": 2},
@@ -34,11 +38,13 @@ ROLE_STYLES: dict[str, dict] = {
 # Bars of the thesis's numbers beside ours: grey, hatched.
 THESIS_BAR = {"color": "#E0E0E0", "edgecolor": "#7A7A7A", "hatch": "////"}
 
-SHAPER_ORDER = ["unshaped", "zv", "zvd", "zvdd", "zvddd", "mzv", "ei", "ei2", "ei3", "si", "umzv"]
+SHAPER_ORDER = ["unshaped", "zv", "zvd", "zvdd", "zvddd", "mzv", "ei", "ei2", "ei3", "si", "umzv", "clearanceaware",
+                "takeup"]
 
 SHAPER_LABELS = {
     "unshaped": "without IS", "zv": "ZV", "zvd": "ZVD", "zvdd": "ZVDD", "zvddd": "ZVDDD", "mzv": "MZV", "ei": "EI",
-    "ei2": "EI2", "ei3": "EI3", "si": "SI", "umzv": "UM-ZV", "command": "command",
+    "ei2": "EI2", "ei3": "EI3", "si": "SI", "umzv": "UM-ZV", "clearanceaware": "clearance-aware",
+    "takeup": "take-up", "command": "command",
     "shaped_command": "shaped command", "measured": "rig (measured)", "model": "model (simulated)",
     "thesis": "thesis", "mean": "mean",
 }
@@ -138,7 +144,8 @@ def label_with_unit(text: str | None, column: str | None = None) -> str:
     return axis_label(str(text), unit_from_column(column) if column else None)
 
 
-SHAPER_TOKEN = re.compile(r"(?:^|_)(none|zv|zvd|zvdd|zvddd|mzv|ei|ei2|ei3|si|umzv|um-zv)(?:@([A-Za-z0-9_-]+))?$", re.I)
+SHAPER_TOKEN = re.compile(r"(?:^|_)(none|zv|zvd|zvdd|zvddd|mzv|ei|ei2|ei3|si|umzv|um-zv|clearance-aware|take-up)"
+                          r"(?:@([A-Za-z0-9_-]+))?$", re.I)
 
 
 def infer_role(column: str, label: str | None = None) -> tuple[str, str]:

@@ -608,6 +608,54 @@ def check_finding(study: Path, results: dict, html: str, **_) -> None:
     expect(not means, f"verdicts still judged within one thesis trial s.d.: {means[:2]}")
 
 
+def check_figure_colours(study: Path, python_dir: Path, **_) -> None:
+    """22.10: no two curves of a rig figure share a look (without IS and take-up both vermillion, MZV and
+    clearance-aware both blue): every labelled line differs from the others in colour or line style."""
+    figures, cache, specs = _figures(study, python_dir)
+    from matplotlib.colors import to_hex  # noqa: E402
+    clashes, drawn = [], 0
+    for spec in specs:
+        if not str(spec.get("id", "")).startswith("rig-") or spec.get("kind", "time-series") != "time-series":
+            continue
+        fig = figures.draw(spec, cache)
+        drawn += 1
+        for ax in fig.axes:
+            looks = {}
+            for ln in ax.get_lines():
+                lab = ln.get_label()
+                if lab.startswith("_") or len(ln.get_xdata()) < 3:
+                    continue
+                look = (to_hex(ln.get_color()), str(ln.get_linestyle()))
+                if look in looks and looks[look] != lab:
+                    clashes.append(f"{spec['id']}: {looks[look]!r} and {lab!r} both {look}")
+                looks.setdefault(look, lab)
+        plt_close(fig)
+    print(f"{drawn} rig figures; clashes: {clashes[:4] or 'none'}")
+    expect(not clashes, f"curves that look alike: {clashes[:4]}")
+
+
+def check_zoom(study: Path, python_dir: Path, **_) -> None:
+    """22.10: a rig trace is drawn where it rings, not over the whole record with the ringing in a few
+    per cent of the width (an integrated gyro's slow drift does not hold the axis open): its time axis
+    spans at most 60 % of the record and holds every Eq. 5.1 steady-state start it marks."""
+    figures, cache, specs = _figures(study, python_dir)
+    spans = []
+    for spec in specs:
+        if not re.match(r"rig-B\.|rig-5\.", str(spec.get("id", ""))) or spec.get("kind", "time-series") != "time-series":
+            continue
+        fig = figures.draw(spec, cache)
+        x = cache.column(spec["file"], spec["x"]["column"])
+        lo, hi = fig.axes[0].get_xlim()
+        share = (hi - lo) / (float(x[-1]) - float(x[0]))
+        spans.append(f"{spec['id']} {share:.0%}")
+        expect(share <= 0.6, f"{spec['id']}: the axis spans {share:.0%} of the record")
+        for key, a in (spec.get("mean_deviation") or {}).items():
+            t0 = a.get("start_time_s")
+            expect(t0 is None or lo <= t0 <= hi, f"{spec['id']}: the steady-state start of {key} is off the axis")
+        plt_close(fig)
+    print(f"rig traces, share of the record drawn: {spans or 'none'}")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -615,6 +663,7 @@ CHECKS = {
     "failing-criterion": check_failing_criterion, "outside-references": check_no_outside_references,
     "rig-kind": check_rig_kind, "worse-marked": check_worse_marked, "missing-null": check_missing_is_null,
     "thesis-verbatim": check_thesis_verbatim, "rig-words": check_rig_words, "finding": check_finding,
+    "figure-colours": check_figure_colours, "zoom": check_zoom,
 }
 
 

@@ -294,6 +294,8 @@ REPORT_CHECK(MissingValuesAreNullAndDashNeverZero, "missing-null")            //
 REPORT_CHECK(ThesisNumbersAreQuotedAsPrinted, "thesis-verbatim")              // 22.5
 REPORT_CHECK(EachRigHasItsOwnWords, "rig-words")                              // 22.2
 REPORT_CHECK(TheHeaderHoldsTheFindingWithIntervals, "finding")                // 22.4, 22.7, 22.8
+REPORT_CHECK(NoTwoCurvesOfARigFigureLookAlike, "figure-colours")              // 22.10
+REPORT_CHECK(RigTracesAreDrawnWhereTheyRing, "zoom")                          // 22.10
 
 // Issue 22 on another rig: the quick large-play study (a what-if rig, no thesis contact law or Eq. 4.1
 // figure in its protocol) writes null, never 0, where the thesis gives nothing, and its report
@@ -319,7 +321,7 @@ TEST(ReportOtherRig, LargePlayHasNullsAndItsOwnWords) {
       for (const auto& v : c.at("thesis")) EXPECT_TRUE(v.is_null()) << "a thesis value where the thesis gives none: " << v;
     }
   }
-  for (const char* check : {"missing-null", "rig-words", "worse-marked", "finding"}) {
+  for (const char* check : {"missing-null", "rig-words", "worse-marked", "finding", "figure-colours"}) {
     const Shell c = report_check(check, dir);
     EXPECT_EQ(c.exit_code, 0) << check << "\n" << c.out;
   }
