@@ -10,10 +10,15 @@
 #include "clearshape/dsp/peaks.hpp"
 #include "clearshape/ident/modes.hpp"
 #include "peak_fit.hpp"
+#include "resonance_check.hpp"
 
 namespace clearshape::advise {
 
 namespace {
+
+// Shoulders: the line fitted down to 10 % of the peak is wider than this × the peak's own
+// half-power band (seeded noise-driven lines stay below 1.6; the golden two-mode record 1.59).
+constexpr double kShoulderWidthRatio = 2.0;
 
 // Hann's (and Kaiser β = 6's) 3-dB main-lobe width, in bins of the segment (Harris 1978, Table 1).
 constexpr double kWindowHalfPowerBins = 1.44;
@@ -52,6 +57,24 @@ std::pair<std::size_t, std::size_t> line_region(const MeasuredSpectrum& s, std::
   return {a, b};
 }
 
+// The half-power band of a peak, found on the spectrum averaged over ±1 resolution bin (Welch's
+// scatter ripples a line on that scale; an unsmoothed walk stops at the first ripple).
+std::pair<std::size_t, std::size_t> half_power_region(const MeasuredSpectrum& s, std::size_t bin, std::size_t lo, std::size_t hi) {
+  const double grid = s.frequency_hz.size() > 1 ? s.frequency_hz[1] - s.frequency_hz[0] : s.resolution_hz;
+  const auto h = static_cast<std::size_t>(std::max(1.0, std::round(s.resolution_hz / grid)));
+  const auto mean_at = [&](std::size_t k) {
+    const std::size_t a = k > lo + h ? k - h : lo, b = std::min(hi, k + h);
+    double sum = 0.0;
+    for (std::size_t i = a; i <= b; ++i) sum += s.power[i];
+    return sum / static_cast<double>(b - a + 1);
+  };
+  const double level = 0.5 * mean_at(bin), f = s.frequency_hz[bin];
+  std::size_t a = bin, b = bin;
+  while (a > lo && mean_at(a - 1) >= level && s.frequency_hz[a - 1] >= 0.5 * f) --a;
+  while (b < hi && mean_at(b + 1) >= level && s.frequency_hz[b + 1] <= 2.0 * f) ++b;
+  return {a, b};
+}
+
 struct PeakStart {
   std::size_t bin = 0;
   double frequency_hz = 0.0;
@@ -86,7 +109,11 @@ double bin_correlation(const MeasuredSpectrum& s) {
   return 3.0 * resolution / grid_of(s);
 }
 
-ModeEstimate from_fit(const MeasuredSpectrum& s, const PeakStart& start, const detail::LineFit& fit) {
+// `band_zeta`: the ζ of the peak's half-power band (half_power_region; uncorrected). A fitted line
+// wider than kShoulderWidthRatio × that was widened by shoulders: ζ is then the geometric mean of
+// the two, and the range the data cannot exclude (ModeEstimate::damping_ratio_range) spans both.
+ModeEstimate from_fit(const MeasuredSpectrum& s, const PeakStart& start, const detail::LineFit& fit,
+                      std::optional<double> band_zeta = std::nullopt) {
   ModeEstimate m;
   m.source = "spectrum";
   m.peak_power = s.power[start.bin];
@@ -115,6 +142,21 @@ ModeEstimate from_fit(const MeasuredSpectrum& s, const PeakStart& start, const d
     const double grid_sd = grid_of(s) / std::sqrt(12.0);
     m.frequency_std_hz = std::sqrt(grid_sd * grid_sd + 0.25 * width * width / k + bias * bias);
     m.damping_ratio_std = std::sqrt(m.damping_ratio * m.damping_ratio / k + std::pow(grid_sd / f0, 2) + correction_sd * correction_sd);
+  }
+  // The band was found on the spectrum averaged over ±1 resolution bin: its width is widened by
+  // that boxcar (2 bins) and the window (1.44 bins), both taken as Gaussian (as above).
+  const double band = band_zeta ? lorentzian_width(2.0 * *band_zeta * f0, std::hypot(2.0, kWindowHalfPowerBins) * resolution) / (2.0 * f0)
+                                : 0.0;
+  if (fit.converged && band > 0.0 && m.damping_ratio > kShoulderWidthRatio * band) {
+    const double fitted = m.damping_ratio;
+    m.damping_ratio = std::sqrt(fitted * band);
+    m.damping_ratio_std = std::max(m.damping_ratio_std, 0.25 * (fitted - band));
+    m.damping_ratio_range = {band, fitted};
+    m.half_power_low_hz = f0 * (std::sqrt(1.0 + m.damping_ratio * m.damping_ratio) - m.damping_ratio);
+    m.half_power_high_hz = f0 * (std::sqrt(1.0 + m.damping_ratio * m.damping_ratio) + m.damping_ratio);
+    m.note = fmt::format("shoulders: the line fitted down to 10 % of the peak has ζ {:.3g}, the peak's half-power band {:.3g}; "
+                         "ζ is their geometric mean and the worst case covers both",
+                         fitted, band);
   }
   return m;
 }
@@ -159,15 +201,25 @@ std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEs
   const double min_f = options.min_frequency_hz ? *options.min_frequency_hz : 2.0 * s.resolution_hz;
   std::size_t lowest = 0;
   while (lowest < s.frequency_hz.size() && s.frequency_hz[lowest] < min_f) ++lowest;
-  if (lowest + 3 > s.power.size()) throw RuntimeError(fmt::format("{}: no bins above {} Hz", s.source, min_f));
+  const auto refuse = [&](const std::string& why) {
+    return NoUsableResonance(fmt::format("no usable resonance in {}: {}; {}", s.source, why, detail::what_to_record()));
+  };
+  if (lowest + 3 > s.power.size()) throw refuse(fmt::format("no bins above {:.4g} Hz", min_f));
   std::vector<double> p(s.power.begin() + static_cast<std::ptrdiff_t>(lowest), s.power.end());
   std::vector<dsp::Peak> peaks = dsp::find_peaks(p);
-  if (peaks.empty()) throw RuntimeError(fmt::format("{}: the spectrum has no peak above {} Hz", s.source, min_f));
+  if (peaks.empty()) throw refuse(fmt::format("the spectrum has no peak above {:.4g} Hz", min_f));
   std::stable_sort(peaks.begin(), peaks.end(), [](const dsp::Peak& a, const dsp::Peak& b) { return a.height > b.height; });
   const std::size_t top = peaks.front().index + lowest, end = s.power.size() - 1;
   const PeakStart p1 = start_at(s, top, lowest);
-  const detail::LineFit fit1 = fit_one(s, p1, line_region(s, top, lowest, end));
-  const ModeEstimate single = from_fit(s, p1, fit1);
+  detail::LineFit fit1 = fit_one(s, p1, line_region(s, top, lowest, end));
+  // Shoulders (other lines, forced response) inside the band down to 10 % can widen the fitted
+  // line: cross-checked against the width of the peak's own half-power band.
+  const auto band = half_power_region(s, top, lowest, end);
+  const double band_zeta = (s.frequency_hz[band.second] - s.frequency_hz[band.first]) / (2.0 * s.frequency_hz[top]);
+  const detail::LineVerdict verdict1 = detail::judge_line(s, fit1, p1.frequency_hz, s.power[top], lowest, options.min_prominence);
+  if (!verdict1.problem.empty()) throw refuse(verdict1.problem);
+  ModeEstimate single = from_fit(s, p1, fit1, band_zeta);
+  single.prominence = verdict1.prominence;
   // A second mode: the highest candidate peak that passes every test below.
   const auto try_second = [&](std::size_t cand) -> std::optional<std::vector<ModeEstimate>> {
     // Each line's own band ends at the valley between the two; both are then fitted together.
@@ -202,21 +254,32 @@ std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEs
       if ((alone.cost - best.cost) / (bin_correlation(s) * s2) < 16.3) return std::nullopt;
     }
     const bool joint = best.converged;
-    const auto& both = best.lines;
-    std::vector<ModeEstimate> out{from_fit(s, p1, joint ? both[0] : one), from_fit(s, p2, joint ? both[1] : two)};
+    const detail::LineFit& fit_a = joint ? best.lines[0] : one;
+    const detail::LineFit& fit_b = joint ? best.lines[1] : two;
+    // The second line must be a usable resonance too (standing out of its floor, ζ off the bounds).
+    const detail::LineVerdict verdict2 = detail::judge_line(s, fit_b, p2.frequency_hz, s.power[cand], lowest, options.min_prominence);
+    if (!verdict2.problem.empty()) return std::nullopt;
+    std::vector<ModeEstimate> out{from_fit(s, p1, fit_a), from_fit(s, p2, fit_b)};
+    out[0].prominence = detail::judge_line(s, fit_a, p1.frequency_hz, s.power[top], lowest, options.min_prominence).prominence;
+    out[1].prominence = verdict2.prominence;
     return out;
   };
   if (options.max_modes > 1) {
-    for (std::size_t i = 1; i < peaks.size(); ++i) {
+    // A second mode is found by significance, not by its height relative to the first: the
+    // highest peaks that stand out of their own local floor are tried in turn, and the two-line
+    // fit must beat one line by more than chance allows (try_second).
+    std::size_t tries = 0;
+    for (std::size_t i = 1; i < peaks.size() && tries < options.second_peak_tries; ++i) {
       const auto& pk = peaks[i];
       const std::size_t bin = pk.index + lowest;
       const double f = s.frequency_hz[bin];
-      if (pk.height < options.second_peak_min_ratio * s.power[top]) break;  // sorted: no later one qualifies
+      if (!(pk.height >= options.min_prominence * detail::local_floor(s, f, lowest))) continue;
       // Ripples of Welch's scatter on a line have little prominence; a mode stands out ...
       if (pk.prominence < options.second_peak_min_prominence * pk.height) continue;
       // (outside the first peak's own half-power crossings and a resolution bin: a broad one-line
       // fit over two merged lines would hide the second)
       if (std::abs(f - p1.frequency_hz) <= p1.damping_ratio * p1.frequency_hz + s.resolution_hz) continue;
+      ++tries;
       if (auto two = try_second(bin)) return *two;
     }
   }
@@ -268,8 +331,9 @@ ModeEstimation estimate_modes(const std::vector<MeasuredSpectrum>& spectra, cons
     // (A decay starts under the Welch window's rising edge, which pulls the spectral peak: the
     // fitted mode need only lie within the peak's half-power half-width plus 3σ of it.)
     const double tol = 0.5 * (sm.half_power_high_hz - sm.half_power_low_hz) + 3.0 * sm.frequency_std_hz;
+    // (and be a decaying mode: ζ ≤ 0 is an unstable pole, ζ ≥ 1 no oscillation)
     if (!best || std::abs(best->natural_frequency_hz() - sm.frequency_hz) > tol || !std::isfinite(best->natural_frequency_std_rad_s) ||
-        !std::isfinite(best->damping_ratio_std)) {
+        !std::isfinite(best->damping_ratio_std) || !(best->damping_ratio > 0.0 && best->damping_ratio < 1.0)) {
       r.note = fmt::format("the free-decay fit ({:.1f} %) does not confirm the spectral peak at {:.4g} Hz: spectral estimates only",
                            fit.fit_percent, sm.frequency_hz);
       return r;

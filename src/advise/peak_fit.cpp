@@ -36,7 +36,8 @@ Eigen::MatrixXd jacobian(const std::vector<double>& f, const Eigen::VectorXd& x,
   Eigen::MatrixXd j(at.size(), x.size());
   for (Eigen::Index c = 0; c < x.size(); ++c) {
     Eigen::VectorXd xp = x;
-    const double h = 1e-6 * std::max(1.0, std::abs(x(c)));
+    // Relative step: the same fit whatever the units of frequency and power.
+    const double h = 1e-6 * (x(c) != 0.0 ? std::abs(x(c)) : 1.0);
     xp(c) += h;
     j.col(c) = (log_model(f, xp, coherent) - at) / h;
   }
@@ -52,13 +53,18 @@ double line_power(const LineFit& line, double f) noexcept {
 
 LinesFit fit_lines(std::span<const double> frequency_hz, std::span<const double> power, std::size_t first, std::size_t last,
                    const std::vector<LineStart>& starts, bool coherent, const std::vector<double>& signs, double correlation) {
+  // The fit runs on frequency / the first line's start and power / the band's maximum, so it does
+  // the same steps whatever the units of time and of the signal (the design is scale-free).
+  const double f_ref = starts.empty() ? 1.0 : starts.front().frequency_hz;
+  double p_ref = 0.0;
+  for (std::size_t k = first; k <= last && k < power.size(); ++k) p_ref = std::max(p_ref, power[k]);
   std::vector<double> f;
   Eigen::VectorXd log_p(static_cast<Eigen::Index>(last - first + 1));
   Eigen::Index used = 0;
   for (std::size_t k = first; k <= last && k < power.size(); ++k) {
     if (frequency_hz[k] > 0.0 && power[k] > 0.0) {
-      f.push_back(frequency_hz[k]);
-      log_p(used++) = std::log(power[k]);
+      f.push_back(frequency_hz[k] / f_ref);
+      log_p(used++) = std::log(power[k] / p_ref);
     }
   }
   log_p.conservativeResize(used);
@@ -69,15 +75,15 @@ LinesFit fit_lines(std::span<const double> frequency_hz, std::span<const double>
     result.lines[l].damping_ratio = starts[l].damping_ratio;
   }
   const auto p = static_cast<Eigen::Index>(3 * starts.size());
-  if (f.size() < 3 * starts.size() + 3) return result;
+  if (f.size() < 3 * starts.size() + 3 || !(f_ref > 0.0)) return result;
   // Start: each line's residue puts its peak, P = a²/(2ζ f0)², on the measured power there.
   Eigen::VectorXd x(p);
   for (std::size_t l = 0; l < starts.size(); ++l) {
     const auto nearest = std::min_element(f.begin(), f.end(), [&](double a, double b) {
-      return std::abs(a - starts[l].frequency_hz) < std::abs(b - starts[l].frequency_hz);
+      return std::abs(a - starts[l].frequency_hz / f_ref) < std::abs(b - starts[l].frequency_hz / f_ref);
     });
     const double peak = std::exp(log_p(nearest - f.begin()));
-    const double z = starts[l].damping_ratio, f0 = starts[l].frequency_hz;
+    const double z = starts[l].damping_ratio, f0 = starts[l].frequency_hz / f_ref;
     const double sign = coherent && l < signs.size() ? signs[l] : 1.0;
     const auto b = static_cast<Eigen::Index>(3 * l);
     x(b) = sign * std::sqrt(peak) * 2.0 * z * f0;
@@ -97,7 +103,7 @@ LinesFit fit_lines(std::span<const double> frequency_hz, std::span<const double>
     Eigen::VectorXd trial = x + step;
     bool valid = step.allFinite();
     for (Eigen::Index l = 0; l < p / 3; ++l) {
-      trial(3 * l + 2) = std::clamp(trial(3 * l + 2), std::log(1e-4), std::log(0.9));
+      trial(3 * l + 2) = std::clamp(trial(3 * l + 2), std::log(kMinLineDamping), std::log(kMaxLineDamping));
       valid = valid && trial(3 * l + 1) > 0.0;
     }
     const Eigen::VectorXd trial_model = valid ? log_model(f, trial, coherent) : model;
@@ -124,10 +130,11 @@ LinesFit fit_lines(std::span<const double> frequency_hz, std::span<const double>
   for (std::size_t l = 0; l < starts.size(); ++l) {
     const auto b = static_cast<Eigen::Index>(3 * l);
     LineFit& line = result.lines[l];
-    line.residue = x(b);
-    line.frequency_hz = x(b + 1);
+    // Back to the caller's units: P = a² f² / |f0² − f² + 2jζ f0 f|² scales a by f_ref·√p_ref.
+    line.residue = x(b) * f_ref * std::sqrt(p_ref);
+    line.frequency_hz = x(b + 1) * f_ref;
     line.damping_ratio = std::exp(x(b + 2));
-    line.frequency_var = cov(b + 1, b + 1);
+    line.frequency_var = cov(b + 1, b + 1) * f_ref * f_ref;
     line.log_damping_var = cov(b + 2, b + 2);
     line.converged = result.converged && line.frequency_hz > 0.0 && line.frequency_var >= 0.0;
     result.converged = result.converged && line.converged;

@@ -11,6 +11,10 @@
 
 namespace clearshape::advise::detail {
 
+/// The fit keeps each line's damping ratio within these bounds; a fit that ends on one has not
+/// found a resonance's width.
+inline constexpr double kMinLineDamping = 1e-4, kMaxLineDamping = 0.9;
+
 struct LineStart {
   double frequency_hz = 0.0;
   double damping_ratio = 0.0;

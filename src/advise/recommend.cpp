@@ -54,9 +54,15 @@ struct Evaluator {
 std::vector<double> scan_grid(const RecommendOptions& o, double mode_hz) {
   if (!o.scan_frequencies_hz.empty()) return o.scan_frequencies_hz;
   const double lo = o.scan_ratio_low * mode_hz, hi = o.scan_ratio_high * mode_hz;
-  const double step = std::max(o.scan_step_hz, (hi - lo) / 200.0);
   std::vector<double> g;
-  for (std::size_t i = 0; lo + step * static_cast<double>(i) < hi; ++i) g.push_back(lo + step * static_cast<double>(i));
+  if (o.scan_step_hz) {
+    const double step = std::max(*o.scan_step_hz, (hi - lo) / 200.0);
+    for (std::size_t i = 0; lo + step * static_cast<double>(i) < hi; ++i) g.push_back(lo + step * static_cast<double>(i));
+    return g;
+  }
+  // Log-spaced: f_i = lo·(1 + step)^i, every point a multiple of the mode, whatever the unit of time.
+  const double ratio = 1.0 + o.scan_step_ratio;
+  for (double f = lo; f < hi; f *= ratio) g.push_back(f);
   return g;
 }
 
@@ -121,6 +127,10 @@ std::vector<double> damping_set(const std::vector<ModeEstimate>& modes, const Re
     const double half = std::max(2.0 * m.damping_ratio_std, 0.25 * m.damping_ratio);
     lo = std::min(lo, m.damping_ratio - half);
     hi = std::max(hi, m.damping_ratio + half);
+    if (m.damping_ratio_range) {  // what the data cannot exclude (shoulders: the band's ζ … the fit's)
+      lo = std::min(lo, m.damping_ratio_range->first);
+      hi = std::max(hi, m.damping_ratio_range->second);
+    }
   }
   lo = std::clamp(o.damping_low.value_or(lo), 0.001, 0.9);
   hi = std::clamp(o.damping_high.value_or(hi), lo, 0.9);
@@ -146,7 +156,9 @@ void validate(const std::vector<MeasuredSpectrum>& spectra, const std::vector<Mo
   require_in_open("vtol", o.vtol, 0.0, 1.0);
   if (!(o.max_delay_s > 0.0)) throw_invalid("max_delay_s", o.max_delay_s, "> 0 s (infinity: no budget)");
   require_non_negative("vibration_tolerance", o.vibration_tolerance);
-  require_positive("scan_step_hz", o.scan_step_hz);
+  if (o.scan_step_hz) require_positive("scan_step_hz", *o.scan_step_hz);
+  require_in_open("scan_step_ratio", o.scan_step_ratio, 0.0, 1.0);
+  require_in_closed("max_remaining", o.max_remaining, 0.0, 1.0, "The fraction of the vibration a pick may leave unflagged (0.2 = 20 %).");
   if (!(o.scan_ratio_low > 0.0 && o.scan_ratio_high > o.scan_ratio_low)) {
     throw InvalidArgument(fmt::format("scan ratios [{}, {}]: need 0 < low < high", o.scan_ratio_low, o.scan_ratio_high));
   }
@@ -230,6 +242,12 @@ void choose(Recommendation& r, const RecommendOptions& o) {
   if (shorter) {
     r.reason += fmt::format("; {} leaves {} at {} less", upper(c[*shorter].name), percent(c[*shorter].remaining_worst),
                             millis(p.duration_s - c[*shorter].duration_s));
+  }
+  if (p.leaves_too_much) {
+    r.warning = fmt::format("{} leaves {} of the vibration (more than the {} limit): no candidate cancels what this spectrum holds "
+                            "(more modes than the candidates cover, or a forced response rather than a resonance); record the free "
+                            "decay after a move (--from-s after it) or a response to broadband excitation",
+                            upper(p.name), percent(p.remaining_worst), percent(o.max_remaining));
   }
 }
 
@@ -319,6 +337,7 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
       if (c.designed) c.remaining_worst_designed = ev.worst(*c.designed);
       c.duration_s = c.shaper->duration_s();
       c.within_budget = c.duration_s <= o.max_delay_s * (1.0 + 1e-12);
+      c.leaves_too_much = c.remaining_worst > o.max_remaining;
     } catch (const InvalidArgument& e) {
       c.available = false;
       c.note = e.what();

@@ -6,46 +6,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <vector>
 
-#include <Eigen/Dense>
-#include <unsupported/Eigen/MatrixFunctions>
-
 #include "clearshape/advise/mode_estimate.hpp"
-#include "clearshape/core/units.hpp"
+#include "synthetic_modes.hpp"
 
 namespace ad = clearshape::advise;
 
 namespace {
 
-struct Line {
-  double f_hz, zeta, gain;
-};
-
-// y = Σ gain·(rate of x'' + 2ζω x' + ω² x = u): modes driven by one white input u (held over each sample).
-clearshape::UniformSeries rate_response(const std::vector<Line>& lines, double fs_hz, std::size_t n, std::uint64_t seed) {
-  clearshape::UniformSeries y{0.0, 1.0 / fs_hz, std::vector<double>(n, 0.0)};
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<double> u(n);
-  for (double& v : u) v = noise(rng);
-  for (const Line& line : lines) {
-    const double w = clearshape::kTwoPi * line.f_hz, dt = 1.0 / fs_hz, zeta = line.zeta;
-    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();  // [A B; 0 0] → exp gives [Ad Bd; 0 I] (Van Loan)
-    m(0, 1) = 1.0;
-    m(1, 0) = -w * w;
-    m(1, 2) = 1.0;
-    m(1, 1) = -2.0 * zeta * w;
-    const Eigen::Matrix3d e = (m * dt).exp();
-    Eigen::Vector2d x = Eigen::Vector2d::Zero();
-    for (std::size_t k = 0; k < n; ++k) {
-      y.values[k] += line.gain * x(1);
-      x = e.topLeftCorner<2, 2>() * x + e.topRightCorner<2, 1>() * u[k];
-    }
-  }
-  return y;
-}
+using advise_test::Line;
+using advise_test::rate_response;
 
 struct Coverage {
   int within_1sigma_f = 0, within_1sigma_z = 0, within_2sigma_f = 0, within_2sigma_z = 0, n = 0;

@@ -47,9 +47,11 @@ TEST(Recommend, EveryCandidateIsFittedNearTheMode) {
     EXPECT_GE(c.remaining_worst, c.remaining_nominal - 1e-15) << c.name;
     EXPECT_GT(c.duration_s, 0.0);
   }
-  // ZV, the least robust, leaves the most; more derivative constraints leave less.
+  // ZV, the least robust, leaves the most; more derivative constraints leave less at the scan's
+  // least (the fitted frequency may leave up to Klipper's near-best margin, 0.05 points, more).
   EXPECT_GT(find(r, "zv").remaining_worst, find(r, "zvd").remaining_worst);
-  EXPECT_GE(find(r, "zvd").remaining_worst + 1e-12, find(r, "zvdd").remaining_worst);
+  EXPECT_GE(find(r, "zvd").least_remaining + 1e-12, find(r, "zvdd").least_remaining);
+  EXPECT_LE(find(r, "zvdd").remaining_worst, find(r, "zvdd").least_remaining * o.near_best_factor + o.near_best_offset);
   EXPECT_LT(find(r, "zv").duration_s, find(r, "zvd").duration_s);
   // ZV's least worst-case remaining vibration is at the mode (within the estimate's 2σ); the
   // fitted frequency is the shortest ZV within Klipper's near-best window (≤ 10 % higher).

@@ -8,11 +8,19 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "clearshape/advise/spectrum_input.hpp"
+#include "clearshape/core/error.hpp"
 
 namespace clearshape::advise {
+
+/// A spectrum without a resonance a shaper could be designed for (a run-time failure: exit 1).
+class NoUsableResonance : public RuntimeError {
+ public:
+  using RuntimeError::RuntimeError;
+};
 
 struct ModeEstimate {
   double frequency_hz = 0.0;          ///< natural frequency
@@ -20,16 +28,24 @@ struct ModeEstimate {
   double damping_ratio = 0.0;
   double damping_ratio_std = 0.0;
   double peak_power = 0.0;            ///< PSD at the peak (0 for a fit-only mode)
+  double prominence = 0.0;            ///< the line's peak over the local PSD floor (median within f/3 … 3f)
   double half_power_low_hz = 0.0;     ///< half-power crossings of the peak (spectrum)
   double half_power_high_hz = 0.0;
   std::string source;                 ///< "spectrum" or "free-decay fit"
+  /// The damping ratios the data cannot exclude, when wider than ζ ± σ (set when shoulders widen
+  /// the fitted line beyond the peak's half-power band): the worst case covers them.
+  std::optional<std::pair<double, double>> damping_ratio_range;
+  std::string note;                   ///< a remark on the estimate (e.g. shoulders)
 };
 
 struct ModeEstimateOptions {
   std::size_t max_modes = 2;             ///< 1 or 2
   std::optional<double> min_frequency_hz;  ///< ignore bins below; default 2 × the resolution
-  double second_peak_min_ratio = 0.2;    ///< a second peak stands out: power ≥ this × the highest
-  double second_peak_min_prominence = 0.25;  ///< … and prominence ≥ this × its own power
+  /// A mode stands out: its fitted peak ≥ this × the local PSD floor (the median power within
+  /// f/3 … 3f). Below it (or with ζ on the fit's bound) the highest peak is no usable resonance.
+  double min_prominence = 4.0;
+  double second_peak_min_prominence = 0.25;  ///< a second peak's prominence ≥ this × its own power
+  std::size_t second_peak_tries = 6;     ///< at most this many peaks get the two-line significance test
   bool free_decay_fit = true;            ///< try the ident::modes free-decay fit on the record
   std::size_t free_decay_max_samples = 20000;  ///< skip the fit on longer records (cost)
 };
@@ -42,7 +58,9 @@ struct ModeEstimation {
   std::string note;                          ///< why the free-decay fit was or was not used
 };
 
-/// Spectral modes of one spectrum (no fit). Throws RuntimeError when the spectrum has no peak.
+/// Spectral modes of one spectrum (no fit). Throws NoUsableResonance ("no usable resonance in
+/// <source>: <why>; <what to record instead>") when the spectrum has no peak, or its highest
+/// peak does not stand out of the local floor or fits only with ζ on a bound.
 std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& spectrum, const ModeEstimateOptions& options = {});
 
 /// Modes of a set of spectra (the first is the reference; the others only for the free-decay

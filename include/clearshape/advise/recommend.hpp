@@ -32,9 +32,13 @@ struct RecommendOptions {
   /// Frequency uncertainty: scales 1 − k·σ_f/f, 1, 1 + k·σ_f/f with k = frequency_sigmas (0: none).
   double frequency_sigmas = 2.0;
   double si_min_half_band = 0.02;             ///< SI band half-width ≥ this fraction of f
-  /// Scan grid: explicit frequencies, or ratio_low·f … ratio_high·f in steps of step_hz.
+  /// Scan grid: explicit frequencies, or ratio_low·f … ratio_high·f, each point (1 + step_ratio)
+  /// × the one before (log-spaced, so the design does not depend on the unit of time: 0.005 gives
+  /// 197 points over 0.6–1.6 × f); scan_step_hz instead gives a linear grid in steps of that many
+  /// Hz (at most 200 points; tied to the time unit).
   std::vector<double> scan_frequencies_hz;
-  double scan_ratio_low = 0.6, scan_ratio_high = 1.6, scan_step_hz = 0.1;
+  double scan_ratio_low = 0.6, scan_ratio_high = 1.6, scan_step_ratio = 0.005;
+  std::optional<double> scan_step_hz;
   /// Klipper's frequency choice: among scan points with remaining < factor·least + offset, the
   /// shortest shaper (highest design frequency) is fitted.
   double near_best_factor = 1.1, near_best_offset = 0.0005;
@@ -43,6 +47,9 @@ struct RecommendOptions {
   double vtol = 0.05;                         ///< EI/SI tolerance
   double max_delay_s = std::numeric_limits<double>::infinity();  ///< delay budget
   double vibration_tolerance = 0.01;          ///< "within 1 percentage point of the least"
+  /// A candidate whose worst-case remaining vibration exceeds this fraction is flagged
+  /// (CandidateResult::leaves_too_much); when the pick is such a one, Recommendation::warning says so.
+  double max_remaining = 0.2;
   /// > 0: the drive takes a new command only at updates of this rate (Hz), so every candidate is
   /// snapped to that grid (shaping::on_update_grid) before anything is evaluated — the frequency
   /// scan included: remaining vibration, duration and the choice are those of the applied
@@ -62,6 +69,7 @@ struct CandidateResult {
   double least_remaining_frequency_hz = 0.0;   ///< … and where (first mode's frequency)
   double duration_s = 0.0;                     ///< the delay it adds
   bool within_budget = true;
+  bool leaves_too_much = false;                ///< remaining_worst > RecommendOptions::max_remaining
   std::optional<shaping::Shaper> shaper;       ///< as applied (on the update grid when one is set)
   /// With an update grid only: the off-grid design at design_frequency_hz and its worst-case
   /// remaining vibration (what the grid costs), and the earlier candidate whose applied
@@ -80,6 +88,7 @@ struct Recommendation {
   std::vector<CandidateResult> candidates;
   std::optional<std::size_t> chosen;          ///< index into candidates
   std::string reason;
+  std::string warning;                        ///< non-empty: the pick leaves more than max_remaining
 };
 
 /// Throws InvalidArgument for no spectra, no modes, an unknown candidate, a two-mode candidate
