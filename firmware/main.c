@@ -82,6 +82,7 @@ static uint32_t ticks_since_command;
 static uint8_t watchdog_active;
 static int16_t gyro_last;
 static uint8_t pending_flags; /* TX_OVERFLOW, LATE: carried to the next queued sample */
+static uint32_t rx_rejected_seen; /* decoder.corrupted + RX overruns at the last sample */
 
 /* STATS. */
 static uint32_t samples_sent;
@@ -288,6 +289,7 @@ static void on_start(void) {
   ticks_since_command = 0;
   watchdog_active = 0;
   pending_flags = 0;
+  rx_rejected_seen = decoder.corrupted + uart_rx_overruns();
   started = 1;
   send_ack(frame.type, CS_OK, 0);
   tick_start(cfg.sample_rate_hz);
@@ -495,6 +497,15 @@ static void run_tick(void) {
   if (watchdog_active) flags |= CS_SAMPLE_WATCHDOG;
   if (command_limited) flags |= CS_SAMPLE_COMMAND_LIMITED;
   if (servo_on) flags |= CS_SAMPLE_SERVO_ON;
+  {
+    /* Host bytes rejected since the last sample: the host learns at once that a COMMAND may be
+     * missing (STATS.rx_corrupted only counts them). */
+    const uint32_t rejected = decoder.corrupted + uart_rx_overruns();
+    if (rejected != rx_rejected_seen) {
+      rx_rejected_seen = rejected;
+      flags |= CS_SAMPLE_RX_REJECTED;
+    }
+  }
   sample.tick = snap.tick;
   sample.encoder_count = snap.encoder;
   sample.gyro_raw = gyro_last;

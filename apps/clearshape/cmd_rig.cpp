@@ -17,10 +17,12 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/io/atomic_file.hpp"
+#include "clearshape/io/interrupt.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/rig/realtime.hpp"
@@ -232,21 +234,13 @@ struct Outcome {
   rig::SerialRigStats link;
   std::string stop_problem;  ///< empty when the board confirmed STOP
   std::vector<std::string> warnings;
-  /// The board's own counters (STATS) before and after the run; empty when they could not be read.
-  std::optional<rig::BoardStats> board_before, board_after;
+  /// What the board counted during the run (its STATS before and after); empty when unknown.
+  std::optional<rig::BoardStats> board_during_run;
+  /// Why the record is not complete (the loop's stop, the rig's degradation); empty: complete.
+  std::vector<std::string> degraded;
+  int interrupted_by = 0;  ///< the signal that ended the run (0: none)
+  bool complete() const { return degraded.empty(); }
 };
-
-// The board's counters, or nothing (with a warning) when it does not answer GET_STATS: the run's
-// record must not be lost to a counter.
-std::optional<rig::BoardStats> try_board_stats(rig::SerialRig& r, Outcome& out, const char* when) {
-  try {
-    return r.board_stats();
-  } catch (const std::exception& e) {
-    out.warnings.push_back(fmt::format("the board's counters could not be read {} the run: {}", when, e.what()));
-    fmt::print(stderr, "clearshape: warning: {}\n", out.warnings.back());
-    return std::nullopt;
-  }
-}
 
 // Samples carrying each MeasurementFlag (rig/types.hpp), from the record's flags column.
 json flag_counts_json(const std::vector<double>& flags) {
@@ -254,7 +248,7 @@ json flag_counts_json(const std::vector<double>& flags) {
       {rig::MeasurementFlag::gyro_saturated, "gyro_saturated"}, {rig::MeasurementFlag::command_limited, "command_limited"},
       {rig::MeasurementFlag::overrun, "overrun"},               {rig::MeasurementFlag::command_rejected, "command_rejected"},
       {rig::MeasurementFlag::watchdog, "watchdog"},             {rig::MeasurementFlag::sensor_error, "sensor_error"},
-      {rig::MeasurementFlag::samples_lost, "samples_lost"}};
+      {rig::MeasurementFlag::samples_lost, "samples_lost"},     {rig::MeasurementFlag::commands_lost, "commands_lost"}};
   json j = json::object();
   for (const auto& [flag, name] : names) {
     j[name] = std::count_if(flags.begin(), flags.end(), [flag](double f) {
@@ -266,12 +260,7 @@ json flag_counts_json(const std::vector<double>& flags) {
 
 // What the board counted during the run (after − before; the counters are cumulative since reset).
 json board_delta_json(const Outcome& out) {
-  if (!out.board_before || !out.board_after) return nullptr;
-  const rig::BoardStats& a = *out.board_before;
-  const rig::BoardStats& b = *out.board_after;
-  return board_stats_json({b.samples_sent - a.samples_sent, b.samples_dropped - a.samples_dropped,
-                           b.rx_corrupted - a.rx_corrupted, b.watchdog_trips - a.watchdog_trips,
-                           b.late_ticks - a.late_ticks});
+  return out.board_during_run ? board_stats_json(*out.board_during_run) : json(nullptr);
 }
 
 // A run whose samples the watchdog flagged did not follow its command there (docs/hardware.md).
@@ -290,8 +279,12 @@ void warn_watchdog(const Columns& c, bool is_run, Outcome& out) {
 // Host frames the board rejected during the run (RX overruns when COMMANDs arrive in a burst after
 // a host stall, docs/hardware.md "COMMAND bursts"): those commands never reached the drive.
 void warn_rejected_frames(Outcome& out) {
-  if (!out.board_before || !out.board_after) return;
-  const std::uint32_t n = out.board_after->rx_corrupted - out.board_before->rx_corrupted;
+  if (!out.board_during_run) {
+    out.warnings.push_back("the board's counters could not be read before and after the run");
+    fmt::print(stderr, "clearshape: warning: {}\n", out.warnings.back());
+    return;
+  }
+  const std::uint32_t n = out.board_during_run->rx_corrupted;
   if (n == 0) return;
   out.warnings.push_back(fmt::format(
       "the board rejected {} host frame(s) during the run (its receive buffer overran under a burst of COMMANDs): "
@@ -308,12 +301,12 @@ Outcome run_on_board(const RunState& st, const std::string& name, bool is_run, c
   rig::RealtimeOptions ro;
   ro.realtime_scheduling = !st.no_realtime;
   ro.write_commands = is_run;
+  ro.stop_flag = &cs::io::interrupt_requested();  // SIGINT/SIGTERM/SIGHUP: the loop ends, STOP is sent
   ro.warn = [&out](const std::string& w) {
     out.warnings.push_back(w);
     fmt::print(stderr, "clearshape: warning: {}\n", w);
   };
   r.configure();
-  out.board_before = try_board_stats(r, out, "before");
   fmt::print(stderr, "clearshape rig {}: {} firmware {} ({}), {} mode at {:g} Hz, {:g} s\n", name, o.port,
              r.board().firmware_version(), r.backend(), rig::to_string(o.mode), o.sample_rate_hz, st.duration_s);
   rig::RealtimeRunner runner(r, source, ro);
@@ -335,7 +328,14 @@ Outcome run_on_board(const RunState& st, const std::string& name, bool is_run, c
   if (tty) fmt::print(stderr, "\n");
   out.link = r.stats();
   out.stop_problem = r.last_stop_problem();
-  if (out.stop_problem.empty()) out.board_after = try_board_stats(r, out, "after");
+  out.board_during_run = r.board_during_run();
+  out.interrupted_by = cs::io::pending_interrupt();
+  if (!out.stats.stopped_by.empty()) {
+    out.degraded.push_back(out.interrupted_by != 0 ? fmt::format("interrupted by {} at t = {:.3f} s",
+                                                                 cs::io::interrupt_name(out.interrupted_by), c.last.time_s)
+                                                   : out.stats.stopped_by);
+  }
+  for (std::string& why : r.degradation()) out.degraded.push_back(std::move(why));
   r.cleanup();
   warn_watchdog(c, is_run, out);
   warn_rejected_frames(out);
@@ -388,6 +388,9 @@ json statistics_json(const Outcome& out, const Columns& c, const rig::SerialRigO
           {"commands_sent", link.commands_sent},
           {"commands_dropped", link.commands_dropped},
           {"board_tx_overflows", link.board_tx_overflows},
+          {"commands_rejected", link.commands_rejected},
+          {"watchdog_samples", link.watchdog_samples},
+          {"rx_rejected_samples", link.rx_rejected_samples},
           {"latency_p50_s", s.latency_p50_s},
           {"latency_p99_s", s.latency_p99_s},
           {"latency_max_s", s.latency_max_s},
@@ -429,12 +432,23 @@ json configuration_json(const rig::SerialRigOptions& o, const RunState& st) {
           {"realtime_scheduling", !st.no_realtime}};
 }
 
-void write_files(const RunState& st, const std::string& name, const RunPlan& p, const rig::SerialRig& r,
-                 const Table& t, const Outcome& out, const json& statistics) {
+// Where the record goes: --output when it is complete; otherwise `<stem>.incomplete.csv` beside
+// it, so a failed run never replaces a previous good record of the same name.
+std::filesystem::path record_path(const RunState& st, const Outcome& out) {
+  if (out.complete()) return st.output;
+  std::filesystem::path p = st.output;
+  const std::string ext = p.extension().string();
+  p.replace_filename(p.stem().string() + ".incomplete" + (ext.empty() ? std::string(".csv") : ext));
+  return p;
+}
+
+void write_files(const std::filesystem::path& csv, const std::string& name, const RunState& st, const RunPlan& p,
+                 const rig::SerialRig& r, const Table& t, const Outcome& out, const json& statistics) {
   auto doc = cs::io::make_document();
   doc["command"] = "rig " + name;
-  doc["csv"] = st.output;
-  doc["complete"] = out.stats.complete();
+  doc["csv"] = csv.string();
+  doc["complete"] = out.complete();
+  doc["degraded"] = out.degraded;
   doc["columns"] = t.names;
   doc["units"] = units_json(p.options);
   doc["rig"] = {{"kind", "physical"}, {"board", board_json(r)}};
@@ -443,23 +457,24 @@ void write_files(const RunState& st, const std::string& name, const RunPlan& p, 
   doc["shaper"] = p.shaper_json;
   doc["statistics"] = statistics;
   doc["warnings"] = out.warnings;
-  const auto sidecar = cs::cli::sidecar_path(st.output);
+  const auto sidecar = cs::cli::sidecar_path(csv);
   cs::io::AtomicBatch batch;
-  batch.add(st.output, cs::io::format_csv(t.names, t.columns));
+  batch.add(csv, cs::io::format_csv(t.names, t.columns));
   batch.add(sidecar, doc.dump(2) + "\n");
   batch.commit();
-  fmt::print(stderr, "clearshape rig {}: wrote {} ({} rows) and {}\n", name, st.output, t.columns[0]->size(),
+  fmt::print(stderr, "clearshape rig {}: wrote {} ({} rows) and {}\n", name, csv.string(), t.columns[0]->size(),
              sidecar.string());
 }
 
-void print_summary(const RunState& st, const std::string& name, const RunPlan& p, const Outcome& out,
-                   const json& statistics) {
+void print_summary(const std::filesystem::path& csv, const RunState& st, const std::string& name, const RunPlan& p,
+                   const Outcome& out, const json& statistics) {
   const rig::RunStatistics& s = out.stats;
   if (st.json) {
     auto doc = cs::io::make_document();
     doc["command"] = "rig " + name;
-    doc["output"] = st.output;
-    doc["complete"] = s.complete();
+    doc["output"] = csv.string();
+    doc["complete"] = out.complete();
+    doc["degraded"] = out.degraded;
     doc["statistics"] = statistics;
     cs::cli::print_json(doc);
     return;
@@ -469,38 +484,50 @@ void print_summary(const RunState& st, const std::string& name, const RunPlan& p
   fmt::print("{:<14}p50 {:.1f} us, p99 {:.1f} us, max {:.1f} us; {} overruns{}\n", "loop latency",
              s.latency_p50_s * 1e6, s.latency_p99_s * 1e6, s.latency_max_s * 1e6, s.overruns,
              s.sched_fifo ? " (SCHED_FIFO)" : " (normal priority)");
-  fmt::print("{:<14}{}\n", "record", s.complete() ? "complete" : "INCOMPLETE");
-  fmt::print("{:<14}{}\n", "output", st.output);
+  fmt::print("{:<14}{}\n", "record", out.complete() ? "complete" : "INCOMPLETE");
+  fmt::print("{:<14}{}\n", "output", csv.string());
 }
 
-// A failed read stops the run; lost samples fail a `run` (its record has holes) and warn a `stream`.
-void check_outcome(const std::string& name, bool is_run, const RunPlan& p, const Outcome& out) {
-  const rig::RunStatistics& s = out.stats;
-  const std::string& port = p.options.port;
+// A record that is not complete (a stop, an interrupt, lost or late samples, commands that did not
+// reach the drive) is a failure: exit 1, naming why and where it was written instead.
+void check_outcome(const std::filesystem::path& csv, const std::string& name, const RunState& st, const RunPlan& p,
+                   const Outcome& out) {
   if (!out.stop_problem.empty()) {
-    fmt::print(stderr, "clearshape: warning: STOP was not confirmed: {}\n", out.stop_problem);
+    fmt::print(stderr, "clearshape: warning: STOP was not confirmed: {}; switch the drive off by hand\n",
+               out.stop_problem);
   }
-  if (!s.stopped_by.empty()) {
-    throw cs::RuntimeError(fmt::format("rig {}: {} on {}; the record written is incomplete", name, s.stopped_by, port));
+  if (out.complete()) return;
+  const std::string what = fmt::format(
+      "rig {}: the record from {} is not complete: {}; written to {} and its sidecar (\"complete\": false) — "
+      "{} was left as it was; record the run again",
+      name, p.options.port, fmt::join(out.degraded, "; "), csv.string(), st.output);
+  if (out.interrupted_by != 0) {
+    fmt::print(stderr, "clearshape: {} ({}; the board was sent STOP: command safe, servo off)\n", what,
+               out.stop_problem.empty() ? "STOP confirmed" : "STOP NOT confirmed");
+    return;  // the caller ends the process by the signal
   }
-  if (s.samples_lost > 0) {
-    const std::string what = fmt::format("rig {}: {} sample(s) lost on {}; the record has holes (flags bit 64, sidecar "
-                                         "\"complete\": false)", name, s.samples_lost, port);
-    if (is_run) throw cs::RuntimeError(what + " and must not be used as a complete run");
-    fmt::print(stderr, "clearshape: warning: {}\n", what);
-  }
+  throw cs::RuntimeError(what);
 }
 
 void execute(const RunState& st, const std::string& name, bool is_run) {
   const RunPlan p = plan(st, name, is_run);
-  rig::SerialRig r(p.options);
-  Columns c;
-  const Outcome out = run_on_board(st, name, is_run, p, r, c);
-  const Table t = table(c, p, is_run);
-  const json statistics = statistics_json(out, c, p.options);
-  write_files(st, name, p, r, t, out, statistics);
-  print_summary(st, name, p, out, statistics);
-  check_outcome(name, is_run, p, out);
+  // From here until the record is written, SIGINT/SIGTERM/SIGHUP/SIGPIPE end the loop instead of
+  // the process: the board is sent STOP (servo off) on every way out, then the signal ends it.
+  cs::io::DeferredInterrupts interrupts;
+  Outcome out;
+  std::filesystem::path csv;
+  {
+    rig::SerialRig r(p.options);  // its destructor sends STOP if an exception leaves it active
+    Columns c;
+    out = run_on_board(st, name, is_run, p, r, c);
+    const Table t = table(c, p, is_run);
+    const json statistics = statistics_json(out, c, p.options);
+    csv = record_path(st, out);
+    write_files(csv, name, st, p, r, t, out, statistics);
+    print_summary(csv, st, name, p, out, statistics);
+  }
+  check_outcome(csv, name, st, p, out);
+  interrupts.end_process_if_interrupted();
 }
 
 void add_run_options(CLI::App& sub, RunState& st) {

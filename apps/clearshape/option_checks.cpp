@@ -3,7 +3,6 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <limits>
 #include <string>
 
 #include <fmt/format.h>
@@ -11,6 +10,12 @@
 namespace clearshape::cli {
 
 namespace {
+
+// An empty value (`--max-delay-s ""`) would be read as 0 by CLI11's conversion.
+std::string not_empty(std::string& text) {
+  if (text.find_first_not_of(" \t") == std::string::npos) return "an empty value is not a number; give one";
+  return {};
+}
 
 // strtod accepts "nan", "inf", "infinity" in any case, the values CLI11 would pass on.
 std::string finite_number(std::string& text) {
@@ -24,8 +29,7 @@ std::string finite_number(std::string& text) {
 std::string not_negative(std::string& text) {
   const auto first = text.find_first_not_of(" \t");
   if (first != std::string::npos && text[first] == '-') {
-    return fmt::format("{} is negative; allowed: 0 … {}", text,
-                       std::numeric_limits<unsigned long long>::max());
+    return fmt::format("{} is negative; allowed: a whole number >= 0", text);
   }
   return {};
 }
@@ -49,6 +53,9 @@ CLI::Validator positive_at_most(double max, const std::string& unit, const std::
 void add_common_option_checks(CLI::App& app) {
   for (CLI::Option* opt : app.get_options()) {
     const std::string type = opt->get_type_name();
+    if (type.find("FLOAT") != std::string::npos || type.find("INT") != std::string::npos) {
+      opt->check(CLI::Validator(not_empty, "", "NUMBER"));
+    }
     if (type.find("FLOAT") != std::string::npos) {
       opt->check(CLI::Validator(finite_number, "", "FINITE"));
     } else if (type.find("UINT") != std::string::npos) {

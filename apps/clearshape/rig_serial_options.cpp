@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/rig/wire_protocol.h"
 
 namespace clearshape::cli {
 
@@ -24,7 +25,11 @@ void SerialCliOptions::add_to(CLI::App& sub, bool with_mode) {
   sub.add_option("--max-pulse-hz", max_pulse_hz, "Position mode: pulse-rate cap (A/B edges/s, 1 … 45000: the board's limit at 1 kHz)")->capture_default_str();
   sub.add_option("--gyro-dlpf", gyro_dlpf, "ITG-3205 DLPF_CFG, 0 … 6 (0 = 256 Hz)")->capture_default_str();
   watchdog_option = sub.add_option("--watchdog-ms", watchdog_ms, "Command watchdog (ms; 0 = off, else 5 … 60000)")->capture_default_str();
-  sub.add_option("--handshake-timeout-s", handshake_timeout_s, "Wait for each handshake answer (s)")
+  sub.add_option("--handshake-timeout-s", handshake_timeout_s, "Wait for each handshake answer (s, (0, 60])")
+      ->capture_default_str();
+  sub.add_option("--max-late-fraction", max_late_fraction,
+                 "A run with more samples later than 5 ms than this fraction of its samples is degraded "
+                 "(not complete), 0 … 1")
       ->capture_default_str();
   sub.add_option("--counts-per-rev", counts_per_rev, "Motor encoder counts per revolution (3000 lines x4)")
       ->capture_default_str();
@@ -39,7 +44,12 @@ rig::SerialRigOptions SerialCliOptions::build() const {
   o.mode = rig::command_mode_from_string(mode);
   o.sample_rate_hz = rate_hz;
   o.update_rate_hz = update_hz;
-  o.max_pulse_rate_hz = max_pulse_hz;
+  if (max_pulse_hz < 1 || max_pulse_hz > CS_MAX_PULSE_RATE_HZ) {
+    throw InvalidArgument(fmt::format("--max-pulse-hz = {} is out of range; allowed: 1 … {} (A/B edges/s, the "
+                                      "board's limit at 1 kHz)", max_pulse_hz, CS_MAX_PULSE_RATE_HZ));
+  }
+  o.max_pulse_rate_hz = static_cast<std::uint32_t>(max_pulse_hz);
+  o.max_late_fraction = max_late_fraction;
   o.gyro_dlpf_cfg = gyro_dlpf;
   o.watchdog_ms = watchdog_ms;
   o.handshake_timeout_s = handshake_timeout_s;
@@ -53,6 +63,7 @@ rig::SerialRigOptions SerialCliOptions::build() const {
     const std::string_view fields[][2] = {{"sample_rate_hz", "--rate"},           {"update_rate_hz", "--update-hz"},
                                           {"max_pulse_rate_hz", "--max-pulse-hz"}, {"gyro_dlpf_cfg", "--gyro-dlpf"},
                                           {"watchdog_ms", "--watchdog-ms"},       {"handshake_timeout_s", "--handshake-timeout-s"},
+                                          {"max_late_fraction", "--max-late-fraction"},
                                           {"counts_per_rev", "--counts-per-rev"}, {"pulses_per_rev", "--pulses-per-rev"},
                                           {"baud", "--baud"},                     {"port", "--port"}};
     for (const auto& f : fields) {

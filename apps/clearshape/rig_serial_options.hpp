@@ -15,16 +15,17 @@ struct SerialCliOptions {
   std::string mode = "position";
   double rate_hz = 1000.0;
   double update_hz = 30.0;
-  unsigned max_pulse_hz = 45'000;  // CS_MAX_PULSE_RATE_HZ
+  long long max_pulse_hz = 45'000;  // CS_MAX_PULSE_RATE_HZ; signed so -1 is named with the real range
   int gyro_dlpf = 0;
   int watchdog_ms = 100;
   double handshake_timeout_s = 3.0;
+  double max_late_fraction = 0.01;
   int counts_per_rev = 12'000;
   int pulses_per_rev = 12'000;
   CLI::Option* watchdog_option = nullptr;  ///< whether --watchdog-ms was given
 
   /// Adds --port (required), --baud, --rate, --update-hz, --max-pulse-hz, --gyro-dlpf,
-  /// --watchdog-ms, --handshake-timeout-s, --counts-per-rev, --pulses-per-rev and, with
+  /// --watchdog-ms, --handshake-timeout-s, --max-late-fraction, --counts-per-rev, --pulses-per-rev and, with
   /// `with_mode`, --mode.
   void add_to(CLI::App& sub, bool with_mode);
   /// The rig options (validated: InvalidArgument names the command-line option).

@@ -70,8 +70,12 @@ Command CommandSource::command(double value) const noexcept {
 void RealtimeOptions::validate() const {
   if (priority < 1 || priority > 99) throw_invalid("priority", priority, "1 … 99");
   if (log_capacity < 16 || log_capacity > (1u << 24)) throw_invalid("log_capacity", static_cast<double>(log_capacity), "16 … 16777216");
-  require_in_half_open("latency_range_s", -latency_range_s, -1.0, 0.0);
-  require_in_half_open("status_interval_s", -status_interval_s, -60.0, 0.0);
+  if (!(std::isfinite(latency_range_s) && latency_range_s > 0.0 && latency_range_s <= 1.0)) {
+    throw_invalid("latency_range_s", latency_range_s, "(0, 1] s");
+  }
+  if (!(std::isfinite(status_interval_s) && status_interval_s > 0.0 && status_interval_s <= 60.0)) {
+    throw_invalid("status_interval_s", status_interval_s, "(0, 60] s");
+  }
 }
 
 // --- runner ----------------------------------------------------------------------------------
@@ -87,6 +91,8 @@ struct RealtimeRunner::State {
   std::atomic<std::int64_t> latency_max_ns{0};
   std::atomic<bool> sched_fifo{false};
   bool memory_locked = false;
+  std::atomic<bool> abort{false};              // run() ends the loop (the sink threw)
+  std::atomic<bool> stopped_on_request{false};  // the options' stop flag ended it
   std::string stopped_by;
   Status failed_read = Status::ok;
 };
@@ -119,6 +125,8 @@ void RealtimeRunner::begin() {
   s.cycles = s.samples = s.overruns = s.read_failures = s.write_failures = s.log_dropped = s.latency_overflows = 0;
   s.latency_max_ns = 0;
   s.stopped_by.clear();
+  s.abort = false;
+  s.stopped_on_request = false;
   s.failed_read = Status::ok;
   s.period_ns = static_cast<std::int64_t>(std::llround(rig_.sample_time_s() * 1e9));
   s.start_ns = monotonic_ns();  // t = 0 at activation: a self-pacing rig (the board) starts its clock there
@@ -206,6 +214,7 @@ RunStatistics RealtimeRunner::end() {
   out.latency_p50_s = percentile(0.50);
   out.latency_p99_s = percentile(0.99);
   out.stopped_by = s.stopped_by;
+  out.stopped_on_request = s.stopped_on_request.load();
   return out;
 }
 
@@ -240,9 +249,10 @@ struct Handshake {
 };
 
 // The loop thread: SCHED_FIFO when asked, then it waits for the go and runs `cycles` cycles
-// (until one fails).
+// (until one fails, the stop flag is raised or run() aborts).
 void run_loop(RealtimeRunner& runner, const RealtimeOptions& o, std::uint64_t cycles, Handshake& h,
-              std::atomic<bool>& sched_fifo) noexcept {
+              std::atomic<bool>& sched_fifo, const std::atomic<bool>& abort,
+              std::atomic<bool>& stopped_on_request) noexcept {
   if (o.realtime_scheduling) {
     sched_param p{};
     p.sched_priority = o.priority;
@@ -255,7 +265,11 @@ void run_loop(RealtimeRunner& runner, const RealtimeOptions& o, std::uint64_t cy
   }
   if (h.phase.load(std::memory_order_acquire) == 1) {
     for (std::uint64_t k = 0; k < cycles; ++k) {
-      if (!runner.cycle()) break;
+      if (o.stop_flag != nullptr && o.stop_flag->load(std::memory_order_relaxed)) {
+        stopped_on_request.store(true, std::memory_order_relaxed);
+        break;
+      }
+      if (abort.load(std::memory_order_relaxed) || !runner.cycle()) break;
     }
   }
   h.done.store(true, std::memory_order_release);
@@ -300,7 +314,7 @@ RunStatistics RealtimeRunner::run(std::uint64_t cycles, const Sink& sink, const 
   // activated, so that its first cycle follows activation at once: a rig that paces itself (the
   // board, a wall-clock SimRig) starts its clock at activation, and the schedule starts there too.
   Handshake h;
-  std::thread loop([&] { run_loop(*this, options_, cycles, h, s.sched_fifo); });
+  std::thread loop([&] { run_loop(*this, options_, cycles, h, s.sched_fifo, s.abort, s.stopped_on_request); });
   try {
     begin();
   } catch (...) {
@@ -310,12 +324,25 @@ RunStatistics RealtimeRunner::run(std::uint64_t cycles, const Sink& sink, const 
     throw;
   }
   h.phase.store(1, std::memory_order_release);
-  const bool warned = log_until_done(*this, options_, h, s.cycles, sink, status);
-  loop.join();
-  drain(*this, sink);
+  bool warned = false;
+  try {
+    warned = log_until_done(*this, options_, h, s.cycles, sink, status);
+    loop.join();
+    drain(*this, sink);
+  } catch (...) {
+    // The logger failed (the sink or status threw): the loop stops and the rig is deactivated
+    // (the serial rig: STOP, servo off) before the exception leaves.
+    s.abort.store(true);
+    if (loop.joinable()) loop.join();
+    (void)end();
+    if (s.memory_locked) munlockall();
+    throw;
+  }
   if (!warned && options_.realtime_scheduling && h.sched_error != 0) warn(options_, fifo_refused(h.sched_error));
   const std::uint64_t ran = s.cycles.load(std::memory_order_acquire);
-  if (ran < cycles) {
+  if (s.stopped_on_request.load()) {
+    s.stopped_by = fmt::format("stopped on request (an interrupt) after {} of {} cycles", ran, cycles);
+  } else if (ran < cycles) {
     s.stopped_by = fmt::format("the rig's read failed at cycle {} ({})", ran - 1, to_string(s.failed_read));
   }
   RunStatistics out = end();

@@ -89,8 +89,22 @@ void SerialPort::open(const std::string& name, int baud) {
     fd_ = fd;
     return;
   }
+  // A path that exists is named for what it is, not as a missing port.
+  struct stat st {};
+  const bool exists = ::stat(name.c_str(), &st) == 0;
+  if (exists && !S_ISCHR(st.st_mode)) {
+    throw RuntimeError(fmt::format("serial port {}: is {}, not a serial device; name one of the ports ({})", name,
+                                   S_ISDIR(st.st_mode) ? "a folder" : S_ISREG(st.st_mode) ? "a regular file"
+                                                                                          : "not a character device",
+                                   port_list_text()));
+  }
   sp_port* port = nullptr;
   if (sp_get_port_by_name(name.c_str(), &port) != SP_OK) {
+    if (exists) {
+      throw RuntimeError(fmt::format("serial port {}: is a character device but not a serial port (no serial "
+                                     "driver behind it); name one of the ports ({})",
+                                     name, port_list_text()));
+    }
     throw RuntimeError(fmt::format("serial port {}: no such port ({}); check the cable and name one of "
                                    "those",
                                    name, port_list_text()));

@@ -83,9 +83,12 @@ void SerialRigOptions::validate() const {
   if (watchdog_ms != 0 && (watchdog_ms < 5 || watchdog_ms > 60000)) {
     throw_invalid("watchdog_ms", watchdog_ms, "0 (off) or 5 … 60000");
   }
-  require_in_half_open("handshake_timeout_s", -handshake_timeout_s, -60.0, 0.0);
-  require_in_half_open("read_timeout_s", -read_timeout_s, -60.0, 0.0);
+  for (const auto& [name, value] : {std::pair{"handshake_timeout_s", handshake_timeout_s},
+                                     std::pair{"read_timeout_s", read_timeout_s}}) {
+    if (!(std::isfinite(value) && value > 0.0 && value <= 60.0)) throw_invalid(name, value, "(0, 60] s");
+  }
   require_in_closed("late_tolerance_s", late_tolerance_s, 0.0, 10.0);
+  require_in_closed("max_late_fraction", max_late_fraction, 0.0, 1.0);
   if (counts_per_rev < 1) throw_invalid("counts_per_rev", counts_per_rev, ">= 1");
   if (pulses_per_rev < 1) throw_invalid("pulses_per_rev", pulses_per_rev, ">= 1");
   require_positive("gyro_sensitivity_lsb_per_dps", gyro_sensitivity_lsb_per_dps);
@@ -160,6 +163,10 @@ struct Session {
       std::string what = result_name(result);
       if (type == CS_MSG_CONFIGURE && result == CS_ERR_VALUE) what += fmt::format(" ({})", configure_field(detail));
       if (result == CS_ERR_DEVICE) what += fmt::format(" (address 0x{:02x})", detail);
+      if (result == CS_ERR_STATE) {
+        what += "; the board is still running a previous session and did not leave it on STOP: reset the board "
+                "(its reset button, or unplug and replug its USB cable) and try again";
+      }
       throw RuntimeError(fmt::format("serial port {}: the board refused {}: {}", o.port, message_name(type), what));
     }
   }
@@ -240,6 +247,30 @@ ConfigurePayload configure_payload(const SerialRigOptions& o) {
   return config;
 }
 
+// GET_STATS → STATS: the board's counters since its reset.
+BoardStats request_stats(Session& s) {
+  s.send(CS_MSG_GET_STATS, nullptr, 0);
+  const auto f = s.await(CS_MSG_STATS, s.o.handshake_timeout_s);
+  if (!f || f->length != CS_STATS_BYTES) {
+    throw RuntimeError(fmt::format("serial port {}: no STATS within {} s", s.o.port, s.o.handshake_timeout_s));
+  }
+  return {cs_get_u32(f->payload + 0), cs_get_u32(f->payload + 4), cs_get_u32(f->payload + 8),
+          cs_get_u32(f->payload + 12), cs_get_u32(f->payload + 16)};
+}
+
+// What the board counted since `before` (after − before), or nothing when it cannot be read.
+std::optional<BoardStats> stats_since(Session& s, const std::optional<BoardStats>& before) noexcept {
+  if (!before) return std::nullopt;
+  try {
+    const BoardStats& a = *before;
+    const BoardStats b = request_stats(s);
+    return BoardStats{b.samples_sent - a.samples_sent, b.samples_dropped - a.samples_dropped,
+                      b.rx_corrupted - a.rx_corrupted, b.watchdog_trips - a.watchdog_trips, b.late_ticks - a.late_ticks};
+  } catch (...) {
+    return std::nullopt;
+  }
+}
+
 // SELFTEST and its result (the gyroscope's WHO_AM_I and reading at rest, the DAC's answer).
 BoardInfo::SelfTest run_selftest(Session& s) {
   s.send(CS_MSG_SELFTEST, nullptr, 0);
@@ -275,6 +306,9 @@ void SerialRig::on_configure() {
   Session s{options_, *m};
   BoardInfo b = parse_hello_ack(await_hello_ack(s), options_);
   require_capabilities(b, options_);
+  // A board its previous host left running (killed mid-run: servo on, sampling) refuses
+  // CONFIGURE; STOP, accepted in every state, brings it back (command safe, servo off).
+  s.request(CS_MSG_STOP, nullptr, 0);
   const ConfigurePayload config = configure_payload(options_);
   s.request(CS_MSG_CONFIGURE, config.data(), CS_CONFIGURE_BYTES);
   if (options_.selftest) b.selftest = run_selftest(s);
@@ -288,13 +322,7 @@ BoardStats SerialRig::board_stats() {
                                    "not running", options_.port));
   }
   Session s{options_, *impl_};
-  s.send(CS_MSG_GET_STATS, nullptr, 0);
-  const auto f = s.await(CS_MSG_STATS, options_.handshake_timeout_s);
-  if (!f || f->length != CS_STATS_BYTES) {
-    throw RuntimeError(fmt::format("serial port {}: no STATS within {} s", options_.port, options_.handshake_timeout_s));
-  }
-  return {cs_get_u32(f->payload + 0), cs_get_u32(f->payload + 4), cs_get_u32(f->payload + 8),
-          cs_get_u32(f->payload + 12), cs_get_u32(f->payload + 16)};
+  return request_stats(s);
 }
 
 void SerialRig::on_activate() {
@@ -312,13 +340,25 @@ void SerialRig::on_activate() {
   m.tx_pending_size = 0;
   m.port_failed = false;
   m.stop_receiver = false;
+  m.commands_rejected = m.watchdog_samples = m.rx_rejected_samples = 0;
   m.corrupted_at_start = m.decoder.corrupted;
-  const std::uint8_t on = options_.servo_on ? 1 : 0;
-  s.request(CS_MSG_SERVO, &on, CS_SERVO_BYTES);
+  stop_problem_.clear();
+  board_during_run_.reset();
+  board_before_.reset();
   try {
+    board_before_ = request_stats(s);
+  } catch (const RuntimeError&) {
+    // The run's record says the board's counters are unknown; the run itself can go on.
+  }
+  const std::uint8_t on = options_.servo_on ? 1 : 0;
+  try {
+    s.request(CS_MSG_SERVO, &on, CS_SERVO_BYTES);
     s.request(CS_MSG_START, nullptr, 0);
   } catch (...) {
-    s.send(CS_MSG_STOP, nullptr, 0);  // servo off again
+    try {
+      s.send(CS_MSG_STOP, nullptr, 0);  // servo off again, whichever step failed
+    } catch (...) {
+    }
     throw;
   }
   const auto period_ns = static_cast<std::int64_t>(std::llround(1e9 / options_.sample_rate_hz));
@@ -337,6 +377,7 @@ void SerialRig::on_deactivate() noexcept {
       stop_problem_.clear();
       Session s{options_, m};
       s.request(CS_MSG_STOP, nullptr, 0);
+      board_during_run_ = stats_since(s, board_before_);
       return;
     } catch (const std::exception& e) {
       try {
@@ -345,6 +386,33 @@ void SerialRig::on_deactivate() noexcept {
       }
     }
   }
+}
+
+std::vector<std::string> SerialRig::degradation() const {
+  std::vector<std::string> why;
+  const SerialRigStats st = stats();
+  if (st.samples_lost > 0) why.push_back(fmt::format("{} sample(s) lost on the link", st.samples_lost));
+  if (board_during_run_ && board_during_run_->samples_dropped > 0) {
+    why.push_back(fmt::format("{} sample(s) dropped on the board", board_during_run_->samples_dropped));
+  }
+  if (st.watchdog_samples > 0 && st.commands_sent > 0) {  // a stream commands nothing: its watchdog is idle
+    why.push_back(fmt::format("{} sample(s) taken while the board's watchdog held the command safe",
+                              st.watchdog_samples));
+  }
+  if (st.commands_rejected > 0) why.push_back(fmt::format("{} command(s) refused by the host", st.commands_rejected));
+  const std::uint64_t board_rejected = board_during_run_ ? board_during_run_->rx_corrupted : 0;
+  if (board_rejected > 0 || st.rx_rejected_samples > 0) {
+    why.push_back(fmt::format("the board rejected {} host frame(s) (COMMANDs lost; {} sample(s) flagged)",
+                              board_rejected, st.rx_rejected_samples));
+  }
+  if (st.samples > 0 &&
+      static_cast<double>(st.samples_late) > options_.max_late_fraction * static_cast<double>(st.samples)) {
+    why.push_back(fmt::format("{} of {} samples arrived later than {:g} ms (allowed: {:g} %); the commands "
+                              "answering them were late", st.samples_late, st.samples,
+                              options_.late_tolerance_s * 1e3, options_.max_late_fraction * 100.0));
+  }
+  if (!stop_problem_.empty()) why.push_back("STOP was not confirmed: " + stop_problem_);
+  return why;
 }
 
 void SerialRig::on_cleanup() noexcept {

@@ -41,7 +41,8 @@ struct SerialRig::Impl {
   std::uint32_t corrupted_at_start = 0;
 
   // Real-time side (single writer: the thread calling read()/write()).
-  std::atomic<std::uint64_t> lost{0}, commands_sent{0}, commands_dropped{0};
+  std::atomic<std::uint64_t> lost{0}, commands_sent{0}, commands_dropped{0}, commands_rejected{0},
+      watchdog_samples{0}, rx_rejected_samples{0};
   std::uint64_t next_tick = 0;     // the tick expected next
   bool have_tick = false;
   std::uint32_t last_tick = 0;     // the last tick read (COMMAND.tick)

@@ -49,6 +49,7 @@ std::uint32_t measurement_flags_of_sample(std::uint8_t f) noexcept {
   if (f & CS_SAMPLE_TWI_ERROR) out |= bit(MeasurementFlag::sensor_error);
   if (f & CS_SAMPLE_TX_OVERFLOW) out |= bit(MeasurementFlag::samples_lost);
   if (f & CS_SAMPLE_LATE) out |= bit(MeasurementFlag::overrun);
+  if (f & CS_SAMPLE_RX_REJECTED) out |= bit(MeasurementFlag::commands_lost);
   return out;
 }
 
@@ -117,6 +118,9 @@ SerialRigStats SerialRig::stats() const noexcept {
   s.commands_sent = m.commands_sent.load(std::memory_order_relaxed);
   s.commands_dropped = m.commands_dropped.load(std::memory_order_relaxed);
   s.board_tx_overflows = m.board_tx_overflows.load(std::memory_order_relaxed);
+  s.commands_rejected = m.commands_rejected.load(std::memory_order_relaxed);
+  s.watchdog_samples = m.watchdog_samples.load(std::memory_order_relaxed);
+  s.rx_rejected_samples = m.rx_rejected_samples.load(std::memory_order_relaxed);
   s.max_lateness_s = static_cast<double>(m.max_lateness_ns.load(std::memory_order_relaxed)) * 1e-9;
   return s;
 }
@@ -146,9 +150,13 @@ Status SerialRig::on_read(Measurement& out) noexcept {
     flags |= bit(MeasurementFlag::samples_lost);
     if (options_.lost_samples == LostSamples::fail) return Status::device_error;
   }
+  if ((flags & bit(MeasurementFlag::watchdog)) != 0) m.watchdog_samples.fetch_add(1, std::memory_order_relaxed);
+  if ((flags & bit(MeasurementFlag::commands_lost)) != 0) m.rx_rejected_samples.fetch_add(1, std::memory_order_relaxed);
   // A run that must be complete must also be the commanded one: a sample taken while the
-  // board's watchdog held the command at its safe value ends it as well.
-  if (options_.lost_samples == LostSamples::fail && (flags & bit(MeasurementFlag::watchdog)) != 0) {
+  // board's watchdog held the command at its safe value, or after the board rejected host
+  // frames (a COMMAND may be missing), ends it as well.
+  if (options_.lost_samples == LostSamples::fail &&
+      (flags & (bit(MeasurementFlag::watchdog) | bit(MeasurementFlag::commands_lost))) != 0) {
     return Status::device_error;
   }
   m.have_tick = true;
@@ -171,6 +179,7 @@ Status SerialRig::on_write(const Command& command) noexcept {
   Impl& m = *impl_;
   if (const Status rejected = check_command(command, options_.mode); rejected != Status::ok) {
     m.pending_flags |= bit(MeasurementFlag::command_rejected);
+    m.commands_rejected.fetch_add(1, std::memory_order_relaxed);
     return rejected;
   }
   Status status = Status::ok;

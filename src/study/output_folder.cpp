@@ -30,42 +30,53 @@ bool is_own_sidecar(const fs::path& path) {
   }
 }
 
-std::size_t remove_own_runs(const fs::path& runs) {
+// What --fresh removed and what it kept because this job reads it (a recordings manifest's file).
+struct Removal {
+  std::size_t removed = 0;
+  std::vector<std::string> kept_inputs;
+  void remove(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(path, ec))) return;
+    if (io::is_input(path)) {
+      kept_inputs.push_back(path.string());
+      return;
+    }
+    removed += fs::remove(path, ec) ? 1 : 0;
+  }
+};
+
+void remove_own_runs(const fs::path& runs, Removal& r) {
   std::error_code ec;
   std::vector<fs::path> sidecars;
   for (const auto& entry : fs::directory_iterator(runs, ec)) {
     if (entry.path().extension() == ".json" && is_own_sidecar(entry.path())) sidecars.push_back(entry.path());
   }
-  std::size_t removed = 0;
   for (const auto& sidecar : sidecars) {
     fs::path csv = sidecar;
     csv.replace_extension(".csv");
-    removed += fs::remove(sidecar, ec) ? 1 : 0;  // the sidecar first: a CSV alone is never "finished"
-    removed += fs::remove(csv, ec) ? 1 : 0;
+    r.remove(sidecar);  // the sidecar first: a CSV alone is never "finished"
+    r.remove(csv);
   }
-  return removed;
 }
 
 // The files a previous finished study listed in its manifest, relative to `out`, kept inside it.
-std::size_t remove_manifest_files(const fs::path& out) {
+void remove_manifest_files(const fs::path& out, Removal& r) {
   const fs::path manifest = out / kManifest;
   std::error_code ec;
-  if (!fs::is_regular_file(manifest, ec)) return 0;
+  if (!fs::is_regular_file(manifest, ec)) return;
   json doc;
   try {
     doc = json::parse(io::read_own_output_file(manifest));
   } catch (const std::exception&) {
-    return 0;  // not ours, or damaged: remove nothing
+    return;  // not ours, or damaged: remove nothing
   }
-  std::size_t removed = 0;
   for (const auto& name : doc.value("files", json::array())) {
     if (!name.is_string()) continue;
     const fs::path rel = fs::path(name.get<std::string>()).lexically_normal();
     if (rel.empty() || rel.is_absolute() || *rel.begin() == "..") continue;
-    removed += fs::remove(out / rel, ec) ? 1 : 0;
+    r.remove(out / rel);
   }
-  removed += fs::remove(manifest, ec) ? 1 : 0;
-  return removed;
+  r.remove(manifest);
 }
 
 }  // namespace
@@ -76,8 +87,14 @@ void prepare_output_folder(const fs::path& out, bool fresh,
   for (const auto& dir : {out, out / "runs", out / "data"}) stale += io::remove_stale_temporaries(dir);
   if (stale > 0) log(fmt::format("removed {} temporary file(s) left by an interrupted run", stale));
   if (!fresh) return;
-  const std::size_t removed = remove_manifest_files(out) + remove_own_runs(out / "runs");
-  log(fmt::format("--fresh: removed {} file(s) this study wrote before (other files are kept)", removed));
+  Removal r;
+  remove_manifest_files(out, r);
+  remove_own_runs(out / "runs", r);
+  log(fmt::format("--fresh: removed {} file(s) this study wrote before (other files are kept)", r.removed));
+  if (!r.kept_inputs.empty()) {
+    log(fmt::format("--fresh: kept {} file(s) this study reads as its inputs (the first: {})", r.kept_inputs.size(),
+                    r.kept_inputs.front()));
+  }
 }
 
 void write_outputs_manifest(const fs::path& out, const std::vector<std::string>& data_files) {

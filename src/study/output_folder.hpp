@@ -4,7 +4,8 @@
 //     id) and the <id>.csv beside each;
 //   - the files listed in <out>/outputs.json, the manifest a finished study leaves;
 //   - temporary files of the atomic-write layer (io::is_temporary_name) left by a killed run.
-// A user's own files in the folder, and the folders themselves, are never removed.
+// A user's own files in the folder, the folders themselves and any file this job reads as an
+// input (io::is_input: a recordings manifest's files and their sidecars) are never removed.
 #include <filesystem>
 #include <functional>
 #include <string>

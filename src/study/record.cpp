@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/atomic_file.hpp"
@@ -108,6 +109,11 @@ Record execute_run(rig::Rig& rig, const RunRequest& request) {
     (void)rig.write(position ? rig::Command::position_deg(u) : rig::Command::speed_v(u));
   }
   rig.deactivate();
+  // A degraded record (late or lost commands, a board that was not stopped) is never a run.
+  if (const auto why = rig.degradation(); !why.empty()) {
+    throw RuntimeError(fmt::format("run {}: the rig's record is degraded ({}); it is not used — run the study "
+                                   "again on an idle machine", request.id, fmt::join(why, "; ")));
+  }
   return r;
 }
 

@@ -107,10 +107,10 @@ RecordingsManifest load_recordings_manifest(const std::filesystem::path& dir, co
   m.dir = dir;
   m.path = dir / "manifest.toml";
   const std::string file = m.path.string();
-  std::error_code exists_ec;
-  if (!std::filesystem::is_regular_file(m.path, exists_ec)) {
-    throw InputError(file, 0, "", "cannot read the recordings manifest; write one with "
-                                  "`clearshape study PROTOCOL --print-manifest > DIR/manifest.toml`");
+  if (const std::string problem = io::regular_file_problem(m.path); !problem.empty()) {
+    throw InputError(file, 0, "", fmt::format("cannot read the recordings manifest: it {}; write one with "
+                                              "`clearshape study PROTOCOL --print-manifest > DIR/manifest.toml`",
+                                              problem));
   }
   const std::string text = io::read_text_file(m.path);
   m.hash = fnv_hex(text);
@@ -139,10 +139,22 @@ RecordingsManifest load_recordings_manifest(const std::filesystem::path& dir, co
     if (m.runs.count(e.id)) run.fail("id", fmt::format("run '{}' is listed twice", e.id));
     const std::string rel = run.text("file");
     e.file = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : dir / rel;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(e.file, ec)) {
-      run.fail("file", fmt::format("'{}' does not exist", e.file.string()));
+    if (const std::string problem = io::regular_file_problem(e.file); !problem.empty()) {
+      run.fail("file", fmt::format("'{}' {}", e.file.string(), problem));
     }
+    // One recording is one run: the same file under two ids would count one trial twice.
+    for (const auto& [other_id, other] : m.runs) {
+      std::error_code ec;
+      if (std::filesystem::equivalent(other.file, e.file, ec)) {
+        run.fail("file", fmt::format("'{}' is already the recording of run '{}' (manifest line {}); each run needs "
+                                     "its own recording", e.file.string(), other_id, other.manifest_line));
+      }
+    }
+    // The recording and its sidecar are inputs: no output of this job (`--fresh` included) touches them.
+    io::note_input(e.file);
+    std::filesystem::path sidecar = e.file;
+    sidecar.replace_extension(".json");
+    if (sidecar != e.file) io::note_input(sidecar);
     e.columns = read_columns(run, base, protocol.mode);
     run.finish(fmt::format("id, file, {}", kColumnKeys));
     m.runs.emplace(e.id, std::move(e));
@@ -172,6 +184,25 @@ void refuse_incomplete_record(const std::filesystem::path& csv) {
                                    : std::string("—")));
 }
 
+// A measured value beyond ±1e9 (deg, deg/s, V or counts) comes from no rig: refused with its
+// file, line and column before it reaches a model fit (a row of 1e308 used to end as "every one
+// of 9 model simulations failed", naming nothing).
+constexpr double kLargestMeasurement = 1e9;
+
+void refuse_absurd_values(const io::Table& t, std::size_t rows, std::initializer_list<std::string_view> columns) {
+  for (const std::string_view name : columns) {
+    if (name.empty()) continue;
+    const auto& v = t.column(name);
+    for (std::size_t k = 0; k < std::min(rows, v.size()); ++k) {
+      if (!(std::abs(v[k]) <= kLargestMeasurement)) {
+        throw InputError(t.source, t.line_of_row(k), std::string(name),
+                         fmt::format("value {:g} is not a measurement; allowed: within ±{:g}", v[k],
+                                     kLargestMeasurement));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 Record read_recording(const RecordingEntry& e, const Protocol& p, double record_s) {
@@ -193,6 +224,7 @@ Record read_recording(const RecordingEntry& e, const Protocol& p, double record_
                      fmt::format("holds {} samples ({} s); the protocol records {} s ({} samples)", t.rows(),
                                  static_cast<double>(t.rows()) * ts, record_s, n));
   }
+  refuse_absurd_values(t, n, {c.command, c.command_applied, c.motor_angle, c.link_rate});
   Record r;
   r.id = e.id;
   r.mode = p.mode;

@@ -2,9 +2,14 @@
 // (tests/support/board_double.hpp) on a pseudo-terminal: the child process opens its slave side.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <string>
 
@@ -13,6 +18,9 @@
 #include "clearshape/io/table.hpp"
 #include "support/board_double.hpp"
 #include "support/cli.hpp"
+#include "support/paths.hpp"
+
+extern char** environ;
 
 namespace fs = std::filesystem;
 using clearshape::testing::BoardDouble;
@@ -54,9 +62,25 @@ TEST(RigCli, ProbeErrorsNameThePortAndTheOption) {
   const auto missing = run_cli("rig probe --port /dev/ttyCLEARSHAPE_NONE");
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("no such port"), std::string::npos) << missing.err;
+  // A path that exists but is no serial port is named for what it is (it was "no such port").
+  const auto file = run_cli("rig probe --port " + std::string(CLEARSHAPE_GOLDEN_DIR));
+  EXPECT_EQ(file.exit_code, 1);
+  EXPECT_NE(file.err.find("is a folder, not a serial device"), std::string::npos) << file.err;
+  const auto device = run_cli("rig probe --port /dev/null");
+  EXPECT_EQ(device.exit_code, 1);
+  EXPECT_NE(device.err.find("is a character device but not a serial port"), std::string::npos) << device.err;
   const auto rate = run_cli("rig probe --port /dev/ttyCLEARSHAPE_NONE --rate 5000");
   EXPECT_EQ(rate.exit_code, 2);
   EXPECT_NE(rate.err.find("--rate"), std::string::npos) << rate.err;
+  // The real ranges (issue 21): no flipped sign, no 64-bit bound.
+  const auto handshake = run_cli("rig probe --port /dev/ttyCLEARSHAPE_NONE --handshake-timeout-s 0");
+  EXPECT_EQ(handshake.exit_code, 2);
+  EXPECT_NE(handshake.err.find("--handshake-timeout-s = 0 is out of range; allowed: (0, 60] s"), std::string::npos)
+      << handshake.err;
+  const auto pulses = run_cli("rig probe --port /dev/ttyCLEARSHAPE_NONE --max-pulse-hz -1");
+  EXPECT_EQ(pulses.exit_code, 2);
+  EXPECT_NE(pulses.err.find("--max-pulse-hz = -1 is out of range; allowed: 1 … 45000"), std::string::npos)
+      << pulses.err;
   const fs::path protocol = fs::path(CLEARSHAPE_GOLDEN_DIR).parent_path().parent_path() / "studies" / "thesis-position.toml";
   const auto absent = run_cli("study " + protocol.string() + " --quick --rig 'serial:/dev/ttyCLEARSHAPE_NONE?baud=115200' --out " +
                               temp("absent").string());
@@ -73,7 +97,7 @@ TEST(RigCli, RunWritesTheCommandAndSensorsWithASidecar) {
   board.start();
   const auto csv = temp("step.csv");
   const auto r = run_cli("rig run --port " + board.path() +
-                         " --signal step --amplitude 9 --start-s 0.05 --duration 0.2 --no-realtime -o " + csv.string() +
+                         " --signal step --amplitude 9 --start-s 0.05 --duration 0.2 --no-realtime --max-late-fraction 1 -o " + csv.string() +
                          " --shaper zv --shaper-frequency-hz 10 --shaper-zeta 0.1");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto table = clearshape::io::read_table(csv);
@@ -104,13 +128,14 @@ TEST(RigCli, LostSamplesMarkTheRecordIncomplete) {
   board.start();
   const auto stream_csv = temp("stream.csv");
   const auto s = run_cli("rig stream --port " + board.path() + " --duration 0.1 --no-realtime -o " + stream_csv.string());
-  EXPECT_EQ(s.exit_code, 0) << s.err;  // a stream warns
+  EXPECT_EQ(s.exit_code, 1) << s.err;  // a stream with holes is a failure too (issue 21 item 5)
   EXPECT_NE(s.err.find("1 sample(s) lost"), std::string::npos) << s.err;
-  const auto side = read_json(fs::path(stream_csv).replace_extension(".json"));
+  EXPECT_FALSE(fs::exists(stream_csv));  // written apart, under a name that says so
+  const auto side = read_json(temp("stream.incomplete.json"));
   EXPECT_FALSE(side["complete"].get<bool>());
   EXPECT_EQ(side["statistics"]["samples_lost"], 1);
   EXPECT_FALSE(side["configuration"]["servo_on"].get<bool>());
-  EXPECT_EQ(clearshape::io::read_table(stream_csv).names.front(), "time_s");
+  EXPECT_EQ(clearshape::io::read_table(temp("stream.incomplete.csv")).names.front(), "time_s");
 
   BoardDouble board2;
   board2.on_sample = [](BoardDouble::Sample& smp) { return smp.tick != 40; };
@@ -119,8 +144,8 @@ TEST(RigCli, LostSamplesMarkTheRecordIncomplete) {
   const auto r = run_cli("rig run --port " + board2.path() + " --signal step --amplitude 1 --duration 0.1 --no-realtime -o " +
                          run_csv.string());
   EXPECT_EQ(r.exit_code, 1);  // a run refuses
-  EXPECT_NE(r.err.find("must not be used as a complete run"), std::string::npos) << r.err;
-  EXPECT_FALSE(read_json(fs::path(run_csv).replace_extension(".json"))["complete"].get<bool>());
+  EXPECT_NE(r.err.find("is not complete: 1 sample(s) lost"), std::string::npos) << r.err;
+  EXPECT_FALSE(read_json(temp("run.incomplete.json"))["complete"].get<bool>());
 
   // Offered to a study as a recording, the incomplete run is refused by name.
   const fs::path protocol = fs::path(CLEARSHAPE_GOLDEN_DIR).parent_path().parent_path() / "studies" / "thesis-position.toml";
@@ -135,14 +160,117 @@ TEST(RigCli, LostSamplesMarkTheRecordIncomplete) {
          "command_unit = \"deg\"\nmotor_angle = \"motor_deg\"\nmotor_angle_unit = \"deg\"\n"
          "link_rate = \"gyro_deg_s\"\nlink_rate_unit = \"deg/s\"\n";
     // Every repetition of the first input (a stage runs only when it has all its runs).
-    for (const char* rep : {"r01", "r02", "r03"}) {
-      m << "\n[[run]]\nid = \"" << id.substr(0, id.rfind('/') + 1) << rep << "\"\nfile = \"run.csv\"\n";
+    // (one recording is one run: a copy of the incomplete record, with its sidecar, for each)
+    for (const std::string rep : {"r01", "r02", "r03"}) {
+      fs::copy_file(temp("run.incomplete.csv"), temp(rep + ".csv"), fs::copy_options::overwrite_existing);
+      fs::copy_file(temp("run.incomplete.json"), temp(rep + ".json"), fs::copy_options::overwrite_existing);
+      m << "\n[[run]]\nid = \"" << id.substr(0, id.rfind('/') + 1) << rep << "\"\nfile = \"" << rep << ".csv\"\n";
     }
   }
   const auto study = run_cli("study " + protocol.string() + " --quick --recordings " + temp("").string() + " --out " +
                              temp("study").string());
   EXPECT_EQ(study.exit_code, 2) << study.err;
-  EXPECT_NE(study.err.find("run.csv is incomplete (1 sample(s) lost"), std::string::npos) << study.err;
+  EXPECT_NE(study.err.find("r01.csv is incomplete (1 sample(s) lost"), std::string::npos) << study.err;
+}
+
+// Issue 21 item 3: a failed `rig run -o keep.csv` replaced the previous keep.csv and keep.json
+// with its incomplete record. They stay; the incomplete record goes to keep.incomplete.csv/.json.
+TEST(RigCli, AFailedRunLeavesThePreviousRecordAndWritesItsOwnApart) {
+  BoardDouble board;
+  board.on_sample = [](BoardDouble::Sample& smp) { return smp.tick != 30; };
+  board.start();
+  const auto keep = temp("keep.csv");
+  { std::ofstream(keep) << "time_s,x\n0,1\n"; }
+  { std::ofstream(temp("keep.json")) << "{\"complete\": true}\n"; }
+  const auto r = run_cli("rig run --port " + board.path() + " --signal step --amplitude 1 --duration 0.1 --no-realtime -o " +
+                         keep.string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(clearshape::testing::read_bytes(keep), "time_s,x\n0,1\n");
+  EXPECT_EQ(clearshape::testing::read_bytes(temp("keep.json")), "{\"complete\": true}\n");
+  EXPECT_NE(r.err.find("keep.incomplete.csv"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(keep.string() + " was left as it was"), std::string::npos) << r.err;
+  const auto side = read_json(temp("keep.incomplete.json"));
+  EXPECT_FALSE(side["complete"].get<bool>());
+  EXPECT_EQ(side["csv"], temp("keep.incomplete.csv").string());
+  // Each of the 101 cycles read a sample; tick 30 is missing from them (flagged on tick 31).
+  EXPECT_EQ(clearshape::io::read_table(temp("keep.incomplete.csv")).column("time_s")[30], 0.031);
+}
+
+// Issue 21 item 5: commands that did not reach the drive (the watchdog held it, the board
+// rejected host frames) and samples late beyond --max-late-fraction make a run degraded: never
+// "complete", exit 1, each reason counted in the sidecar.
+TEST(RigCli, ADegradedRunIsNeverComplete) {
+  struct Case {
+    const char* name;
+    std::function<bool(BoardDouble::Sample&)> flag;
+    std::function<double(std::uint32_t)> delay;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"watchdog", [](BoardDouble::Sample& smp) { if (smp.tick >= 50) smp.flags |= CS_SAMPLE_WATCHDOG; return true; },
+       nullptr, "51 sample(s) taken while the board's watchdog held the command safe"},
+      {"rejected", [](BoardDouble::Sample& smp) { if (smp.tick == 70) smp.flags |= CS_SAMPLE_RX_REJECTED; return true; },
+       nullptr, "the board rejected 0 host frame(s) (COMMANDs lost; 1 sample(s) flagged)"},
+      {"late", nullptr, [](std::uint32_t tick) { return tick == 40 ? 0.04 : 0.0; }, "samples arrived later than 5 ms"},
+  };
+  for (const Case& c : cases) {
+    BoardDouble board;
+    board.on_sample = c.flag;
+    board.delay_before_s = c.delay;
+    board.start();
+    const auto csv = temp(std::string(c.name) + ".csv");
+    const auto r = run_cli("rig run --port " + board.path() + " --signal step --amplitude 1 --duration 0.1 "
+                           "--no-realtime -o " + csv.string());
+    EXPECT_EQ(r.exit_code, 1) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_FALSE(fs::exists(csv)) << c.name;
+    const auto side = read_json(temp(std::string(c.name) + ".incomplete.json"));
+    EXPECT_FALSE(side["complete"].get<bool>()) << c.name;
+    ASSERT_FALSE(side["degraded"].empty()) << c.name;
+    EXPECT_NE(side["degraded"][0].get<std::string>().find(c.says), std::string::npos) << side["degraded"];
+  }
+  // The same late run with a tolerance that allows it is complete.
+  BoardDouble board;
+  board.delay_before_s = [](std::uint32_t tick) { return tick == 40 ? 0.04 : 0.0; };
+  board.start();
+  const auto r = run_cli("rig run --port " + board.path() + " --signal step --amplitude 1 --duration 0.1 --no-realtime "
+                         "--max-late-fraction 1 -o " + temp("allowed.csv").string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(read_json(temp("allowed.json"))["complete"].get<bool>());
+  EXPECT_GT(read_json(temp("allowed.json"))["statistics"]["samples_late"].get<int>(), 1);
+}
+
+// Issue 21 item 4: SIGINT during `rig stream --servo-on` ended the process at once: no STOP, the
+// servo left on. Now the loop ends, STOP is sent (servo off), the incomplete record is written
+// apart, and the signal then ends the process as usual.
+TEST(RigCli, SigintDuringAStreamWithTheServoOnSendsStop) {
+  BoardDouble board;
+  board.start();
+  const auto csv = temp("sigint.csv");
+  const auto err = temp("sigint.err");
+  const std::string command = std::string("exec ") + CLEARSHAPE_CLI + " rig stream --servo-on --port " + board.path() +
+                              " --duration 30 --no-realtime -o " + csv.string() + " 2>" + err.string();
+  pid_t pid = -1;
+  const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+  ASSERT_EQ(posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char* const*>(argv), environ), 0);
+  // Wait until the stream runs with the servo on.
+  for (int i = 0; i < 500 && !(board.started && board.servo_on); ++i) usleep(10'000);
+  ASSERT_TRUE(board.started && board.servo_on);
+  usleep(200'000);
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << "status " << status;
+  const std::string text = clearshape::testing::read_bytes(err);
+  board.stop();
+  EXPECT_FALSE(board.started) << text;
+  EXPECT_FALSE(board.servo_on) << text;
+  ASSERT_FALSE(board.received.empty());
+  EXPECT_NE(std::find(board.received.begin(), board.received.end(), CS_MSG_STOP), board.received.end());
+  EXPECT_NE(text.find("interrupted by SIGINT"), std::string::npos) << text;
+  EXPECT_NE(text.find("STOP confirmed"), std::string::npos) << text;
+  EXPECT_FALSE(fs::exists(csv));
+  EXPECT_FALSE(read_json(temp("sigint.incomplete.json"))["complete"].get<bool>());
 }
 
 }  // namespace

@@ -9,7 +9,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -48,6 +50,7 @@ class SlowRig final : public rig::Rig {
  public:
   int slow_cycle = -1;
   int fail_cycle = -1;
+  int deactivations = 0;
   double sample_time_s() const noexcept override { return 1e-3; }
   rig::CommandMode mode() const noexcept override { return rig::CommandMode::position; }
   std::string_view name() const noexcept override { return "slow"; }
@@ -55,7 +58,7 @@ class SlowRig final : public rig::Rig {
  protected:
   void on_configure() override {}
   void on_activate() override { k_ = 0; }
-  void on_deactivate() noexcept override {}
+  void on_deactivate() noexcept override { ++deactivations; }
   void on_cleanup() noexcept override {}
   Status on_read(rig::Measurement& m) noexcept override {
     if (k_ == fail_cycle) return Status::device_error;
@@ -302,3 +305,45 @@ TEST(RealtimeRunner, RejectsBadOptionsAndAModeMismatch) {
 }
 
 }  // namespace
+
+// Issue 21 item 4: the stop flag (io::interrupt_requested() in the CLI, set by SIGINT/SIGTERM)
+// ends the loop within a few cycles; the rig is deactivated as after a full run and the
+// statistics say the run was stopped on request (so the record is not complete).
+TEST(RealtimeRunner, StopFlagEndsTheRunAndDeactivatesTheRig) {
+  SlowRig r;
+  std::atomic<bool> stop{false};
+  rig::CommandSource source(step_deg(20000, 0, 1.0), rig::CommandMode::position);
+  rig::RealtimeOptions o;
+  o.realtime_scheduling = false;
+  o.stop_flag = &stop;
+  rig::RealtimeRunner runner(r, source, o);
+  const rig::RunStatistics s = runner.run(20000, [&](const rig::LogRecord& rec) {
+    if (rec.cycle == 50) stop = true;
+  });
+  EXPECT_TRUE(s.stopped_on_request);
+  EXPECT_GE(s.cycles, 51u);
+  EXPECT_LT(s.cycles, 2000u);
+  EXPECT_FALSE(s.complete());
+  EXPECT_NE(s.stopped_by.find("stopped on request"), std::string::npos) << s.stopped_by;
+  EXPECT_EQ(r.deactivations, 1);
+  EXPECT_EQ(r.state(), rig::LifecycleState::inactive);
+}
+
+// An exception from the logging side (a full disk in the sink) used to leave run() with the loop
+// thread still joinable — std::terminate, the rig never deactivated (a serial rig: no STOP).
+// Now the loop stops, the rig is deactivated, and the exception reaches the caller.
+TEST(RealtimeRunner, AThrowingSinkStillDeactivatesTheRig) {
+  SlowRig r;
+  rig::CommandSource source(step_deg(20000, 0, 1.0), rig::CommandMode::position);
+  rig::RealtimeOptions o;
+  o.realtime_scheduling = false;
+  rig::RealtimeRunner runner(r, source, o);
+  EXPECT_THROW(runner.run(20000,
+                          [](const rig::LogRecord& rec) {
+                            if (rec.cycle == 20) throw std::runtime_error("disk full");
+                          }),
+               std::runtime_error);
+  EXPECT_EQ(r.deactivations, 1);
+  EXPECT_EQ(r.state(), rig::LifecycleState::inactive);
+  EXPECT_LT(runner.statistics().cycles, 2000u);
+}

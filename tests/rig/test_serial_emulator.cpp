@@ -243,7 +243,7 @@ TEST_F(SerialEmulator, StreamSidecarCountsTheWatchdogAsTheBoardDoes) {
   fs::create_directories(dir);
   const fs::path csv = dir / "s.csv";
   const auto r = cs::testing::run_cli("rig stream --port " + emulator.path() +
-                                      " --duration 0.3 --watchdog-ms 20 --no-realtime -o " + csv.string());
+                                      " --duration 0.3 --watchdog-ms 20 --no-realtime --max-late-fraction 1 -o " + csv.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream side(dir / "s.json");
   const auto doc = nlohmann::json::parse(side);

@@ -3,6 +3,7 @@
 // read()/write() being noexcept and allocation-free.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -70,6 +71,17 @@ TEST(SerialRigOptions, ValidateNamesTheFieldAndRange) {
   bad = o;
   bad.gyro_dlpf_cfg = 7;
   EXPECT_NE(message(bad).find("gyro_dlpf_cfg"), std::string::npos);
+  // The timeouts' range as it is (issue 21: "-0 … [-60, 0)", a flipped sign).
+  bad = o;
+  bad.handshake_timeout_s = 0.0;
+  EXPECT_NE(message(bad).find("handshake_timeout_s = 0 is out of range; allowed: (0, 60] s"), std::string::npos)
+      << message(bad);
+  bad = o;
+  bad.read_timeout_s = 61.0;
+  EXPECT_NE(message(bad).find("read_timeout_s = 61 is out of range; allowed: (0, 60] s"), std::string::npos);
+  bad = o;
+  bad.max_late_fraction = 1.5;
+  EXPECT_NE(message(bad).find("max_late_fraction"), std::string::npos);
 }
 
 // The pulse-rate cap is the edge rate the board sustains at 1 kHz with a COMMAND per tick
@@ -162,14 +174,25 @@ TEST(SerialRig, MissingCapabilityIsRefused) {
 }
 
 TEST(SerialRig, ConfigureRefusalNamesTheField) {
-  BoardDouble board;
-  board.configure_result = CS_ERR_VALUE;
-  board.configure_detail = 4;
-  board.start();
-  rig::SerialRig r(options_for(board));
-  const std::string e = configure_error(r);
-  EXPECT_NE(e.find("refused CONFIGURE"), std::string::npos) << e;
-  EXPECT_NE(e.find("sample_rate_hz"), std::string::npos) << e;
+  struct Case {
+    std::uint8_t result;
+    std::uint16_t detail;
+    const char* says;
+  };
+  const Case cases[] = {{CS_ERR_VALUE, 4, "sample_rate_hz"},
+                        // A board still in a run that STOP did not end: how to recover.
+                        {CS_ERR_STATE, 0, "not allowed in the board's state; the board is still running a previous "
+                                          "session and did not leave it on STOP: reset the board"}};
+  for (const Case& c : cases) {
+    BoardDouble board;
+    board.configure_result = c.result;
+    board.configure_detail = c.detail;
+    board.start();
+    rig::SerialRig r(options_for(board));
+    const std::string e = configure_error(r);
+    EXPECT_NE(e.find("refused CONFIGURE"), std::string::npos) << e;
+    EXPECT_NE(e.find(c.says), std::string::npos) << e;
+  }
 }
 
 TEST(SerialRig, HandshakeSendsTheConfigurationAndReadsTheBoard) {
@@ -254,7 +277,10 @@ TEST(SerialRig, PositionRunConvertsSamplesAndCommands) {
   EXPECT_EQ(board.command_ticks.front(), 0u);  // COMMAND carries the last tick the host had
   EXPECT_EQ(board.command_ticks.back(), static_cast<std::uint32_t>(n - 1));
   EXPECT_FALSE(board.servo_on);
-  EXPECT_EQ(board.received.back(), CS_MSG_STOP);
+  // STOP ends the run; only GET_STATS (the board's counters after the run) follows it.
+  ASSERT_GE(board.received.size(), 2u);
+  EXPECT_EQ(board.received[board.received.size() - 2], CS_MSG_STOP);
+  EXPECT_EQ(board.received.back(), CS_MSG_GET_STATS);
 }
 
 TEST(SerialRig, SpeedRunMapsVoltsToDacCodes) {
@@ -422,3 +448,70 @@ TEST(SerialRig, ReadAndWriteAreNoexceptAndAllocationFree) {
 }
 
 }  // namespace
+
+// Issue 21 item 4: a board its previous host left running refuses CONFIGURE. The host sends
+// STOP (accepted in every state) after HELLO_ACK and before CONFIGURE (should CONFIGURE still be
+// refused for the board's state, ConfigureRefusalNamesTheField checks the remedy is named).
+TEST(SerialRig, ConfigureStopsABoardLeftRunning) {
+  BoardDouble board;
+  board.start();
+  rig::SerialRig r(options_for(board));
+  ASSERT_EQ(r.configure(), Status::ok);
+  board.stop();
+  const auto& got = board.received;
+  const auto stop = std::find(got.begin(), got.end(), CS_MSG_STOP);
+  const auto configure = std::find(got.begin(), got.end(), CS_MSG_CONFIGURE);
+  ASSERT_NE(stop, got.end());
+  ASSERT_NE(configure, got.end());
+  EXPECT_LT(stop - got.begin(), configure - got.begin());
+}
+
+// Issue 21 item 5: a run whose samples came late beyond max_late_fraction, or after which the
+// board had rejected host frames, is degraded — and with LostSamples::fail (the study) the
+// flagged sample ends the run at once.
+TEST(SerialRig, DegradationListsLateSamplesAndRejectedFrames) {
+  const auto rejected_at = [](std::uint32_t tick) {
+    return [tick](BoardDouble::Sample& smp) {
+      if (smp.tick == tick) smp.flags |= CS_SAMPLE_RX_REJECTED;
+      return true;
+    };
+  };
+  BoardDouble board;
+  board.delay_before_s = [](std::uint32_t tick) { return tick == 100 ? 0.060 : 0.0; };
+  board.on_sample = rejected_at(150);
+  BoardDouble strict_board;
+  strict_board.on_sample = rejected_at(20);
+  board.start();
+  strict_board.start();
+  auto strict_options = options_for(strict_board);
+  strict_options.lost_samples = rig::LostSamples::fail;
+  rig::SerialRig r(options_for(board)), strict(strict_options);
+  for (rig::SerialRig* each : {&r, &strict}) {
+    ASSERT_EQ(each->configure(), Status::ok);
+    ASSERT_EQ(each->activate(), Status::ok);
+  }
+  rig::Measurement m;
+  for (int k = 0; k < 300; ++k) {
+    ASSERT_EQ(r.read(m), Status::ok);
+    if (k == 150) {
+      EXPECT_NE(m.flags & rig::bit(rig::MeasurementFlag::commands_lost), 0u);
+    }
+    (void)r.write(rig::Command::position_deg(1.0));
+  }
+  ASSERT_EQ(r.deactivate(), Status::ok);
+  std::string all;
+  for (const auto& w : r.degradation()) all += w + "\n";
+  EXPECT_NE(all.find("samples arrived later than 5 ms (allowed: 1 %)"), std::string::npos) << all;
+  EXPECT_NE(all.find("the board rejected 0 host frame(s) (COMMANDs lost; 1 sample(s) flagged)"), std::string::npos)
+      << all;
+  EXPECT_EQ(r.stats().rx_rejected_samples, 1u);
+  ASSERT_TRUE(r.board_during_run().has_value());  // the double's STATS do not change
+  EXPECT_EQ(r.board_during_run()->rx_corrupted, 0u);
+
+  // The study's strict mode: the flagged sample ends the run.
+  Status status = Status::ok;
+  int k = 0;
+  for (; k < 100 && status == Status::ok; ++k) status = strict.read(m);
+  EXPECT_EQ(status, Status::device_error);
+  EXPECT_EQ(k, 21);
+}

@@ -77,6 +77,10 @@ class EmulatorSession {
 
   /// Sends a frame; returns the SEQ it used.
   std::uint8_t send(std::uint8_t type, const std::vector<std::uint8_t>& payload = {});
+  /// Writes raw bytes (a damaged frame, line noise).
+  void send_bytes(const std::vector<std::uint8_t>& bytes);
+  /// The pty path (for another program, e.g. the clearshape CLI, to open).
+  const std::string& path() const noexcept { return path_; }
   /// The next good frame within `timeout_ms` of wall time.
   std::optional<cs_frame> next(int timeout_ms = 2000);
   /// The next frame of `type` (others are skipped; SAMPLEs are kept in skipped_samples()).
@@ -98,6 +102,7 @@ class EmulatorSession {
 
  private:
   pid_t pid_ = -1;
+  std::string path_;
   int out_pipe_ = -1;
   int fd_ = -1;
   std::uint8_t seq_ = 0;
@@ -149,6 +154,7 @@ inline EmulatorSession::EmulatorSession(const std::vector<std::string>& args) {
   pollfd p{out_pipe_, POLLIN, 0};
   while (poll(&p, 1, 10000) > 0 && read(out_pipe_, &c, 1) == 1 && c != '\n') line += c;
   if (line.rfind("/dev/", 0) != 0) throw std::runtime_error("emulator printed no pty path: '" + line + "'");
+  path_ = line;
   fd_ = open(line.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
   if (fd_ < 0) throw std::runtime_error("cannot open " + line);
   termios tio{};
@@ -171,9 +177,14 @@ inline std::uint8_t EmulatorSession::send(std::uint8_t type, const std::vector<s
   std::uint8_t out[CS_WIRE_MAX_FRAME];
   const std::uint8_t seq = seq_++;
   const std::size_t n = cs_frame_encode(out, type, seq, payload.data(), static_cast<std::uint8_t>(payload.size()));
+  send_bytes(std::vector<std::uint8_t>(out, out + n));
+  return seq;
+}
+
+inline void EmulatorSession::send_bytes(const std::vector<std::uint8_t>& bytes) {
   std::size_t done = 0;
-  while (done < n) {
-    const ssize_t w = write(fd_, out + done, n - done);
+  while (done < bytes.size()) {
+    const ssize_t w = write(fd_, bytes.data() + done, bytes.size() - done);
     if (w > 0) {
       done += static_cast<std::size_t>(w);
     } else {
@@ -181,7 +192,6 @@ inline std::uint8_t EmulatorSession::send(std::uint8_t type, const std::vector<s
       poll(&p, 1, 100);
     }
   }
-  return seq;
 }
 
 inline std::optional<cs_frame> EmulatorSession::next(int timeout_ms) {

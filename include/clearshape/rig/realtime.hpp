@@ -17,6 +17,7 @@
 //   rig::CommandSource source(values, rig::CommandMode::position);    // deg or V per sample
 //   rig::RealtimeRunner runner(rig, source, {});
 //   const rig::RunStatistics s = runner.run(cycles, [&](const rig::LogRecord& r) { ... });
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -60,6 +61,10 @@ struct RealtimeOptions {
   double latency_range_s = 0.02;    ///< histogram range (1 µs bins; beyond it counts as overflow), (0, 1]
   double status_interval_s = 0.2;   ///< status callback period (~5 Hz), (0, 60]
   bool write_commands = true;       ///< false: read only (sensor logging; the rig holds its safe command)
+  /// Polled before every cycle (a lock-free load): once it reads true the loop ends, the rig is
+  /// deactivated as after the last cycle (the serial rig: STOP, servo off) and stopped_by says
+  /// so. The CLI passes io::interrupt_requested(), so SIGINT/SIGTERM end a run this way.
+  const std::atomic<bool>* stop_flag = nullptr;
   /// Where warnings go (default: one line on stderr, "clearshape: warning: …").
   std::function<void(const std::string&)> warn;
   void validate() const;            ///< throws InvalidArgument naming the field
@@ -92,6 +97,7 @@ struct RunStatistics {
   bool memory_locked = false;           ///< mlockall succeeded
   double period_s = 0.0;
   std::string stopped_by;               ///< "" (all cycles), or why the loop stopped early
+  bool stopped_on_request = false;      ///< the stop flag ended the loop (an interrupt)
   /// True when the record is complete: every cycle read a sample and none was lost.
   bool complete() const noexcept { return stopped_by.empty() && samples == cycles && samples_lost == 0; }
 };
@@ -107,8 +113,10 @@ class RealtimeRunner {
 
   /// Runs `cycles` cycles: configure (if needed) and activate the rig, the loop in a real-time
   /// thread, the sink and `status` (every status_interval_s) in this thread, then deactivate.
-  /// Throws RuntimeError when the rig does not configure or activate; a failing read ends the
-  /// loop early (statistics().stopped_by says why).
+  /// Throws RuntimeError when the rig does not configure or activate; a failing read or the
+  /// stop flag ends the loop early (statistics().stopped_by says why). Whatever ends the run —
+  /// an exception from the sink or `status` included — the loop is stopped and the rig
+  /// deactivated before run() returns or throws.
   RunStatistics run(std::uint64_t cycles, const Sink& sink, const StatusFn& status = {});
 
   // The steps run() takes, for tests and custom loops.

@@ -18,7 +18,9 @@
 // (t = 0, T, 2T, …; T = sample_time_s()); a write() holds its command from the time of the
 // last read until the next write.
 #include <cstdint>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "clearshape/core/status.hpp"
 #include "clearshape/rig/types.hpp"
@@ -75,6 +77,10 @@ class Rig {
   virtual std::string_view name() const noexcept = 0;
   /// The link's counters since activation (real-time safe).
   virtual LinkCounters link_counters() const noexcept { return {}; }
+  /// After deactivate(): why the last run's record is degraded — it did not follow its command
+  /// or has holes (e.g. "3 sample(s) lost on the link") — one reason each; empty when it is
+  /// whole. A degraded record is never used as a complete run. Configuration time.
+  virtual std::vector<std::string> degradation() const { return {}; }
 
  protected:
   Rig() = default;

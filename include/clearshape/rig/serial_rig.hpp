@@ -21,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "clearshape/rig/rig.hpp"
 
@@ -30,7 +31,8 @@ namespace clearshape::rig {
 enum class LostSamples : std::uint8_t {
   flag,  ///< return the next sample, flagged MeasurementFlag::samples_lost, and count the gap
   fail,  ///< read() returns Status::device_error (a study run must be complete); so does a
-         ///< sample taken while the board's watchdog held the command safe
+         ///< sample taken while the board's watchdog held the command safe or after the board
+         ///< rejected host frames (MeasurementFlag::commands_lost)
 };
 
 struct SerialRigOptions {
@@ -46,6 +48,9 @@ struct SerialRigOptions {
   double handshake_timeout_s = 2.0;         ///< each handshake step, (0, 60]
   double read_timeout_s = 0.5;              ///< read()'s bounded wait, (0, 60]
   double late_tolerance_s = 0.005;          ///< a sample is late beyond its deadline + this, [0, 10]
+  /// A run with more late samples than this fraction of its samples is degraded, [0, 1]
+  /// (degradation()): its commands reached the board late.
+  double max_late_fraction = 0.01;
   int counts_per_rev = 12'000;              ///< motor encoder counts per revolution (3000 lines × 4)
   int pulses_per_rev = 12'000;              ///< command pulses per motor revolution (electronic gear)
   double gyro_sensitivity_lsb_per_dps = 14.375;  ///< ITG-3205 at FS_SEL = 3
@@ -86,6 +91,9 @@ struct SerialRigStats {
   std::uint64_t commands_sent = 0;
   std::uint64_t commands_dropped = 0;  ///< write() found the port's buffer full
   std::uint64_t board_tx_overflows = 0;  ///< samples flagged CS_SAMPLE_TX_OVERFLOW
+  std::uint64_t commands_rejected = 0;   ///< write() refused (wrong mode, not finite)
+  std::uint64_t watchdog_samples = 0;    ///< samples read while the board's watchdog held
+  std::uint64_t rx_rejected_samples = 0; ///< samples flagged CS_SAMPLE_RX_REJECTED (commands lost)
   double max_lateness_s = 0.0;         ///< largest arrival − deadline
 };
 
@@ -118,6 +126,13 @@ class SerialRig final : public Rig {
   BoardStats board_stats();
   /// Why the last deactivate() could not confirm STOP (empty when it could).
   const std::string& last_stop_problem() const noexcept { return stop_problem_; }
+  /// The board's own counters during the last run (STATS read by activate() and by
+  /// deactivate() after STOP, subtracted); nothing when either could not be read.
+  const std::optional<BoardStats>& board_during_run() const noexcept { return board_during_run_; }
+  /// Why the last run's record is degraded, one reason each (empty: not degraded): samples lost
+  /// on the link or dropped on the board, samples the watchdog held, commands the host or the
+  /// board rejected, more late samples than max_late_fraction, STOP not confirmed.
+  std::vector<std::string> degradation() const override;
 
   struct Impl;  ///< implementation detail (src/rig/serial_rig_impl.hpp)
 
@@ -133,6 +148,7 @@ class SerialRig final : public Rig {
   SerialRigOptions options_;
   BoardInfo board_;
   std::string stop_problem_;
+  std::optional<BoardStats> board_before_, board_during_run_;
   std::unique_ptr<Impl> impl_;
 };
 

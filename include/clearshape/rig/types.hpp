@@ -52,6 +52,8 @@ enum class MeasurementFlag : std::uint32_t {
   watchdog = 1u << 4,           ///< the board's command watchdog holds the command safe
   sensor_error = 1u << 5,       ///< a sensor read failed; the sensor value repeats the last one
   samples_lost = 1u << 6,       ///< samples before this one were lost (sequence has a gap)
+  commands_lost = 1u << 7,      ///< the device rejected host frames since the last sample: a
+                                ///< command may not have arrived (serial rig, CS_SAMPLE_RX_REJECTED)
 };
 constexpr std::uint32_t bit(MeasurementFlag flag) noexcept {
   return static_cast<std::uint32_t>(flag);

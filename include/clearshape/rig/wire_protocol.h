@@ -20,6 +20,8 @@
  * Session: HELLO → HELLO_ACK (versions, capabilities) → CONFIGURE → ACK → [SELFTEST →
  * SELFTEST_RESULT] → SERVO(on) → ACK → START → ACK, then one SAMPLE per tick (tick 0, 1, …) while
  * the host sends COMMAND frames; STOP → ACK ends the run (command to its safe value, servo off).
+ * STOP is accepted in every state, so a host that finds a board still running (its previous host
+ * was killed mid-run) sends STOP before CONFIGURE and the board is usable again.
  * While started, a board that has not received a valid COMMAND for CONFIGURE.watchdog_ms drops
  * the command to its safe value (position: the pulse output stops where it is; speed:
  * dac_safe_code) and flags every following sample with CS_SAMPLE_WATCHDOG until the next COMMAND.
@@ -89,7 +91,10 @@ enum cs_sample_flag {
   CS_SAMPLE_TWI_ERROR = 1u << 3,      /* the gyro read failed; gyro_raw repeats the last word */
   CS_SAMPLE_TX_OVERFLOW = 1u << 4,    /* samples before this one were dropped on the board */
   CS_SAMPLE_SERVO_ON = 1u << 5,       /* the servo-on output is active */
-  CS_SAMPLE_LATE = 1u << 6            /* the tick's work overran its period on the board */
+  CS_SAMPLE_LATE = 1u << 6,           /* the tick's work overran its period on the board */
+  CS_SAMPLE_RX_REJECTED = 1u << 7     /* since the previous sample the board rejected host bytes
+                                         (a damaged frame or an RX-ring overrun): a COMMAND may
+                                         not have arrived */
 };
 
 /* Payloads: the byte offset of each field is given; encode/decode with cs_put_* / cs_get_*. */
