@@ -37,6 +37,7 @@ struct State {
   std::string scheduler;
   unsigned workers = 0;
   unsigned retries = 2;
+  long long max_points = 1'000'000;  // clearshape.sweep_spec.MAX_POINTS
   bool fresh = false;
   bool quiet = false;
 };
@@ -63,12 +64,21 @@ void run(const State& st) {
   }
   if (st.retries > 100) throw cs::InvalidArgument("--retries = " + std::to_string(st.retries) + " is out of range; allowed: [0, 100]");
   if (st.workers > 4096) throw cs::InvalidArgument("--workers = " + std::to_string(st.workers) + " is out of range; allowed: [1, 4096]");
+  if (st.max_points < 1) {
+    throw cs::InvalidArgument("--max-points = " + std::to_string(st.max_points) + " is out of range; allowed: >= 1");
+  }
+  std::error_code ec;
+  if (fs::exists(st.out, ec) && !fs::is_directory(st.out, ec)) {
+    throw cs::InvalidArgument("--out " + st.out + " is a file, not a folder; give a folder (created if missing) for "
+                              "results.h5, results.csv and results.json");
+  }
   const std::string path = python_path();
   const char* old = std::getenv("PYTHONPATH");
   const std::string joined = (old != nullptr && *old != '\0') ? path + ":" + old : path;
   ::setenv("PYTHONPATH", joined.c_str(), 1);
   std::vector<std::string> args = {CLEARSHAPE_PYTHON_EXECUTABLE, "-m", "clearshape.sweep", st.sweep, "--out", st.out,
-                                   "--retries", std::to_string(st.retries)};
+                                   "--retries", std::to_string(st.retries), "--max-points",
+                                   std::to_string(st.max_points)};
   if (!st.scheduler.empty()) args.insert(args.end(), {"--scheduler", st.scheduler});
   if (st.workers > 0) args.insert(args.end(), {"--workers", std::to_string(st.workers)});
   if (st.fresh) args.emplace_back("--fresh");
@@ -90,6 +100,9 @@ void setup(CLI::App& sub) {
   sub.add_option("--retries", st->retries, "Dask: retries of a failed task, [0, 100]")->capture_default_str();
   sub.add_flag("--fresh", st->fresh, "Remove the folder's earlier sweep results first (only the sweep's own files)");
   sub.add_flag("--quiet", st->quiet, "No progress lines on stderr");
+  sub.add_option("--max-points", st->max_points,
+                 "Refuse a sweep of more points than this (its estimate is printed first; ~2 kB of memory per point)")
+      ->capture_default_str();
   sub.footer(
       "Examples:\n"
       "  clearshape sweep studies/sweep-play.toml --out out/sweep-play\n"

@@ -4,7 +4,10 @@ metrics are those of a direct evaluation with the bindings."""
 import json
 import os
 import shutil
+import signal
 import subprocess
+import sys
+import time
 
 import h5py
 import numpy as np
@@ -220,3 +223,93 @@ def test_bad_sweep_files():
         Sweep(SWEEP.replace('"contact_damping"]', '"zeta"]'), "x.toml")
     with pytest.raises(SweepError, match="also in"):
         Sweep(SWEEP.replace("zeta = 0.05", "zeta = 0.05\nclearance_deg = 1"), "x.toml")
+
+
+# Issue 21 item 7: a 1000 × 1000 × 1000 grid printed nothing and grew ~150 MB/s until killed.
+# Its size is known from the file: it is refused at once with the estimate and the option that
+# allows it, before the output folder exists.
+def test_a_runaway_grid_is_refused_with_its_estimate_before_any_output(tmp_path):
+    big = ", ".join(f"{0.001 * (i + 1):.3f}" for i in range(1000))
+    text = SWEEP.replace("clearance_deg = [0.032, 0.5]", f"clearance_deg = [{big}]").replace(
+        "frequency_error = [0.0, 0.2]", f"frequency_error = [{big}]").replace("samples = 2", "samples = 500")
+    sweep = Sweep(text, "big.toml")
+    assert sweep.count() == 1000 * 2 * 1000 * 500
+    out = tmp_path / "out"
+    t0 = time.monotonic()
+    with pytest.raises(SweepError) as e:
+        run_sweep(sweep, str(out), workers=1, quiet=True)
+    assert time.monotonic() - t0 < 5
+    message = str(e.value)
+    assert "1,000,000,000 points (grid 1000 × 2 × 1000 × 500 draws)" in message
+    assert "the limit is 1,000,000 points" in message and "--max-points 1000000000" in message
+    assert not out.exists()
+    # Through the CLI: exit 2, the same numbers, nothing created.
+    bad = tmp_path / "big.toml"
+    bad.write_text(text)
+    r = subprocess.run([os.environ["CLEARSHAPE_CLI"], "sweep", str(bad), "--out", str(out)],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2, r.stderr
+    assert "--max-points 1000000000" in r.stderr
+    assert not out.exists()
+    # Within a raised limit the estimate is printed before the work starts.
+    small = Sweep(SWEEP, "small.toml")
+    assert small.estimate() == {"points": 16, "runs": 32, "samples": 32 * 1201, "memory_bytes": 16 * 2048}
+    with pytest.raises(SweepError, match="limit is 15 points"):
+        run_sweep(small, str(out), workers=1, quiet=True, max_points=15)
+
+
+# The exit-code list: `sweep --out FILE` exited 1 with a raw errno text.
+def test_an_output_that_is_a_file_is_named(sweep_file, tmp_path):
+    f = tmp_path / "results"
+    f.write_text("mine")
+    r = subprocess.run([os.environ["CLEARSHAPE_CLI"], "sweep", str(sweep_file), "--out", str(f)],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2, r.stderr
+    assert f"--out {f} is a file, not a folder" in r.stderr
+    assert f.read_text() == "mine"
+
+
+def _children(pid):
+    try:
+        with open(f"/proc/{pid}/task/{pid}/children") as f:
+            return [int(c) for c in f.read().split()]
+    except FileNotFoundError:
+        return []
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split(")")[-1].split()[0] != "Z"
+    except FileNotFoundError:
+        return False
+
+
+# Issue 21 item 8: after SIGTERM or kill -9 of the sweep, its pool workers kept computing under
+# PID 1. They now die with their parent (PR_SET_PDEATHSIG) and SIGTERM shuts the pool down.
+@pytest.mark.parametrize("signo", [signal.SIGTERM, signal.SIGKILL])
+def test_pool_workers_die_with_their_parent(tmp_path, signo):
+    slow = SWEEP.replace("duration_s = 1.2", "duration_s = 60.0").replace("batch = 3", "batch = 4")
+    f = tmp_path / "slow.toml"
+    f.write_text(slow)
+    env = dict(os.environ)
+    p = subprocess.Popen([sys.executable, "-m", "clearshape.sweep", str(f), "--out", str(tmp_path / "out"),
+                          "--workers", "2", "--quiet"], env=env, stderr=subprocess.PIPE, text=True)
+    workers = []
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline and len(workers) < 2:
+        workers = _children(p.pid)
+        time.sleep(0.1)
+    assert len(workers) >= 2, "the pool did not start"
+    time.sleep(1.0)  # the workers are inside their first batch (60 s runs)
+    os.kill(p.pid, signo)
+    p.wait(timeout=30)
+    err = p.stderr.read()
+    assert p.returncode == -signo, err
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(_alive(w) for w in workers):
+        time.sleep(0.1)
+    left = [w for w in workers if _alive(w)]
+    for w in left:
+        os.kill(w, signal.SIGKILL)
+    assert not left, f"pool workers {left} outlived the sweep"

@@ -14,13 +14,15 @@ a task that fails is retried (Dask: `retries`) and, if it still fails, left for 
 """
 import argparse
 import concurrent.futures
+import ctypes
 import os
+import signal
 import sys
 import time
 
 from . import _core
 from .sweep_run import run_batch
-from .sweep_spec import Sweep, SweepError
+from .sweep_spec import MAX_POINTS, Sweep, SweepError
 from . import sweep_store as store
 
 
@@ -45,20 +47,62 @@ def _batches(points, size):
     return [points[i:i + size] for i in range(0, len(points), size)]
 
 
+_PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def _die_with_parent(parent_pid):
+    """Pool-worker initializer: the kernel sends the worker SIGKILL when its parent dies (SIGTERM,
+    kill -9), so no worker keeps computing under PID 1; a parent already gone ends it at once."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    except (OSError, AttributeError):  # not Linux: the parent's SIGTERM handler still ends the pool
+        pass
+    if os.getppid() != parent_pid:
+        os._exit(1)
+    # SIGINT (Ctrl-C reaches the whole process group) is the parent's to handle.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class _Terminated(BaseException):
+    """SIGTERM/SIGHUP reached the sweep: the pool is shut down and its workers ended (a
+    BaseException, like KeyboardInterrupt, so no `except Exception` swallows it)."""
+
+    def __init__(self, signo):
+        super().__init__(f"ended by {signal.Signals(signo).name}")
+        self.signo = signo
+
+
+def _raise_terminated(signo, _frame):
+    raise _Terminated(signo)
+
+
 def _run_local(pending, settings, workers, on_done, fn):
     if workers == 1:
         for bid, batch in pending:
             on_done(bid, fn(batch, settings))
         return []
-    with concurrent.futures.ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(fn, batch, settings): bid for bid, batch in pending}
-        lost = []
-        for f in concurrent.futures.as_completed(futures):
-            try:
-                on_done(futures[f], f.result())
-            except Exception as e:  # noqa: BLE001 — a dead worker: the batch stays for the next run
-                lost.append((futures[f], repr(e)))
-        return lost
+    with concurrent.futures.ProcessPoolExecutor(max_workers=workers, initializer=_die_with_parent,
+                                                initargs=(os.getpid(),)) as pool:
+        try:
+            return _collect(pool, pending, settings, on_done, fn)
+        except BaseException:
+            # SIGTERM, Ctrl-C or a failed store: no batch is left running in the background.
+            for process in list((pool._processes or {}).values()):  # noqa: SLF001 — no public handle
+                process.kill()
+            pool.shutdown(wait=True, cancel_futures=True)
+            raise
+
+
+def _collect(pool, pending, settings, on_done, fn):
+    futures = {pool.submit(fn, batch, settings): bid for bid, batch in pending}
+    lost = []
+    for f in concurrent.futures.as_completed(futures):
+        try:
+            on_done(futures[f], f.result())
+        except Exception as e:  # noqa: BLE001 — a dead worker: the batch stays for the next run
+            lost.append((futures[f], repr(e)))
+    return lost
 
 
 def _run_dask(pending, settings, scheduler, retries, digest, on_done, fn):
@@ -81,7 +125,7 @@ def _run_dask(pending, settings, scheduler, retries, digest, on_done, fn):
 
 
 def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, quiet=False,
-              batch_function=run_batch):
+              batch_function=run_batch, max_points=MAX_POINTS):
     """Runs (or resumes) a sweep into folder `out`; returns a summary dict.
 
     sweep: a path to SWEEP.toml or a Sweep. scheduler: None (this machine, `workers` processes,
@@ -89,10 +133,14 @@ def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, 
     batch_function(points, settings) evaluates one task (default sweep_run.run_batch; the tests
     pass one that fails to exercise the retries). Raises SweepError (a ValueError) for a bad
     sweep file and RuntimeError when tasks still failed after their retries (their points are
-    kept for the next run).
+    kept for the next run). A sweep of more than `max_points` points is refused (SweepError, with
+    its estimate) before the output folder is made.
     """
     if not isinstance(sweep, Sweep):
         sweep = Sweep.load(sweep)
+    sweep.check_size(max_points)
+    if not quiet:
+        print(f"clearshape sweep: {sweep.describe_estimate()}", file=sys.stderr, flush=True)
     store.refuse_input_as_output(sweep.path, out)
     os.makedirs(os.path.join(out, store.STATE), exist_ok=True)
     if fresh:
@@ -154,7 +202,15 @@ def main(argv=None):
     ap.add_argument("--retries", type=int, default=2, help="Dask: retries of a failed task (default 2)")
     ap.add_argument("--fresh", action="store_true", help="remove this folder's earlier sweep results first")
     ap.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    ap.add_argument("--max-points", type=int, default=MAX_POINTS,
+                    help=f"refuse a sweep of more points than this (default {MAX_POINTS:,}: about 2 GB)")
     a = ap.parse_args(argv)
+    if a.max_points < 1:
+        ap.error(f"--max-points = {a.max_points} is out of range; allowed: >= 1")
+    if os.path.exists(a.out) and not os.path.isdir(a.out):
+        print(f"clearshape sweep: error: --out {a.out} is a file, not a folder; give a folder "
+              f"(created if missing) for results.h5, results.csv and results.json", file=sys.stderr)
+        return 2
     if a.workers is not None and not 1 <= a.workers <= 4096:
         ap.error(f"--workers = {a.workers} is out of range; allowed: [1, 4096]")
     if not 0 <= a.retries <= 100:
@@ -169,8 +225,16 @@ def main(argv=None):
         print(f"clearshape sweep: error: {e.name} is missing; install Debian's "
               f"{'python3-h5py' if e.name == 'h5py' else 'python3-distributed'}", file=sys.stderr)
         return 1
+    for signo in (signal.SIGTERM, signal.SIGHUP):  # end the pool's workers too, then exit by the signal
+        signal.signal(signo, _raise_terminated)
     try:
-        s = run_sweep(a.sweep, a.out, a.scheduler, a.workers, a.retries, a.fresh, a.quiet)
+        s = run_sweep(a.sweep, a.out, a.scheduler, a.workers, a.retries, a.fresh, a.quiet,
+                      max_points=a.max_points)
+    except _Terminated as e:
+        print(f"clearshape sweep: {e}; finished batches are kept (rerun to resume)", file=sys.stderr)
+        signal.signal(e.signo, signal.SIG_DFL)
+        os.kill(os.getpid(), e.signo)
+        return 128 + e.signo
     except (SweepError, ValueError, FileNotFoundError, IsADirectoryError) as e:
         print(f"clearshape sweep: error: {e}", file=sys.stderr)
         return 2

@@ -48,6 +48,13 @@ class SweepError(ValueError):
     """A bad sweep file: the message names the file, the table.field and the allowed values."""
 
 
+# What one point costs while a sweep runs: its parameters, its result and its table row held in
+# memory (measured ~0.5 kB for a point's dict; the result and the row take more), and the
+# simulated samples of its two runs (unshaped and shaped).
+POINT_BYTES = 2048
+MAX_POINTS = 1_000_000  # the default limit (--max-points): about 2 GB and 2·10⁶ simulated runs
+
+
 def _check(path, where, kind, allowed, value):
     if kind == "name":
         if not isinstance(value, str):
@@ -143,6 +150,38 @@ class Sweep:
         key = {"settings": settings, "fixed": self.fixed, "grid": self.grid,
                "random": {k: list(v) for k, v in self.random.items()}}
         return hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
+
+    def count(self):
+        """How many points the sweep has (grid size × draws), without making them."""
+        n = 1
+        for values in self.grid.values():
+            n *= len(values)
+        return n * max(1, self.settings["samples"])
+
+    def estimate(self):
+        """The sweep's work and memory before anything runs: points, simulated runs and samples,
+        and the bytes the point list and results take (POINT_BYTES each)."""
+        points = self.count()
+        per_run = int(round(self.settings["duration_s"] * self.settings["rate_hz"])) + 1
+        return {"points": points, "runs": 2 * points, "samples": 2 * points * per_run,
+                "memory_bytes": points * POINT_BYTES}
+
+    def describe_estimate(self):
+        e = self.estimate()
+        shape = " × ".join(str(len(v)) for v in self.grid.values()) or "1"
+        draws = max(1, self.settings["samples"])
+        return (f"{e['points']:,} points (grid {shape} × {draws} draw{'s' if draws > 1 else ''}), "
+                f"{e['runs']:,} simulated runs of {self.settings['duration_s']:g} s at "
+                f"{self.settings['rate_hz']:g} Hz = {e['samples']:.3g} samples, "
+                f"about {e['memory_bytes'] / 1e6:,.0f} MB of memory")
+
+    def check_size(self, max_points=MAX_POINTS):
+        """Raises SweepError with the numbers when the sweep has more than `max_points` points."""
+        points = self.count()
+        if points > max_points:
+            raise SweepError(f"{self.path}: the sweep is too large: {self.describe_estimate()}; the limit is "
+                             f"{max_points:,} points — shrink [grid] or sweep.samples, or allow it with "
+                             f"--max-points {points}")
 
     def points(self):
         """Every point: a dict of every parameter (defaults filled), plus index and seed."""
