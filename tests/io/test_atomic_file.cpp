@@ -16,6 +16,7 @@
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/interrupt.hpp"
 #include "clearshape/io/table.hpp"
+#include "support/paths.hpp"
 
 namespace fs = std::filesystem;
 namespace io = clearshape::io;
@@ -28,10 +29,7 @@ fs::path temp_dir(const std::string& name) {
   return dir;
 }
 void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+std::string read(const fs::path& p) { return clearshape::testing::read_bytes(p); }
 }  // namespace
 
 TEST(AtomicFile, AnInputIsNeverAnOutputThroughAnyPath) {
