@@ -385,6 +385,20 @@ def comparisons_of(ctx: Context, t: tbl.Table, spreads: dict | None = None) -> l
         for c in out:
             if re.search(r"N·m|N\.m|Nm", c.quantity):
                 c.agrees, c.criterion = None, "the thesis states no unit for it: not comparable"
+    # A contact parameter the fit did not identify (fixed, at a bound, or with a standard error above the
+    # criterion) is not a finding: it is not scored against the thesis's either.
+    if section_of_table(t) == "clearance":
+        params = {str(p.get("name")): p for p in (ctx.sections.get("clearance") or {}).get("parameters") or []
+                  if isinstance(p, dict)}
+        for c in out:
+            p = params.get(str(c.quantity).split(" ")[0])
+            if p is None or c.agrees is None:
+                continue
+            if not p.get("free", True):
+                c.agrees, c.criterion = None, "fixed by the protocol, not fitted: not comparable"
+            elif p.get("at_bound") or not p.get("identifiable", True):
+                c.agrees, c.criterion = None, ("not identifiable from this record (at a bound of its range or its "
+                                               "standard error too large): not comparable")
     if not ctx.scored:
         for c in out:
             if c.thesis is not None:
@@ -398,8 +412,15 @@ def comparisons_of(ctx: Context, t: tbl.Table, spreads: dict | None = None) -> l
 # Tables
 
 
+def is_thesis_table(tid: str) -> bool:
+    """A table the thesis prints ("4.2", "5.1", "B.3"); clearshape's own tables ("4.3-clearance",
+    "4.2-model", "5.2-simulation", "reach") are not named like them."""
+    return re.fullmatch(r"(?:[0-9]+|B)\.[0-9]+", str(tid)) is not None
+
+
 def _caption(t: tbl.Table, extra: str = "") -> str:
-    head = f"Table {esc(t.id)} — {esc(t.title)}" if re.match(r"^[0-9B]", t.id) else esc(t.title)
+    head = (f"Table {esc(t.id)} — {esc(t.title)}" if is_thesis_table(t.id)
+            else f"{esc(t.title)} <span class=\"tid\">(clearshape table {esc(t.id)})</span>")
     unit = unit_text(t.unit)
     sub = "; ".join(x for x in ((f"unit: {esc(unit)}" if unit else ""), extra) if x)
     return f"<caption>{head}<span class=\"unit\">{sub}</span></caption>"
@@ -1112,8 +1133,8 @@ def comparison_rows(rows: list[tuple[str, tbl.Comparison]], reasons: bool = True
         cls, text = (("na", "not compared") if c.agrees is None else ("ok", "agrees") if c.agrees
                      else ("diff better", "differs (ours better)") if ours_better(c) else ("diff", "differs"))
         compared = c.agrees is not None  # no Δ under "not compared": it would read as a verdict
-        out.append({"where": f"{SECTION_TITLES.get(sec, sec)} · {'Table ' if re.match(r'^[0-9B]', c.table) else ''}"
-                             f"{c.table}",
+        out.append({"where": f"{SECTION_TITLES.get(sec, sec)} · "
+                             f"{('Table ' + c.table) if is_thesis_table(c.table) else ('clearshape table ' + c.table)}",
                     "quantity": c.quantity, "ours": Markup(with_unit(c.ours, unit)),
                     "thesis": Markup(thesis_num(c.thesis, c.thesis_text) + (f" {esc(unit)}" if unit and c.thesis
                                                                             is not None else "")), "diff": fmt_signed(c.diff) if compared else "—", "rel": fmt_pct(c.rel) if compared else "—",

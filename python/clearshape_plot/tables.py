@@ -114,7 +114,7 @@ class Table:
         return next((c for c in self.columns if c.key == key), None)
 
 
-_KNOWN = {"key", "label", "ours", "thesis", "ours_std", "ours_mean", "thesis_mean", "improvement_percent",
+_KNOWN = {"key", "label", "ours", "thesis", "input", "ours_std", "ours_mean", "thesis_mean", "improvement_percent",
           "thesis_improvement_percent", "note", "shaper", "thesis_std", "improvement_ci95_percent",
           "improvement_significant", "thesis_improvement_recomputed_percent", "thesis_improvement_ci95_percent",
           "improvement_difference_ci95_percent", "thesis_printed", "thesis_mean_printed",
@@ -302,7 +302,11 @@ def parameter_pair(t: Table):
         thesis_col = next((c for c in t.columns if c.thesis), None)
     cands = [c for c in t.columns if c.ours]
     sel = t.headline.get("selected_input") if t.headline else None
-    ours_col = (next((c for c in cands if sel and c.key == sel), None)
+    # Like with like: the thesis's model was identified from one input; ours from that input is the one
+    # to compare with it, whichever model our cross-validation selected.
+    same_input = thesis_col.raw.get("input") if thesis_col is not None else None
+    ours_col = (next((c for c in cands if same_input and c.key == same_input), None)
+                or next((c for c in cands if sel and c.key == sel), None)
                 or next((c for c in cands if "(selected)" in c.label), None)
                 or next((c for c in cands if c.key == "ours"), None)
                 or (cands[0] if cands else None))

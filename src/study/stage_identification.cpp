@@ -134,6 +134,7 @@ void tabulate_drive_models(Context& c, const DriveFits& f) {
     json thesis_col;
     thesis_col["key"] = "thesis";
     thesis_col["label"] = fmt::format("thesis ({} model)", t.selected_input.empty() ? "selected" : t.selected_input);
+    if (!t.selected_input.empty()) thesis_col["input"] = t.selected_input;  // compared with ours from that input
     // ωn: the thesis prints the formula (1/Tw), not a number; a recomputation is not the thesis's number.
     thesis_col["thesis"] = {t.kp, t.tz_s, t.zeta, t.tw_s, t.tp3_s, nullptr, nullptr, nullptr};
     cols.push_back(thesis_col);

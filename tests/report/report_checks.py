@@ -656,6 +656,36 @@ def check_zoom(study: Path, python_dir: Path, **_) -> None:
     print(f"rig traces, share of the record drawn: {spans or 'none'}")
 
 
+def check_like_with_like(study: Path, results: dict, html: str, tmp: Path, **_) -> None:
+    """22.8: verdicts compare like with like — the thesis's step model with ours from the same input (not
+    our selected one), an exponent the fit could not identify is not scored, and clearshape's own tables
+    are not named like the thesis's ("Table 4.3-clearance": the thesis has no Table 4.3)."""
+    named = re.findall(r"<caption>Table ([^ <]+)", html)
+    bad = [n for n in named if not re.fullmatch(r"(?:[0-9]+|B)\.[0-9]+", n)]
+    print(f"tables captioned 'Table …': {named}")
+    expect(not bad, f"clearshape tables named like the thesis's: {bad}")
+    model = next((t for t in results.get("tables", []) if t.get("id") == "4.2-model"), None)
+    thesis_col = next((c for c in (model or {}).get("columns", []) if c.get("key") == "thesis"), None)
+    if thesis_col and thesis_col.get("input"):
+        cap = re.search(r'id="table-4-2-model".*?<span class="unit">([^<]*)', html, re.S)
+        print(f"4.2-model compared as: {cap and cap.group(1)}")
+        ours = next(c for c in model["columns"] if c.get("key") == thesis_col["input"])
+        expect(cap is not None and f"Δ = {ours['label']} −" in cap.group(1).replace("&#x27;", "'"),
+               f"the thesis's {thesis_col['input']} model is not compared with ours from that input")
+    else:
+        expect(model is None or thesis_col is None, "the thesis's model column does not name its input")
+    cl = results.get("sections", {}).get("clearance", {})
+    if isinstance(cl, dict) and any(p.get("name") == "exponent" for p in cl.get("parameters") or []):
+        r = copy.deepcopy(results)
+        for p in r["sections"]["clearance"]["parameters"]:
+            if p.get("name") == "exponent":
+                p["identifiable"] = False
+        page = render_copy(study, r, tmp)
+        rows = re.findall(r'<th scope="row">exponent n</th>.*?<td class="verdict ([a-z ]+)"', page, re.S)
+        print(f"an unidentified exponent's verdicts: {rows}")
+        expect(rows and all(x == "na" for x in rows), f"an unidentifiable exponent is scored: {rows}")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -663,7 +693,7 @@ CHECKS = {
     "failing-criterion": check_failing_criterion, "outside-references": check_no_outside_references,
     "rig-kind": check_rig_kind, "worse-marked": check_worse_marked, "missing-null": check_missing_is_null,
     "thesis-verbatim": check_thesis_verbatim, "rig-words": check_rig_words, "finding": check_finding,
-    "figure-colours": check_figure_colours, "zoom": check_zoom,
+    "figure-colours": check_figure_colours, "zoom": check_zoom, "like-with-like": check_like_with_like,
 }
 
 

@@ -296,6 +296,7 @@ REPORT_CHECK(EachRigHasItsOwnWords, "rig-words")                              //
 REPORT_CHECK(TheHeaderHoldsTheFindingWithIntervals, "finding")                // 22.4, 22.7, 22.8
 REPORT_CHECK(NoTwoCurvesOfARigFigureLookAlike, "figure-colours")              // 22.10
 REPORT_CHECK(RigTracesAreDrawnWhereTheyRing, "zoom")                          // 22.10
+REPORT_CHECK(VerdictsCompareLikeWithLike, "like-with-like")                   // 22.8
 
 // Issue 22 on another rig: the quick large-play study (a what-if rig, no thesis contact law or Eq. 4.1
 // figure in its protocol) writes null, never 0, where the thesis gives nothing, and its report
