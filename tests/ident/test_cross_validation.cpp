@@ -51,3 +51,16 @@ TEST(CrossValidation, NeedsTwoExperiments) {
   std::vector<ident::Experiment> one = {t::make_data(truth, t::step_input(500), 1e-3, 0.0, 1)};
   EXPECT_THROW(ident::cross_validate(truth.structure(), one), clearshape::InvalidArgument);
 }
+
+TEST(CrossValidation, ValidationFitRanksFirstAndTrustBreaksNearTies) {
+  const double nan = std::nan("");
+  // The issue-20 case: a trusted model at −121 % never beats one at 92.8 % whose σ is not finite.
+  EXPECT_EQ(ident::pick_best({-121.0, 92.8}, {true, false}, 1.0), 1u);
+  // Within a point of the best, the trusted model wins.
+  EXPECT_EQ(ident::pick_best({92.0, 92.8}, {true, false}, 1.0), 0u);
+  EXPECT_EQ(ident::pick_best({92.0, 92.8}, {true, true}, 1.0), 1u);
+  // A non-finite validation fit never wins; none finite: no best.
+  EXPECT_EQ(ident::pick_best({nan, 50.0}, {true, false}, 1.0), 1u);
+  EXPECT_EQ(ident::pick_best({INFINITY, 50.0}, {true, true}, 1.0), 1u);
+  EXPECT_FALSE(ident::pick_best({nan, nan}, {true, true}, 1.0).has_value());
+}
