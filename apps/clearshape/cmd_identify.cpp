@@ -17,6 +17,7 @@
 #include "clearshape/dsp/butterworth.hpp"
 #include "clearshape/dsp/differentiate.hpp"
 #include "clearshape/dsp/sosfilt.hpp"
+#include "clearshape/ident/column_check.hpp"
 #include "clearshape/ident/cross_validation.hpp"
 #include "clearshape/ident/process_fit.hpp"
 #include "clearshape/ident/trust.hpp"
@@ -52,6 +53,10 @@ struct IdentifyState {
   mutable std::string output_name;  ///< the output column's name, set by load (guard rails)
   mutable std::string input_name;
 };
+
+// The longest hold of a converter copy of the input (ident::is_converted_copy): 1.5 updates of the
+// thesis's 30 Hz pulse-train drive (§3.2).
+constexpr double kMaxConverterHoldS = 0.05;
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -175,6 +180,22 @@ ident::Experiment load(const std::string& path, const IdentifyState& st) {
   e.output = t.columns[c.output];
   st.input_name = t.names[c.input];
   st.output_name = t.names[c.output];
+  // Say which columns were used (the defaults guess: command…/input…/u…, then the next column).
+  fmt::print(stderr, "clearshape identify: {}: input '{}' (column {}), output '{}' (column {}), {}\n", path, st.input_name, c.input + 1,
+             st.output_name, c.output + 1,
+             c.time ? fmt::format("time '{}' (column {})", t.names[*c.time], *c.time + 1) : fmt::format("--sample-time {:g} s", e.sample_time_s));
+  // An output that only converts the input (a D/A or the drive's applied command) has no dynamics.
+  const auto hold_samples = static_cast<std::size_t>(std::ceil(kMaxConverterHoldS / e.sample_time_s));
+  if (ident::is_converted_copy(e.input, e.output, hold_samples)) {
+    std::string others;
+    for (std::size_t i = 0; i < t.names.size(); ++i) {
+      if (i != c.input && i != c.output && (!c.time || i != *c.time)) others += (others.empty() ? "" : ", ") + t.names[i];
+    }
+    throw InvalidArgument(fmt::format(
+        "identify: {}: output '{}' is input '{}' through a converter (equal within {:g} % of its range apart from holds of at most "
+        "{:g} s): nothing to identify; give the response with --output-column (other columns: {})",
+        path, st.output_name, st.input_name, 100.0 * ident::kCopyTolerance, kMaxConverterHoldS, others.empty() ? "none" : others));
+  }
   if (st.derivative) e.output = dsp::backward_difference(e.output, e.sample_time_s);
   if (!st.butterworth.empty()) {
     e.output = dsp::sosfilt(dsp::butter_lowpass_rad_s(4, parse_cutoff_rad_s(st.butterworth), 1.0 / e.sample_time_s), e.output);
@@ -463,7 +484,10 @@ void run_crossval(const IdentifyState& st, const IdentifyPlan& p) {
   for (std::size_t i = 0; i < warnings.size(); ++i) {
     for (const auto& w : warnings[i]) fmt::print(stderr, "clearshape identify: warning: model from {}: {}\n", cv.names[i], w);
   }
-  if (!cv.best_trusted) fmt::print(stderr, "clearshape identify: no model is to be trusted; the best is marked untrusted\n");
+  if (!cv.best_trusted) {
+    fmt::print(stderr, "clearshape identify: the best model by validation fit (identified on {}) is not to be trusted (its warnings above)\n",
+               cv.names[cv.best]);
+  }
   if (st.json) {
     print_json(crossval_json(st, p, cv, warnings));
   } else {

@@ -40,6 +40,7 @@ struct ModesState {
   bool no_refine = false;
   bool no_offset = false;
   bool json = false;
+  bool allow_unstable = false;  // --allow-unstable: report unstable or aliased poles with exit 0
 };
 
 std::size_t column_index(const io::Table& t, const std::string& spec) {
@@ -70,19 +71,39 @@ std::pair<std::size_t, std::size_t> window(const ModesState& st, std::size_t siz
   return {from, end};
 }
 
-// The guard rails (docs/recordings.md): a σ that is not finite, a damping ratio on the search's
-// bound (0 or --max-damping), a poor fit, fewer modes than asked.
-std::vector<std::string> modes_warnings(const ident::ModeIdentification& r, const ModesState& st) {
+// A mode is stable when its pole decays (ζ > 0) and lies clearly below the Nyquist frequency: a
+// discrete pole z = r·e^(iθ) with r ≥ 1 grows, and one at θ ≥ 0.9π (90 % of Nyquist) is an alias
+// or an artefact of the sampling, not a mode the record resolves. Empty: stable.
+constexpr double kNyquistFraction = 0.9;
+
+std::string instability(const ident::ModeEstimate& m, double dt) {
+  if (!(m.damping_ratio > 0.0)) {
+    return fmt::format("damping ratio {:.4g} ≤ 0: a growing (unstable) pole, not a decaying mode", m.damping_ratio);
+  }
+  const double nyquist_fraction = m.damped_frequency_rad_s() * dt / kPi;  // θ / π
+  if (nyquist_fraction >= kNyquistFraction) {
+    return fmt::format("at {:.0f} % of the Nyquist frequency (limit {:.0f} %): aliased or an artefact of the sampling",
+                       100.0 * nyquist_fraction, 100.0 * kNyquistFraction);
+  }
+  return {};
+}
+
+// The guard rails (docs/recordings.md): an unstable or aliased pole, a σ that is not finite, a
+// damping ratio on the search's bound (0 or --max-damping), a poor fit, fewer modes than asked.
+std::vector<std::string> modes_warnings(const ident::ModeIdentification& r, const ModesState& st, double dt) {
   std::vector<std::string> w;
   if (r.modes.size() < st.modes) {
     w.push_back(fmt::format("asked for {} modes, found {} with damping ratio below {}", st.modes, r.modes.size(), st.max_damping));
   }
   for (std::size_t i = 0; i < r.modes.size(); ++i) {
     const auto& m = r.modes[i];
+    if (const std::string unstable = instability(m, dt); !unstable.empty()) {
+      w.push_back(fmt::format("mode {}: not stable: {}", i + 1, unstable));
+    }
     if (!std::isfinite(m.natural_frequency_std_rad_s) || !std::isfinite(m.damping_ratio_std)) {
       w.push_back(fmt::format("mode {}: its 1σ is not finite (the record does not determine it)", i + 1));
     }
-    if (m.damping_ratio <= 1e-6 || m.damping_ratio >= st.max_damping * (1.0 - 1e-6)) {
+    if ((m.damping_ratio >= 0.0 && m.damping_ratio <= 1e-6) || m.damping_ratio >= st.max_damping * (1.0 - 1e-6)) {
       w.push_back(fmt::format("mode {}: damping ratio {:.4g} sits at a bound (0 or --max-damping {})", i + 1, m.damping_ratio,
                               st.max_damping));
     }
@@ -172,8 +193,11 @@ std::string shape_command(const ident::ModeIdentification& r, bool per_sample) {
   return out;
 }
 
-nlohmann::ordered_json mode_json(const ident::ModeEstimate& m, bool per_sample, bool input_output) {
+nlohmann::ordered_json mode_json(const ident::ModeEstimate& m, double dt, bool per_sample, bool input_output) {
   nlohmann::ordered_json j;
+  const std::string unstable = instability(m, dt);
+  j["stable"] = unstable.empty();
+  j["stability_note"] = unstable.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(unstable);
   j[per_sample ? "frequency_cycles_per_sample" : "frequency_hz"] = m.natural_frequency_hz();
   j[per_sample ? "frequency_std_cycles_per_sample" : "frequency_std_hz"] = number_or_null(m.natural_frequency_std_hz());
   j[per_sample ? "natural_frequency_rad_per_sample" : "natural_frequency_rad_s"] = m.natural_frequency_rad_s;
@@ -211,7 +235,7 @@ void print_modes_json(const ModesState& st, const ModesPlan& p, const ModesResul
   doc["rmse"] = r.rmse;
   doc["decimation"] = r.decimation;
   nlohmann::ordered_json modes = nlohmann::ordered_json::array();
-  for (const auto& m : r.modes) modes.push_back(mode_json(m, per_sample, !st.input_column.empty()));
+  for (const auto& m : r.modes) modes.push_back(mode_json(m, p.timing.dt, per_sample, !st.input_column.empty()));
   doc["modes"] = modes;
   const std::string shape = shape_command(r, per_sample);
   doc["shape_command"] = shape.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(shape);
@@ -231,8 +255,10 @@ void print_modes_table(const ModesState& st, const ModesPlan& p, const ModesResu
              "std");
   std::size_t i = 0;
   for (const auto& m : r.modes) {
-    fmt::print("  {}  {:>16.7g} {:>12.3g} {:>12.6g} {:>12.3g} {:>12.5g} {:>12.3g}\n", ++i, m.natural_frequency_hz(),
-               m.natural_frequency_std_hz(), m.damping_ratio, m.damping_ratio_std, m.amplitude, m.amplitude_std);
+    const std::string unstable = instability(m, p.timing.dt);
+    fmt::print("  {}  {:>16.7g} {:>12.3g} {:>12.6g} {:>12.3g} {:>12.5g} {:>12.3g}{}\n", ++i, m.natural_frequency_hz(),
+               m.natural_frequency_std_hz(), m.damping_ratio, m.damping_ratio_std, m.amplitude, m.amplitude_std,
+               unstable.empty() ? "" : "  NOT STABLE: " + unstable);
   }
   const std::string shape = shape_command(r, per_sample);
   if (!shape.empty()) fmt::print("\nshaper: {}\n", shape);
@@ -242,13 +268,22 @@ void run_modes(const ModesState& st) {
   const io::Table t = io::read_table(st.data);
   const ModesPlan p = plan(st, t);
   const ModesResult res = identify(st, t, p);
-  const auto warnings = modes_warnings(res.identification, st);
+  const auto warnings = modes_warnings(res.identification, st, p.timing.dt);
   for (const auto& w : warnings) fmt::print(stderr, "clearshape modes: warning: {}\n", w);
   if (!warnings.empty()) fmt::print(stderr, "clearshape modes: the result is NOT to be trusted (\"trusted\": false)\n");
   if (st.json) {
     print_modes_json(st, p, res, warnings);
   } else {
     print_modes_table(st, p, res);
+  }
+  // Unstable or aliased poles are no modes to shape: a run-time failure unless asked for.
+  for (std::size_t i = 0; i < res.identification.modes.size(); ++i) {
+    const std::string unstable = instability(res.identification.modes[i], p.timing.dt);
+    if (!unstable.empty() && !st.allow_unstable) {
+      throw RuntimeError(fmt::format("modes: {}: mode {} is not stable ({}); window the record on a free decay, lower --modes or "
+                                     "--order, or give --allow-unstable to report it with exit 0",
+                                     st.data, i + 1, unstable));
+    }
   }
 }
 
@@ -273,6 +308,8 @@ void setup(CLI::App& sub) {
   sub.add_flag("--no-refine", st->no_refine, "Skip the least-squares refinement (subspace estimate only)");
   sub.add_flag("--no-offset", st->no_offset, "Free response: do not estimate a constant sensor offset");
   sub.add_flag("--json", st->json, "Print the result as JSON");
+  sub.add_flag("--allow-unstable", st->allow_unstable,
+               "Exit 0 even when a pole is unstable (ζ ≤ 0) or at ≥ 90 % of the Nyquist frequency (flagged \"stable\": false)");
   sub.callback([st] { run_modes(*st); });
 }
 

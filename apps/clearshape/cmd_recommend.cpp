@@ -46,7 +46,9 @@ struct RecommendState {
   double from_s = 0.0, to_s = 0.0, segment_s = 0.0, max_delay_s = 0.0, design_damping = 0.0, min_frequency_hz = 0.0;
   std::string damping_range, candidates;
   std::size_t modes = 2;
-  double frequency_sigmas = 2.0, vibration_tolerance = 0.01, threshold = 0.05, scan_step_hz = 0.1;
+  double frequency_sigmas = 2.0, vibration_tolerance = 0.01, threshold = 0.05, scan_step = 0.005, scan_step_hz = 0.0;
+  double max_remaining = 0.2;
+  CLI::Option* scan_step_hz_option = nullptr;
   bool no_fit = false, json = false;
   // --model: the predicted Eq. 5.1 mean deviation of each candidate for the user's move.
   std::string model, move = "step";
@@ -117,8 +119,16 @@ advise::RecommendOptions options(const RecommendState& st) {
   o.vibration_tolerance = st.vibration_tolerance;
   if (!(st.threshold > 0.0 && st.threshold < 1.0)) throw_invalid("--threshold", st.threshold, "(0, 1) (Klipper: 0.05)");
   o.threshold_fraction = st.threshold;
-  if (!(st.scan_step_hz > 0.0)) throw_invalid("--scan-step-hz", st.scan_step_hz, "> 0 Hz");
-  o.scan_step_hz = st.scan_step_hz;
+  if (!(st.scan_step > 0.0 && st.scan_step < 1.0)) throw_invalid("--scan-step", st.scan_step, "(0, 1) (a fraction: 0.005 = 0.5 %)");
+  o.scan_step_ratio = st.scan_step;
+  if (st.scan_step_hz_option->count() > 0) {
+    if (!(st.scan_step_hz > 0.0)) throw_invalid("--scan-step-hz", st.scan_step_hz, "> 0 Hz");
+    o.scan_step_hz = st.scan_step_hz;
+  }
+  if (!(st.max_remaining > 0.0 && st.max_remaining <= 1.0)) {
+    throw_invalid("--max-remaining", st.max_remaining, "(0, 1] (a fraction: 0.2 = 20 %)");
+  }
+  o.max_remaining = st.max_remaining;
   if (st.min_frequency_option->count() > 0) {
     if (!(st.min_frequency_hz >= 0.0)) throw_invalid("--min-frequency-hz", st.min_frequency_hz, ">= 0 Hz");
     o.min_frequency_hz = st.min_frequency_hz;
@@ -131,6 +141,10 @@ nlohmann::ordered_json mode_json(const advise::ModeEstimate& m) {
   return {{"frequency_hz", m.frequency_hz},           {"frequency_std_hz", m.frequency_std_hz},
           {"damping_ratio", m.damping_ratio},         {"damping_ratio_std", m.damping_ratio_std},
           {"source", m.source},                       {"peak_power", m.peak_power},
+          {"prominence", m.prominence},
+          {"damping_ratio_range", m.damping_ratio_range ? nlohmann::ordered_json({m.damping_ratio_range->first, m.damping_ratio_range->second})
+                                                        : nlohmann::ordered_json(nullptr)},
+          {"note", m.note},
           {"half_power_low_hz", m.half_power_low_hz}, {"half_power_high_hz", m.half_power_high_hz}};
 }
 
@@ -187,6 +201,7 @@ nlohmann::ordered_json candidates_json(const advise::Recommendation& r, const st
       j["least_remaining"] = c.least_remaining;
       j["least_remaining_frequency_hz"] = c.least_remaining_frequency_hz;
       j["within_budget"] = c.within_budget;
+      j["leaves_too_much"] = c.leaves_too_much;
       j["impulses"] = impulses;
       if (grid_hz > 0.0) {  // the impulses above are the applied ones, on the drive's update grid
         j["update_grid_hz"] = grid_hz;
@@ -248,7 +263,10 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
                     {"test_damping_ratios", r.test_damping_ratios},
                     {"frequency_scales", r.frequency_scales},
                     {"max_delay_s", number_or_null(o.max_delay_s)},
-                    {"vibration_tolerance", o.vibration_tolerance}};
+                    {"vibration_tolerance", o.vibration_tolerance},
+                    {"max_remaining", o.max_remaining},
+                    {"scan", o.scan_step_hz ? fmt::format("linear, {:g} Hz steps", *o.scan_step_hz)
+                                            : fmt::format("log-spaced, x{:g} per step", 1.0 + o.scan_step_ratio)}};
   if (o.update_grid_hz > 0.0) doc["scoring"]["update_grid_hz"] = o.update_grid_hz;
   doc["candidates"] = candidates_json(r, pred, ca, o.update_grid_hz);
   if (pred) {
@@ -270,6 +288,7 @@ void print_json_result(const RecommendState& st, const std::vector<advise::Measu
                              {"design_damping", c.design_damping},
                              {"duration_s", c.duration_s},
                              {"remaining_worst", c.remaining_worst},
+                             {"warning", r.warning.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.warning)},
                              {"predicted_md", pred ? nlohmann::ordered_json(*pred->md[*r.chosen]) : nlohmann::ordered_json(nullptr)},
                              {"shape_command", shape_command(c, r, o.update_grid_hz)}};
   } else {
@@ -291,6 +310,7 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
   for (const auto& m : r.modes) {
     fmt::print("mode {} {:.4f} Hz ± {:.3g} (1σ), ζ {:.4f} ± {:.3g} ({})\n", ++i, m.frequency_hz, m.frequency_std_hz, m.damping_ratio,
                m.damping_ratio_std, m.source);
+    if (!m.note.empty()) fmt::print("       {}\n", m.note);
   }
   fmt::print("       {}\n", est.note);
   fmt::print("worst case over ζ {:.4g} and frequency × {:.4g}\n\n", fmt::join(r.test_damping_ratios, ", "),
@@ -315,8 +335,9 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     }
     std::string f = fmt::format("{:.3f}", c.design_frequency_hz[0]);
     if (c.design_frequency_hz.size() > 1) f += fmt::format("+{:.3f}", c.design_frequency_hz[1]);
-    fmt::print("{:<10} {:>18} {:>10.2f} {:>12.2f} {:>12.2f} {:>10}{}{}{}\n", c.name, f, 1000.0 * c.duration_s, 100.0 * c.remaining_worst,
-               100.0 * c.remaining_nominal, c.within_budget ? "ok" : "over", pred ? fmt::format(" {:>13.5g}", *pred->md[k]) : std::string(),
+    fmt::print("{:<10} {:>18} {:>10.2f} {:>12} {:>12.2f} {:>10}{}{}{}\n", c.name, f, 1000.0 * c.duration_s,
+               fmt::format("{}{:.2f}", c.leaves_too_much ? "!" : "", 100.0 * c.remaining_worst), 100.0 * c.remaining_nominal,
+               c.within_budget ? "ok" : "over", pred ? fmt::format(" {:>13.5g}", *pred->md[k]) : std::string(),
                grid_hz > 0.0 ? fmt::format(" {:>10.2f}", 100.0 * c.remaining_worst_designed) : "", mark);
     if (grid_hz > 0.0) {
       fmt::print("           applied: {}{}\n", impulses_text(*c.shaper),
@@ -329,8 +350,12 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     fmt::print("           designed on the model for the move ({} evaluations, {:.2f} s; bound {:.4g} s: {})\n", ca->evaluations,
                ca->design_time_s, ca->max_duration_s, ca->bound_source);
   }
+  if (std::any_of(r.candidates.begin(), r.candidates.end(), [](const auto& c) { return c.leaves_too_much; })) {
+    fmt::print("(!: leaves more than the --max-remaining limit)\n");
+  }
   fmt::print("\nrecommended: {}\n", r.chosen ? r.candidates[*r.chosen].name : std::string("none"));
   fmt::print("reason: {}\n", r.reason);
+  if (!r.warning.empty()) fmt::print("warning: {}\n", r.warning);
   if (r.chosen) fmt::print("shaper: {}\n", shape_command(r.candidates[*r.chosen], r, grid_hz));
 }
 
@@ -422,6 +447,7 @@ void run_recommend(const RecommendState& st) {
     }
   }
   if (!r.chosen) fmt::print(stderr, "clearshape recommend: warning: no recommendation: {}\n", r.reason);
+  if (!r.warning.empty()) fmt::print(stderr, "clearshape recommend: warning: {}\n", r.warning);
   if (!st.plot.empty()) write_recommend_plot(st.plot, spectra, r);
   if (st.json) {
     print_json_result(st, spectra, est, r, o, pred, ca);
@@ -458,7 +484,14 @@ void setup(CLI::App& sub) {
                  "Recommend the shortest candidate within this of the least remaining vibration (fraction)")
       ->capture_default_str();
   sub.add_option("--threshold", st->threshold, "PSD threshold as a fraction of its maximum (Klipper: 0.05)")->capture_default_str();
-  sub.add_option("--scan-step-hz", st->scan_step_hz, "Step of the design-frequency scan, Hz")->capture_default_str();
+  sub.add_option("--scan-step", st->scan_step,
+                 "Relative step of the design-frequency scan: each scanned frequency is (1 + this) × the one before")
+      ->capture_default_str();
+  st->scan_step_hz_option = sub.add_option("--scan-step-hz", st->scan_step_hz,
+                                           "A linear scan in steps of this many Hz instead (ties the design to the unit of time)");
+  sub.add_option("--max-remaining", st->max_remaining,
+                 "Flag candidates leaving more than this fraction of the vibration; a pick beyond it is warned about")
+      ->capture_default_str();
   st->min_frequency_option = sub.add_option("--min-frequency-hz", st->min_frequency_hz, "Ignore the spectrum below this, Hz "
                                                                                        "(default: two resolution bins)");
   sub.add_flag("--no-free-decay-fit", st->no_fit, "Use the spectral mode estimate only");
