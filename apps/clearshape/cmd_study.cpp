@@ -2,6 +2,8 @@
 // 4–5 and Appendix B) against the simulated thesis rig and writes results.json, tables.md,
 // figures.json, the figures' data and every run (CSV + JSON sidecar) under --out.
 // Progress on stderr; the tables (or a JSON summary with --json) on stdout.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +12,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -22,6 +25,7 @@
 #include "clearshape/rig/truth.hpp"
 #include "clearshape/study/protocol.hpp"
 #include "clearshape/study/recordings.hpp"
+#include "clearshape/study/run_source.hpp"
 #include "clearshape/study/runner.hpp"
 #include "command.hpp"
 #include "rig_config.hpp"
@@ -37,6 +41,7 @@ struct StudyCliOptions {
   bool fresh = false;
   bool json = false;
   int threads = 0;
+  double max_memory_gb = 4.0;  // the study's estimated peak memory, checked before it starts
   std::string rig_config;
   std::string recordings;
   std::string rig;
@@ -98,6 +103,29 @@ study::RigFactory serial_rig_factory(const std::string& spec) {
   return f;
 }
 
+// A protocol's size is known before it runs: one record holds 8 columns of doubles per sample and
+// a stage keeps its records while it computes (~3 copies: the record, filtered and integrated
+// signals). A protocol of 9·10⁸-sample records passed validation and ended in std::bad_alloc
+// after the output folder was made; it is refused here, with its numbers, before anything exists.
+constexpr double kStudyBytesPerSample = 8.0 * 8.0 * 3.0;
+
+void check_study_size(const study::Protocol& p, int threads, double max_memory_gb) {
+  const double record_s = std::max(p.record_s, p.simulation.record_s);
+  const double samples = std::floor(record_s * p.sample_rate_hz) + 1.0;
+  std::size_t largest_stage = 0;
+  for (const auto& stage : study::plan_runs(p)) largest_stage = std::max(largest_stage, stage.runs.size());
+  const unsigned parallel = threads > 0 ? static_cast<unsigned>(threads) : std::max(1u, std::thread::hardware_concurrency());
+  const double held = static_cast<double>(std::max<std::size_t>(largest_stage, parallel));
+  const double gb = samples * kStudyBytesPerSample * held / 1e9;
+  if (gb > max_memory_gb) {
+    throw InvalidArgument(fmt::format(
+        "study {}: too large for memory: records of {:.3g} samples ({:g} s at {:g} Hz), up to {:g} held at once "
+        "(the largest stage, or the parallel runs) need about {:.3g} GB; the limit is {:g} GB — shorten record_s, "
+        "lower sample_rate_hz, or allow it with --max-memory-gb {:.0f}",
+        p.name, samples, record_s, p.sample_rate_hz, held, gb, max_memory_gb, std::ceil(gb)));
+  }
+}
+
 void run(const StudyCliOptions& o) {
   // --rig: a built-in simulated truth by name, or the physical rig over a serial port.
   std::optional<study::RigFactory> serial;
@@ -118,6 +146,8 @@ void run(const StudyCliOptions& o) {
   if (static_cast<int>(!o.recordings.empty()) + static_cast<int>(!o.rig_config.empty()) + static_cast<int>(!o.rig.empty()) > 1) {
     throw InvalidArgument("study: give one of --recordings, --rig-config and --rig, not several");
   }
+  if (!(o.max_memory_gb > 0.0)) throw_invalid("--max-memory-gb", o.max_memory_gb, "> 0 GB");
+  check_study_size(protocol, o.threads, o.max_memory_gb);
   study::StudyOptions options;
   options.out_dir = o.out_dir.empty() ? std::filesystem::path("out") / (protocol.name + (o.quick ? "-quick" : ""))
                                       : std::filesystem::path(o.out_dir);
@@ -167,6 +197,10 @@ const bool registered = register_command(
                       "serial:PORT?baud=N (docs/hardware.md; one run at a time, a run that loses a sample fails)");
        sub.add_option("--recordings", o->recordings,
                       "Run the study on recorded runs: a folder of CSVs with a manifest.toml (docs/recordings.md)");
+       sub.add_option("--max-memory-gb", o->max_memory_gb,
+                      "Refuse a protocol whose records would need more memory than this (estimated before "
+                      "anything is written), GB")
+           ->capture_default_str();
        sub.add_flag("--print-manifest", o->print_manifest,
                     "Print the recordings manifest template listing every run the protocol expects, and exit");
        sub.callback([o] { run(*o); });

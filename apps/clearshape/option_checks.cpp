@@ -34,6 +34,32 @@ std::string not_negative(std::string& text) {
   return {};
 }
 
+// CLI11's PositiveNumber / NonNegativeNumber state their bound as DBL_MAX written out in full (a
+// 309-digit number); the same check, stated as the range it is.
+void restate_sign_checks(CLI::Option& opt) {
+  for (int i = 0;; ++i) {
+    CLI::Validator* v = nullptr;
+    try {
+      v = opt.get_validator(i);
+    } catch (const CLI::OptionNotFound&) {
+      return;
+    }
+    // CLI11 gives these two their name as the description, not as the name.
+    const std::string desc = v->get_description();
+    if (desc != "POSITIVE" && desc != "NONNEGATIVE") continue;
+    const bool strict = desc == "POSITIVE";
+    v->operation([strict](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double x = std::strtod(text.c_str(), &end);
+      if (end == text.c_str()) return fmt::format("{} is not a number", text);
+      if (strict ? !(x > 0.0) : !(x >= 0.0)) {
+        return fmt::format("{} is out of range; allowed: {}", text, strict ? "> 0" : ">= 0");
+      }
+      return {};
+    });
+  }
+}
+
 }  // namespace
 
 CLI::Validator positive_at_most(double max, const std::string& unit, const std::string& option) {
@@ -52,6 +78,7 @@ CLI::Validator positive_at_most(double max, const std::string& unit, const std::
 
 void add_common_option_checks(CLI::App& app) {
   for (CLI::Option* opt : app.get_options()) {
+    restate_sign_checks(*opt);
     const std::string type = opt->get_type_name();
     if (type.find("FLOAT") != std::string::npos || type.find("INT") != std::string::npos) {
       opt->check(CLI::Validator(not_empty, "", "NUMBER"));

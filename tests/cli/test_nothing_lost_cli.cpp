@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -170,4 +171,33 @@ TEST(MessagesCli, AnAbsurdRecordedValueIsNamedByFileLineAndColumn) {
   EXPECT_NE(empty.err.find("--amplitude"), std::string::npos) << empty.err;
   EXPECT_NE(empty.err.find("an empty value is not a number"), std::string::npos) << empty.err;
   EXPECT_FALSE(fs::exists(out / "s.csv"));
+
+  // CLI11's positive-number check stated DBL_MAX in full (a 309-digit bound).
+  const auto window = run_cli("fit-clearance --window-s 0");
+  EXPECT_EQ(window.exit_code, 2) << window.err;
+  EXPECT_NE(window.err.find("0 is out of range; allowed: > 0"), std::string::npos) << window.err;
+  EXPECT_EQ(window.err.find("179769"), std::string::npos) << window.err;
+}
+
+// Issue 21 item 7: a protocol of 9·10⁸-sample records passed validation and ended in
+// std::bad_alloc after the study had made its output folder. Its memory is estimated from the
+// protocol and refused, with the numbers and the option that allows it, before anything exists.
+TEST(NothingLostCli, AProtocolTooLargeForMemoryIsRefusedBeforeAnyOutput) {
+  const fs::path d = temp_dir("huge");
+  std::string text = read_bytes(clearshape::testing::studies_path("thesis-position.toml"));
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"sample_rate_hz = 1000.0", "sample_rate_hz = 100000.0"},
+                                 {"record_s = 5.0 ", "record_s = 9000.0 "}}) {
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  }
+  std::ofstream(d / "huge.toml") << text;
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = run_cli("study " + (d / "huge.toml").string() + " --out " + (d / "out").string());
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("too large for memory: records of 9e+08 samples (9000 s at 100000 Hz)"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("--max-memory-gb"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "out")) << "the study created its folder before refusing";
 }
