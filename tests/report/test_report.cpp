@@ -333,6 +333,36 @@ TEST(ReportOtherRig, LargePlayHasNullsAndItsOwnWords) {
   fs::remove_all(dir);
 }
 
+// The built-in worn-coupling rig (the thesis's drive and sensors, 1° of play on the calibrated flank, a
+// bearing Coulomb torque) gets its own words too: not calibrated to the thesis, not scored, its
+// documented joint beside the fit. Skipped while the build has no such rig.
+TEST(ReportOtherRig, WornCouplingHasItsOwnWords) {
+  const fs::path protocol = repo_root() / "studies" / "large-play-position.toml";
+  if (clearshape::testing::run_cli("study --help").exit_code != 0 || !fs::exists(protocol)) {
+    GTEST_SKIP() << "clearshape study or the large-play protocol is not available";
+  }
+  const fs::path dir = fs::temp_directory_path() / ("clearshape_report_wc_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const auto r = clearshape::testing::run_cli("study " + quote(protocol) + " --rig worn-coupling --quick --out " +
+                                              quote(dir));
+  if (r.exit_code == 2 && r.err.find("worn-coupling") != std::string::npos) GTEST_SKIP() << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(render(dir).exit_code, 0);
+  const auto results = nlohmann::json::parse(read_file(dir / "results.json"));
+  EXPECT_EQ(results.at("rig").at("kind"), "simulated-worn-coupling");
+  EXPECT_EQ(results.at("rig").at("calibrated_to_thesis"), false);
+  EXPECT_EQ(results.at("rig").at("scored_against_thesis"), false);
+  EXPECT_TRUE(results.at("rig").contains("documented"));
+  for (const char* check : {"missing-null", "rig-words", "worse-marked", "finding", "figure-colours"}) {
+    const Shell c = report_check(check, dir);
+    EXPECT_EQ(c.exit_code, 0) << check << "\n" << c.out;
+  }
+  const std::string html = read_file(dir / "report.html");
+  EXPECT_EQ(html.find("calibrated to the thesis's <em>unshaped</em>"), std::string::npos);
+  EXPECT_NE(html.find("the simulated worn-coupling rig"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 // Issue 22.13: the numbers docs/cli.md quotes for Table B.6 are the full position study's output (to
 // one decimal), so the page fails when the study drifts from what the documentation says.
 TEST(ReportDocs, CliQuotesTheStudysB6) {
