@@ -4,9 +4,29 @@ add_library(clearshape_warnings INTERFACE)
 target_compile_options(clearshape_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow
                        -Wnon-virtual-dtor -Wold-style-cast -Wcast-align -Wunused -Woverloaded-virtual
                        -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+# CLEARSHAPE_WERROR: warnings are errors, but for those GCC 12 computes in the optimiser, after
+# inlining (null-dereference, restrict, stringop-*, array-bounds, maybe-uninitialized, …). These
+# fire inside libstdc++ on correct code depending on what else is inlined into the translation
+# unit: study/model.cpp began to warn -Wnull-dereference at unchanged vector::resize() calls when
+# an unrelated function was added beside them, and `"'" + s + "'"` warns -Wrestrict in C++20
+# (the same false positives: nlohmann/json#3525, SFML/SFML#2106, google/benchmark#1398). They stay
+# warnings, fixed at the cause where they appear; they cannot gate CI.
 if(CLEARSHAPE_WERROR)
-  target_compile_options(clearshape_warnings INTERFACE -Werror)
+  target_compile_options(clearshape_warnings INTERFACE -Werror
+    -Wno-error=null-dereference -Wno-error=restrict -Wno-error=stringop-overflow
+    -Wno-error=stringop-overread -Wno-error=array-bounds -Wno-error=maybe-uninitialized)
 endif()
+
+# clearshape_precompile(target [header...]): with CLEARSHAPE_PCH, the standard library, fmt and
+# Eigen (and the headers given) are parsed once per target, not once per source: a CLI or study
+# source spends about half its compile time parsing them, and the precompiled header saves
+# 20–35 % of it. Only where it pays: a target with many sources that include these headers.
+function(clearshape_precompile target)
+  if(CLEARSHAPE_PCH)
+    target_precompile_headers(${target} PRIVATE <algorithm> <cmath> <memory> <string> <vector>
+                              <fmt/format.h> <Eigen/Dense> ${ARGN})
+  endif()
+endfunction()
 
 include(GNUInstallDirs)  # CMAKE_INSTALL_INCLUDEDIR for the installed include path
 set(CLEARSHAPE_MODULES "" CACHE INTERNAL "modules of the clearshape library")
