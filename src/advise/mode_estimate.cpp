@@ -273,6 +273,7 @@ std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEs
       const auto& pk = peaks[i];
       const std::size_t bin = pk.index + lowest;
       const double f = s.frequency_hz[bin];
+      if (pk.height < options.second_peak_min_ratio * s.power[top]) break;  // sorted: no later one is relevant
       if (!(pk.height >= options.min_prominence * detail::local_floor(s, f, lowest))) continue;
       // Ripples of Welch's scatter on a line have little prominence; a mode stands out ...
       if (pk.prominence < options.second_peak_min_prominence * pk.height) continue;

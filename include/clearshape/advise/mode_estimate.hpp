@@ -44,6 +44,10 @@ struct ModeEstimateOptions {
   /// A mode stands out: its fitted peak ≥ this × the local PSD floor (the median power within
   /// f/3 … 3f). Below it (or with ζ on the fit's bound) the highest peak is no usable resonance.
   double min_prominence = 4.0;
+  /// Relevance floor of a second peak: power ≥ this × the highest (1 %: 10 % of its amplitude;
+  /// detection itself is by significance). On a clean decay the two-line test finds any mismatch
+  /// of the line's shape significant; a peak 40 dB down is no mode to shape.
+  double second_peak_min_ratio = 0.01;
   double second_peak_min_prominence = 0.25;  ///< a second peak's prominence ≥ this × its own power
   std::size_t second_peak_tries = 6;     ///< at most this many peaks get the two-line significance test
   bool free_decay_fit = true;            ///< try the ident::modes free-decay fit on the record
