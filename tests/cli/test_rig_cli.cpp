@@ -240,6 +240,20 @@ TEST(RigCli, ADegradedRunIsNeverComplete) {
   EXPECT_GT(read_json(temp("allowed.json"))["statistics"]["samples_late"].get<int>(), 1);
 }
 
+// Issue 21 item 5: `study --rig serial:` used a degraded run as a trial. A run whose samples came
+// late beyond the tolerance (a host stall) now fails the study, naming the run and the reason.
+TEST(RigCli, AStudyRefusesADegradedRunOnTheSerialRig) {
+  BoardDouble board;
+  board.delay_before_s = [](std::uint32_t tick) { return tick == 100 ? 0.2 : 0.0; };  // every run stalls
+  board.start();
+  const fs::path protocol = fs::path(CLEARSHAPE_GOLDEN_DIR).parent_path().parent_path() / "studies" / "thesis-position.toml";
+  const auto r = run_cli("study " + protocol.string() + " --quick --rig serial:" + board.path() + " --out " +
+                         temp("degraded_study").string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("the rig's record is degraded"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("samples arrived later than 5 ms"), std::string::npos) << r.err;
+}
+
 // Issue 21 item 4: SIGINT during `rig stream --servo-on` ended the process at once: no STOP, the
 // servo left on. Now the loop ends, STOP is sent (servo off), the incomplete record is written
 // apart, and the signal then ends the process as usual.

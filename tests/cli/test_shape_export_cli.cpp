@@ -148,11 +148,13 @@ TEST(ShapeExportCli, NeverWithAnInputAndFailedWritesExitOne) {
   EXPECT_TRUE(contains(r.err, "separate call")) << r.err;
   EXPECT_EQ(read_file(in), "time_s,u\n0,0\n0.001,1\n");  // untouched
   fs::remove(in);
-  // A folder where the file should go: the atomic writer fails, exit 1, nothing left behind.
+  // A folder where the file should go: refused by name before anything is written (exit 2,
+  // issue 21: an output is never anything but a regular file), nothing left behind.
   const fs::path dir = temp_path("dir");
   fs::create_directories(dir);
   const auto w = run_cli("shape -m zvd -f 40 -z 0.1 --export rrf -o " + dir.string());
-  EXPECT_EQ(w.exit_code, 1) << w.err;
+  EXPECT_EQ(w.exit_code, 2) << w.err;
+  EXPECT_TRUE(contains(w.err, "is a folder, not a regular file")) << w.err;
   EXPECT_TRUE(fs::is_empty(dir));
   fs::remove_all(dir);
 }
