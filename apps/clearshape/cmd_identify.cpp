@@ -52,6 +52,7 @@ struct IdentifyState {
   std::string butterworth;  ///< low-pass the output: 4th-order Butterworth, "30rad/s" or "5Hz"
   mutable std::string output_name;  ///< the output column's name, set by load (guard rails)
   mutable std::string input_name;
+  mutable double sample_time_used_s = 0.0;  ///< the largest sample time of the runs (aliasing check)
 };
 
 // The longest hold of a converter copy of the input (ident::is_converted_copy): 1.5 updates of the
@@ -180,6 +181,7 @@ ident::Experiment load(const std::string& path, const IdentifyState& st) {
   e.output = t.columns[c.output];
   st.input_name = t.names[c.input];
   st.output_name = t.names[c.output];
+  st.sample_time_used_s = std::max(st.sample_time_used_s, e.sample_time_s);
   // Say which columns were used (the defaults guess: command…/input…/u…, then the next column).
   fmt::print(stderr, "clearshape identify: {}: input '{}' (column {}), output '{}' (column {}), {}\n", path, st.input_name, c.input + 1,
              st.output_name, c.output + 1,
@@ -207,7 +209,9 @@ ident::Experiment load(const std::string& path, const IdentifyState& st) {
 // The guard rails (ident/trust.hpp) plus one only the command sees: a speed-mode model (input
 // in V) fitted to an angle (output in deg, rad or counts) — the study fits the speed instead.
 std::vector<std::string> identify_warnings(const ident::ProcessEstimate& est, const IdentifyState& st) {
-  auto w = ident::assess(est).warnings;
+  ident::TrustOptions trust;
+  trust.sample_time_s = st.sample_time_used_s;
+  auto w = ident::assess(est, trust).warnings;
   const auto ends = [](const std::string& s, const char* tail) {
     const std::string t = tail;
     return s.size() >= t.size() && lower(s).compare(s.size() - t.size(), t.size(), t) == 0;

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "clearshape/core/units.hpp"
+
 namespace clearshape::ident {
 
 TrustAssessment assess(const ProcessEstimate& e, const TrustOptions& options) {
@@ -17,6 +19,16 @@ TrustAssessment assess(const ProcessEstimate& e, const TrustOptions& options) {
   const double fit = e.fit_percent();
   if (!(fit >= options.min_fit_percent)) {
     t.warnings.push_back(fmt::format("poor fit: {:.1f} % (below {:.0f} %)", fit, options.min_fit_percent));
+  }
+  if (options.sample_time_s > 0.0) {
+    const double nyquist_rad_s = kPi / options.sample_time_s;  // ω_N = π / T
+    for (const auto& p : e.model.poles()) {
+      if (p.imag() >= 0.0 && std::abs(p) >= kAliasedFraction * nyquist_rad_s) {
+        t.warnings.push_back(fmt::format("a pole at {:.4g} rad/s is at {:.0f} % of the Nyquist frequency ({:.4g} rad/s): aliased, the record "
+                                         "cannot resolve it (try a model with fewer poles)",
+                                         std::abs(p), 100.0 * std::abs(p) / nyquist_rad_s, nyquist_rad_s));
+      }
+    }
   }
   t.trusted = t.warnings.empty();
   return t;

@@ -1,7 +1,8 @@
 // The guard rails (ident/trust.hpp): a good fit of the thesis speed model is trusted; a parameter
-// held at a bound, a search cut short, a poor fit are not; cross-validation never selects an
-// untrusted model while a trusted one exists.
+// held at a bound, a search cut short, a poor fit, a pole at the Nyquist frequency are not;
+// cross-validation prefers a trusted model among near-ties of the validation fit.
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -68,7 +69,22 @@ TEST(Trust, PoorFitAndUnconvergedSearchAreNotTrusted) {
   EXPECT_FALSE(ident::assess(forced).trusted);
 }
 
-TEST(Trust, CrossValidationNeverSelectsAnUntrustedModel) {
+TEST(Trust, APoleAtTheNyquistFrequencyIsAliased) {
+  const auto truth = lti::thesis_speed_mode_model();
+  const std::vector<ident::Experiment> data = {t::make_data(truth, t::step_input(2001), 1e-3, 0.01, 1, "step")};
+  const auto e = ident::estimate_process_model(truth.structure(), data);
+  double fastest = 0.0;
+  for (const auto& p : e.model.poles()) fastest = std::max(fastest, std::abs(p));
+  ident::TrustOptions o;
+  o.sample_time_s = 1e-3;  // the record's: every pole far below π/T
+  EXPECT_TRUE(ident::assess(e, o).trusted);
+  o.sample_time_s = 0.95 * 3.141592653589793 / fastest;  // as if sampled so that the fastest pole sits at 95 % of π/T
+  const auto a = ident::assess(e, o);
+  EXPECT_FALSE(a.trusted);
+  EXPECT_TRUE(mentions(a, "of the Nyquist frequency")) << (a.warnings.empty() ? "" : a.warnings[0]);
+}
+
+TEST(Trust, CrossValidationPrefersATrustedModelAmongNearTies) {
   const auto truth = lti::thesis_speed_mode_model();
   const double dt = 1e-3;
   const std::vector<ident::Experiment> data = {
