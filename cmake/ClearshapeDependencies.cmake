@@ -6,6 +6,9 @@ find_package(CLI11 REQUIRED)
 find_package(NLopt REQUIRED)
 find_package(SUNDIALS REQUIRED)
 find_package(Ceres REQUIRED)
+# Boost.Odeint (plant/fixed_step.cpp): header-only, in the system include path; checked here, not
+# linked, so the exported static libraries carry no Boost target for a consumer to find.
+find_package(Boost 1.74 REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(tomlplusplus REQUIRED IMPORTED_TARGET tomlplusplus)
 pkg_check_modules(libserialport REQUIRED IMPORTED_TARGET libserialport)  # rig::SerialRig

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job of `make run`: the thesis's experimental programme (Chapters 4–5, Appendix B) on
-# the simulated thesis rig in both operation modes and on the large-play rig (clearshape study;
+# the simulated thesis rig in both operation modes, on the worn-coupling rig (docs/worn-coupling.md)
+# and on the large-play rig (clearshape study;
 # docs/large-play.md), then the figures and the self-contained report of each study
 # (python/render_study.py, Debian's python3-matplotlib).
 # Finished runs are reused by a second `make run` (out/thesis-*/runs/); tables on stdout go to
@@ -9,7 +10,7 @@ set -euo pipefail
 build_dir="${1:-build}"
 exe="$build_dir/bin/clearshape"
 mkdir -p out
-studies=(thesis-position thesis-speed large-play-position)
+studies=(thesis-position thesis-speed worn-coupling-position large-play-position)
 # A study's report (one single-threaded Python process) is drawn while the next study runs.
 render=()
 [[ -f python/render_study.py ]] && render=(/usr/bin/python3 python/render_study.py)

@@ -107,6 +107,12 @@ void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, do
   request.max_duration_s = design_duration_bound(o, identified, frequency_hz, zeta, "clearance-aware", bound_source);
   const auto begin = std::chrono::steady_clock::now();
   const study::ClearanceAwareResult r = study::design_clearance_aware(request);
+  if (r.worse_than_unshaped) {  // issue 19: never offered without a warning
+    fmt::print(stderr,
+               "warning: the clearance-aware design leaves a case WORSE than unshaped on the model (worst {:.3g} % of "
+               "its unshaped MD); do not use it as it is — widen --max-duration-s or refit the model\n",
+               100.0 * r.worst_ratio);
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
 
   const std::string impulses_arg = custom_impulses_argument(r.shaper);
@@ -127,11 +133,14 @@ void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, do
       cases.push_back({{"move_deg", c.move},
                        {"play_factor", c.point.play_factor},
                        {"stiffness_factor", c.point.stiffness_factor},
+                       {"coulomb_factor", c.point.coulomb_factor},
                        {"initial_play_fraction", c.point.initial_play_fraction},
                        {"md_unshaped_deg", c.md_unshaped_deg},
                        {"md_shaped_deg", c.md_shaped_deg}});
     }
     doc["cases"] = cases;
+    doc["worst_ratio"] = r.worst_ratio;
+    doc["worse_than_unshaped"] = r.worse_than_unshaped;
     doc["evaluations"] = r.evaluations;
     doc["termination"] = r.termination;
     doc["design_time_s"] = seconds;
@@ -147,13 +156,15 @@ void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, do
   fmt::print("bound       {:.6g} s ({})\n\n  #        t_s                a\n", request.max_duration_s, bound_source);
   std::size_t i = 0;
   for (const auto& p : r.shaper.impulses()) fmt::print("{:3d}  {:>14.9f}  {:>15.12f}\n", ++i, p.time_s, p.amplitude);
-  fmt::print("\nduration_s  {:.9g}\n\n  move_deg  play×  K×  phi0/beta  MD unshaped (deg)  MD shaped (deg)\n",
+  fmt::print("\nduration_s  {:.9g}\n\n  move_deg  play×  K×  c×  phi0/beta  MD unshaped (deg)  MD shaped (deg)\n",
              r.shaper.duration_s());
   for (const auto& c : r.cases) {
-    fmt::print("  {:>8.4g}  {:>5.3g}  {:>3.3g}  {:>9.3g}  {:>17.5g}  {:>15.5g}\n", c.move, c.point.play_factor,
-               c.point.stiffness_factor, c.point.initial_play_fraction, c.md_unshaped_deg, c.md_shaped_deg);
+    fmt::print("  {:>8.4g}  {:>5.3g}  {:>3.3g}  {:>3.3g}  {:>9.3g}  {:>17.5g}  {:>15.5g}{}\n", c.move, c.point.play_factor,
+               c.point.stiffness_factor, c.point.coulomb_factor, c.point.initial_play_fraction, c.md_unshaped_deg,
+               c.md_shaped_deg, c.md_shaped_deg > c.md_unshaped_deg ? "  WORSE than unshaped" : "");
   }
-  fmt::print("\nworst MD    {:.5g} deg (unshaped {:.5g} deg)\n", r.worst_md_deg, r.worst_unshaped_md_deg);
+  fmt::print("\nworst MD    {:.5g} deg (unshaped {:.5g} deg); worst case keeps {:.3g} % of its unshaped MD\n",
+             r.worst_md_deg, r.worst_unshaped_md_deg, 100.0 * r.worst_ratio);
   fmt::print("search      {} evaluations, {} ({:.3g} s)\n", r.evaluations, r.termination, seconds);
   fmt::print("as custom   --method custom --impulses \"{}\"\n", impulses_arg);
 }

@@ -504,9 +504,11 @@ void setup(CLI::App& sub) {
   st->restitution_option = sub.add_option("--restitution", st->restitution,
                                           "Coefficient of restitution e (not for the thesis law)");
   st->rig_option = sub.add_option("--rig", st->rig_name,
-                                  "Built-in rig truth: thesis (calibrated, default) or large-play (1 deg steel pin, "
-                                  "docs/large-play.md); flags override it")
-                       ->check(CLI::IsMember({"thesis", "large-play"}));
+                                  "Built-in rig truth: thesis (calibrated, default), large-play (1 deg steel pin, "
+                                  "docs/large-play.md) or worn-coupling (1 deg play on the soft flank, bearing "
+                                  "friction, docs/worn-coupling.md); flags override it")
+                       ->check(CLI::IsMember(std::vector<std::string>(rig::kBuiltinTruthNames.begin(),
+                                                                      rig::kBuiltinTruthNames.end())));
   sub.add_option("--config", st->config, "Rig configuration (TOML); flags override it");
   st->duration_option = sub.add_option("--duration", st->duration_s, "Duration (s), default 5");
   st->rate_option = sub.add_option("--rate", st->rate_hz, "Output sample rate (Hz), default 1000");

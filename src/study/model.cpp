@@ -1,11 +1,13 @@
 #include "clearshape/study/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/plant/command.hpp"
 #include "clearshape/plant/drive.hpp"
+#include "clearshape/plant/fixed_step.hpp"
 #include "clearshape/plant/joint.hpp"
 #include "clearshape/plant/simulation.hpp"
 #include "clearshape/signal/position_path.hpp"
@@ -30,7 +32,73 @@ UniformSeries on_grid(const UniformSeries& command, std::size_t n, double ts) {
   return out;
 }
 
+// The steps per sample for the fixed-step path (plant/fixed_step.hpp): ω·h ≤ 0.05 on the linear
+// flank's mode √(K/J), h·c/(v_t·J) ≤ 0.5 on the friction's tanh; at least 4.
+int fixed_substeps(const ClearanceModel& m, double ts) {
+  const double flank = std::sqrt(m.stiffness / m.link_inertia_kg_m2) * ts / 0.05;
+  const double friction = ts * m.coulomb_n_m / (m.friction_regularization_rad_s * m.link_inertia_kg_m2) / 0.5;
+  return static_cast<int>(std::clamp(std::ceil(std::max({4.0, flank, friction})), 4.0, 1000.0));
+}
+
+// A design loop's fast path: the dashpot law with a linear flank (smooth but for its kinks) and
+// a small enough step (plant/fixed_step.hpp); anything stiffer keeps CVODE.
+bool fixed_step_covers(const ClearanceModel& m, double ts) {
+  return m.play_rad > 0.0 && m.contact_law == ContactLawChoice::dashpot && m.exponent == 1.0 &&
+         fixed_substeps(m, ts) < 1000;
+}
+
 }  // namespace
+
+namespace {
+
+// The design loop's fast path (fixed_step_covers): the same model, sampled like a record.
+ModelResponse simulate_fixed(const ClearanceModel& m, const plant::PlantModel& model, const UniformSeries& u,
+                             double initial_play_fraction) {
+  plant::FixedStepOptions options;
+  options.substeps = fixed_substeps(m, u.sample_time_s);
+  options.initial_relative_angle_rad = initial_play_fraction * 0.5 * m.play_rad;
+  const plant::FixedStepResponse sim = plant::simulate_fixed_step(model, u, options);
+  ModelResponse r;
+  r.sample_time_s = u.sample_time_s;
+  const std::size_t n = u.values.size();
+  r.time_s.resize(n);
+  r.drive_command = u.values;
+  r.motor_angle_deg.resize(n);
+  r.motor_rate_deg_s.resize(n);
+  r.link_angle_deg.resize(n);
+  r.link_rate_deg_s.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    r.time_s[k] = static_cast<double>(k) * u.sample_time_s;
+    r.motor_angle_deg[k] = rad_to_deg(sim.motor_angle_rad[k]);
+    r.motor_rate_deg_s[k] = rad_to_deg(sim.motor_rate_rad_s[k]);
+    r.link_angle_deg[k] = rad_to_deg(sim.link_angle_rad[k] - sim.link_angle_rad[0]);
+    r.link_rate_deg_s[k] = rad_to_deg(sim.link_rate_rad_s[k]);
+  }
+  return r;
+}
+
+}  // namespace
+
+plant::PlantModel plant_of(const ClearanceModel& m) {
+  plant::PlantModel model;
+  model.drive = plant::DriveModel::from_process_model(
+      m.mode == rig::CommandMode::position ? plant::DriveMode::position : plant::DriveMode::speed,
+      m.drive);
+  model.link.inertia_kg_m2 = m.link_inertia_kg_m2;
+  plant::TorsionalClearance joint;
+  const bool rigid = !(m.play_rad > 0.0);
+  joint.half_play_rad = rigid ? 1e3 : 0.5 * m.play_rad;  // rigid: a free link, copied below
+  // Eq. 4.3 (clamped), or Flores et al. 2011 as the large-play truth builds it (rig/contact.cpp).
+  joint.law = m.contact_law == ContactLawChoice::flores
+                  ? plant::ContactLaw::hysteresis(plant::Hysteresis::flores, m.stiffness, m.exponent, m.restitution)
+                  : plant::ContactLaw::hertz_dashpot(m.stiffness, m.exponent, m.damping, plant::DampingPolicy::clamped);
+  // Eq. 2.9 as a joint torque on φ̇: −c·tanh(φ̇/v_t) − b·φ̇ (plant::Friction, no Stribeck peak).
+  joint.joint_friction.coulomb = m.coulomb_n_m;
+  joint.joint_friction.viscous = m.viscous_n_m_s_per_rad;
+  joint.joint_friction.regularization_rate = m.friction_regularization_rad_s;
+  model.joint = joint;
+  return model;
+}
 
 std::string to_string(ContactLawChoice law) { return law == ContactLawChoice::flores ? "flores" : "dashpot"; }
 
@@ -49,23 +117,9 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
   const std::size_t n = sample_count(duration_s, ts);
   const UniformSeries u = on_grid(drive_command, n, ts);
 
-  plant::PlantModel model;
-  model.drive = plant::DriveModel::from_process_model(
-      m.mode == rig::CommandMode::position ? plant::DriveMode::position : plant::DriveMode::speed,
-      m.drive);
-  model.link.inertia_kg_m2 = m.link_inertia_kg_m2;
-  plant::TorsionalClearance joint;
   const bool rigid = !(m.play_rad > 0.0);
-  joint.half_play_rad = rigid ? 1e3 : 0.5 * m.play_rad;  // rigid: a free link, copied below
-  // Eq. 4.3 (clamped), or Flores et al. 2011 as the large-play truth builds it (rig/contact.cpp).
-  joint.law = m.contact_law == ContactLawChoice::flores
-                  ? plant::ContactLaw::hysteresis(plant::Hysteresis::flores, m.stiffness, m.exponent, m.restitution)
-                  : plant::ContactLaw::hertz_dashpot(m.stiffness, m.exponent, m.damping, plant::DampingPolicy::clamped);
-  // Eq. 2.9 as a joint torque on φ̇: −c·tanh(φ̇/v_t) − b·φ̇ (plant::Friction, no Stribeck peak).
-  joint.joint_friction.coulomb = m.coulomb_n_m;
-  joint.joint_friction.viscous = m.viscous_n_m_s_per_rad;
-  joint.joint_friction.regularization_rate = m.friction_regularization_rad_s;
-  model.joint = joint;
+  const plant::PlantModel model = plant_of(m);
+  if (design_accuracy && fixed_step_covers(m, ts)) return simulate_fixed(m, model, u, initial_play_fraction);
 
   plant::SimulationOptions options;
   options.duration_s = static_cast<double>(n - 1) * ts;

@@ -268,7 +268,12 @@ void parse_shaping(const TomlSection& top, Protocol& p) {
   if (!sh) return;
   p.shaping.grid_hz = sh->number("grid_hz", 0.0);
   if (p.shaping.grid_hz < 0.0) sh->fail("grid_hz", "must be >= 0 (0 = keep the designed impulse times)");
-  sh->finish("grid_hz");
+  p.shaping.clearance_aware_max_duration_s = sh->number("clearance_aware_max_duration_s", 0.0);
+  const double bound = p.shaping.clearance_aware_max_duration_s;
+  if (!(bound == 0.0 || (bound >= 1e-3 && bound <= 5.0))) {
+    sh->fail("clearance_aware_max_duration_s", "must be 0 (ZVDD's duration for the link mode) or in [0.001, 5] s");
+  }
+  sh->finish("grid_hz, clearance_aware_max_duration_s");
 }
 
 void parse_inputs(const TomlSection& top, Protocol& p) {

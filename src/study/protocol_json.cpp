@@ -145,7 +145,8 @@ json to_json(const Protocol& p) {
   j["measure"] = {{"md_signal", to_string(p.measure.md_signal)},
                   {"bias_window_s", p.measure.bias_window_s},
                   {"md_final_window_fraction", p.measure.md_final_window_fraction}};
-  j["shaping"] = {{"grid_hz", p.shaping.grid_hz}};
+  j["shaping"] = {{"grid_hz", p.shaping.grid_hz},
+                  {"clearance_aware_max_duration_s", p.shaping.clearance_aware_max_duration_s}};
   j["inputs"] = inputs_json(p);
   j["consistency"] = consistency_json(p.consistency);
   j["identification"] = identification_json(p.identification);

@@ -30,17 +30,24 @@ bool wanted(const Protocol& p) {
          std::find(m.begin(), m.end(), "clearance-model") != m.end();
 }
 
-// The moves: the amplitudes of the protocol's steps and double steps (both steps), by size.
-std::vector<double> moves_of(const Protocol& p) {
-  std::set<double> moves;
-  for (const auto& in : p.inputs) {
-    if (const auto* s = in.signal.get_if<signal::Step>()) moves.insert(s->amplitude);
-    if (const auto* d = in.signal.get_if<signal::DoubleStep>()) {
-      moves.insert(d->amplitude);
-      moves.insert(d->second_amplitude);
+// The inputs the clearance-aware shaper runs on (its rig-test tables; else every step and
+// double step), each as its own command profile (design_move).
+std::vector<DesignMove> moves_of(const Protocol& p) {
+  std::set<std::string> used;
+  for (const auto& t : p.rig_tests.tables) {
+    for (const auto& col : t.columns) {
+      if (col.shaper == kClearanceAwareShaper) used.insert(t.input);
     }
   }
-  return {moves.begin(), moves.end()};
+  std::vector<DesignMove> moves;
+  for (const auto& in : p.inputs) {
+    const bool kind = in.signal.get_if<signal::Step>() != nullptr || in.signal.get_if<signal::DoubleStep>() != nullptr;
+    if (!kind || (!used.empty() && used.count(in.name) == 0)) continue;
+    auto m = design_move(in.name, in.signal, p.sample_rate_hz, p.record_s);
+    if (!m) continue;  // no motion
+    moves.push_back(std::move(*m));
+  }
+  return moves;
 }
 
 }  // namespace
@@ -58,34 +65,44 @@ void ensure_clearance_aware(Context& c) {
   }
   ClearanceAwareRequest r;
   r.model = *c.model;
-  r.moves = moves_of(c.p);
+  r.profiles = moves_of(c.p);
+  if (r.profiles.empty()) {
+    c.clearance_aware_note = "no step or double-step input to design for";
+    return;
+  }
+  for (const auto& m : r.profiles) r.moves.push_back(m.command.values.back());
   shaping::DesignRequest zvdd;
   zvdd.method = shaping::Method::zvdd;
   zvdd.mode = c.link_mode.mode;
-  r.max_duration_s = std::min(5.0, shaping::design(zvdd).duration_s());
+  r.max_duration_s = c.p.shaping.clearance_aware_max_duration_s > 0.0 ? c.p.shaping.clearance_aware_max_duration_s
+                                                                       : std::min(5.0, shaping::design(zvdd).duration_s());
   if (c.p.shaping.grid_hz > 0.0) r.grid_s = 1.0 / c.p.shaping.grid_hz;
   r.sample_time_s = c.p.sample_time_s();
-  r.max_evaluations = c.p.quick ? 20 : 80;
+  r.max_evaluations = c.p.quick ? 40 : 300;
   r.threads = c.threads;
   try {
     const ClearanceAwareResult d = design_clearance_aware(r);
     c.clearance_aware = d.shaper;
     c.clearance_aware_note = fmt::format(
-        "designed on the fitted clearance model (play {:.4g} deg, K {:.4g}, n {:.3g}, {} {:.4g}) for moves {} "
-        "and {} uncertainty points, bound {:.4g} s (ZVDD, link mode); worst model MD {:.4g} deg (unshaped "
-        "{:.4g}); {} evaluations, {}",
+        "designed on the fitted clearance model (play {:.4g} deg, K {:.4g}, n {:.3g}, {} {:.4g}, Coulomb {:.3g} N·m) "
+        "for moves {} from {} start places × model points, bound {:.4g} s ({}); worst case keeps {:.3g} % "
+        "of its unshaped MD on the model (worst MD {:.4g} deg, unshaped {:.4g}){}; {} evaluations, {}",
         r.model.play_rad * 180.0 / M_PI, r.model.stiffness, r.model.exponent,
         r.model.contact_law == ContactLawChoice::flores ? "Flores e" : "D",
-        r.model.contact_law == ContactLawChoice::flores ? r.model.restitution : r.model.damping,
-        fmt::join(r.moves, "/"), r.uncertainty.size(), r.max_duration_s, d.worst_md_deg, d.worst_unshaped_md_deg,
-        d.evaluations, d.termination);
+        r.model.contact_law == ContactLawChoice::flores ? r.model.restitution : r.model.damping, r.model.coulomb_n_m,
+        fmt::join(r.moves, "/"), r.uncertainty.size(), r.max_duration_s,
+        c.p.shaping.clearance_aware_max_duration_s > 0.0 ? "the protocol's" : "ZVDD, link mode", 100.0 * d.worst_ratio, d.worst_md_deg,
+        d.worst_unshaped_md_deg, d.worse_than_unshaped ? " — WORSE than unshaped in some case" : "", d.evaluations,
+        d.termination);
     json impulses = json::array();
     for (const auto& i : d.shaper.impulses()) impulses.push_back({{"t", i.time_s}, {"a", i.amplitude}});
     json cases = json::array();
     for (const auto& k : d.cases) {
       cases.push_back({{"move", k.move},
+                       {"input", k.move_name},
                        {"play_factor", k.point.play_factor},
                        {"stiffness_factor", k.point.stiffness_factor},
+                       {"coulomb_factor", k.point.coulomb_factor},
                        {"initial_play_fraction", k.point.initial_play_fraction},
                        {"md_unshaped_deg", k.md_unshaped_deg},
                        {"md_shaped_deg", k.md_shaped_deg}});
@@ -97,6 +114,8 @@ void ensure_clearance_aware(Context& c) {
                                      {"objective", d.objective},
                                      {"worst_md_deg", d.worst_md_deg},
                                      {"worst_unshaped_md_deg", d.worst_unshaped_md_deg},
+                                     {"worst_ratio", d.worst_ratio},
+                                     {"worse_than_unshaped", d.worse_than_unshaped},
                                      {"evaluations", d.evaluations},
                                      {"termination", d.termination},
                                      {"cases", cases}};

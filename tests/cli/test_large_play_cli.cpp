@@ -108,7 +108,7 @@ TEST(LargePlayCli, ShapeClearanceAwareFromAFitClearanceDocument) {
   EXPECT_EQ(j["method"], "clearance-aware");
   EXPECT_LE(j["duration_s"].get<double>(), 0.07);
   EXPECT_TRUE(j["positive"].get<bool>());
-  EXPECT_EQ(j["cases"].size(), 3u);  // one move × three uncertainty points
+  EXPECT_EQ(j["cases"].size(), 5u);  // one move × five start places in the play
   EXPECT_LE(j["worst_md_deg"].get<double>(), j["worst_unshaped_md_deg"].get<double>() * 1.1 + 1e-9);
   // The impulses as `shape --method custom --impulses` takes them.
   const auto custom = run_cli("shape --method custom --impulses \"" + j["custom_impulses"].get<std::string>() + "\" --json");

@@ -45,22 +45,25 @@ TEST(ClearanceAware, PositiveOnTheGridWithinTheBoundAndNoWorseThanUnshaped) {
     EXPECT_NEAR(i.time_s / r.grid_s, std::round(i.time_s / r.grid_s), 1e-9) << i.time_s;
   }
   ASSERT_EQ(d.cases.size(), 4u);
-  // The unshaped step is the first start of the search: the result's objective cannot exceed it.
-  double worst_unshaped = 0.0, mean_unshaped = 0.0;
+  // The unshaped step is the first start of the search and scores r = 1 in every case (each
+  // case relative to itself unshaped): the result's objective max r + 0.1·mean r cannot exceed 1.1.
+  double worst_unshaped = 0.0, worst_ratio = 0.0;
   for (const auto& c : d.cases) {
     worst_unshaped = std::max(worst_unshaped, c.md_unshaped_deg);
-    mean_unshaped += c.md_unshaped_deg / 4.0;
+    worst_ratio = std::max(worst_ratio, c.md_shaped_deg / c.md_unshaped_deg);
   }
-  EXPECT_LE(d.objective, worst_unshaped + 0.1 * mean_unshaped + 1e-12);
+  EXPECT_LE(d.objective, 1.1 + 1e-12);
   EXPECT_EQ(d.worst_unshaped_md_deg, worst_unshaped);
+  EXPECT_DOUBLE_EQ(d.worst_ratio, worst_ratio);
+  EXPECT_EQ(d.worse_than_unshaped, worst_ratio > 1.0);
   EXPECT_GT(d.evaluations, 2);
   EXPECT_LE(d.evaluations, r.max_evaluations + 1);
   // A reported case is the model re-simulated with the result.
   const auto& c = d.cases[3];
-  cs::study::ClearanceModel varied = r.model;
-  varied.play_rad *= c.point.play_factor;
-  varied.stiffness *= c.point.stiffness_factor;
-  EXPECT_DOUBLE_EQ(c.md_shaped_deg, st::clearance_aware_case_md(r, varied, c.move, c.point.initial_play_fraction, d.shaper));
+  EXPECT_EQ(c.move_name, "20");
+  EXPECT_DOUBLE_EQ(c.md_shaped_deg, st::clearance_aware_case_md(r, st::varied_model(r.model, c.point),
+                                                                st::design_moves(r).at(1), c.point.initial_play_fraction,
+                                                                d.shaper));
 }
 
 TEST(ClearanceAware, SameResultOnOneAndTwoThreads) {

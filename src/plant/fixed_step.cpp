@@ -1,0 +1,141 @@
+#include "clearshape/plant/fixed_step.hpp"
+
+#include <array>
+#include <cmath>
+#include <variant>
+
+#include <boost/numeric/odeint/stepper/runge_kutta4.hpp>
+
+#include "clearshape/core/error.hpp"
+
+namespace clearshape::plant {
+
+namespace {
+
+constexpr int kStates = kMaxDriveOrder + 2;  // drive states, φ, ω, then unused slots
+using State = std::array<double, kStates>;
+
+// The right-hand side of torsional_system.cpp in its free and contact modes (no impulse law, no
+// locking): ẋ = A x + B u; φ̇ = ω − ω_m; J ω̇ = −s F(δ, δ̇) + τ_f(φ̇) + τ_g − b_g ω.
+struct Rhs {
+  const DriveModel* drive = nullptr;
+  const Link* link = nullptr;
+  const TorsionalClearance* joint = nullptr;
+  const UniformSeries* input = nullptr;
+  int nd = 0;
+  double weight_rc = 0.0;
+  ContactMemory memory{};  // the approach rate latched at the current contact's onset
+  bool in_contact = false;
+  double u = 0.0;          // the input over the current step (zero-order hold)
+
+  double u_at(double t) const noexcept {
+    const double r = (t - drive->delay_s()) / input->sample_time_s;
+    if (r < 0.0) return 0.0;
+    const auto k = static_cast<std::size_t>(std::floor(r + 1e-9));
+    return input->values[std::min(k, input->values.size() - 1)];
+  }
+
+  void operator()(const State& y, State& yd, double /*t*/) const noexcept {
+    const Eigen::Map<const Eigen::VectorXd> x(y.data(), nd);
+    const auto& a = drive->a();
+    const auto& b = drive->b();
+    for (int i = 0; i < nd; ++i) {
+      double v = b(i) * u;
+      for (int j = 0; j < nd; ++j) v += a(i, j) * y[static_cast<std::size_t>(j)];
+      yd[static_cast<std::size_t>(i)] = v;
+    }
+    const double phi = y[static_cast<std::size_t>(nd)];
+    const double w = y[static_cast<std::size_t>(nd) + 1];
+    const double phi_rate = w - drive->rate_rad_s(x, u);
+    const double s = phi >= 0.0 ? 1.0 : -1.0;
+    const double delta = s * phi - joint->half_play_rad;  // δ = |φ| − β
+    double tau = joint->joint_friction.evaluate(phi_rate).force - link->ground_viscous_n_m_s_per_rad * w +
+                 link->external_torque_n_m;
+    if (weight_rc != 0.0) tau -= weight_rc * std::cos(drive->angle_rad(x) + phi);  // τ_g = −m g r_c cos θ
+    if (delta > 0.0) {
+      const double delta_rate = s * phi_rate;
+      const ContactMemory m =
+          in_contact ? memory : ContactMemory{joint->law.latch_approach_rate(delta_rate), false};
+      tau -= s * joint->law.evaluate(delta, delta_rate, m).force;
+    }
+    for (int i = nd + 2; i < kStates; ++i) yd[static_cast<std::size_t>(i)] = 0.0;  // unused slots stay 0
+    yd[static_cast<std::size_t>(nd)] = phi_rate;
+    yd[static_cast<std::size_t>(nd) + 1] = tau / link->inertia_kg_m2;
+  }
+};
+
+void validate(const PlantModel& model, const UniformSeries& input, const FixedStepOptions& o) {
+  model.validate();
+  const auto* joint = std::get_if<TorsionalClearance>(&model.joint);
+  if (joint == nullptr) throw InvalidArgument("fixed-step simulation: the planar joint needs plant::simulate");
+  if (joint->impact) throw InvalidArgument("fixed-step simulation: impulse impacts need plant::simulate");
+  if (joint->law.switches_on_rate()) {
+    throw InvalidArgument("fixed-step simulation: the thesis Kelvin–Voigt law switches on the rate; use plant::simulate");
+  }
+  if (input.values.empty()) throw InvalidArgument("drive_input: empty; give at least one sample");
+  require_positive("drive_input.sample_time_s", input.sample_time_s);
+  if (o.substeps < 1 || o.substeps > 1000) throw_invalid("substeps", o.substeps, "[1, 1000]");
+  require_in_closed("initial_relative_angle_rad", o.initial_relative_angle_rad, -joint->half_play_rad,
+                    joint->half_play_rad);
+  require_finite("initial_link_rate_rad_s", o.initial_link_rate_rad_s);
+}
+
+}  // namespace
+
+FixedStepResponse simulate_fixed_step(const PlantModel& model, const UniformSeries& drive_input,
+                                      const FixedStepOptions& options) {
+  validate(model, drive_input, options);
+  const auto& joint = std::get<TorsionalClearance>(model.joint);
+  Rhs rhs{&model.drive, &model.link, &joint, &drive_input, model.drive.order(),
+          model.link.in_plane_weight_n() * model.link.com_distance_m};
+  State y{};
+  const auto nd = static_cast<std::size_t>(rhs.nd);
+  y[nd] = options.initial_relative_angle_rad;
+  y[nd + 1] = options.initial_link_rate_rad_s;
+
+  const std::size_t n = drive_input.values.size();
+  const double ts = drive_input.sample_time_s;
+  const double h = ts / options.substeps;
+  FixedStepResponse out;
+  out.sample_time_s = ts;
+  out.motor_angle_rad.resize(n);
+  out.motor_rate_rad_s.resize(n);
+  out.link_angle_rad.resize(n);
+  out.link_rate_rad_s.resize(n);
+  boost::numeric::odeint::runge_kutta4<State> stepper;
+  const auto sample = [&](std::size_t k, double t) {
+    const Eigen::Map<const Eigen::VectorXd> x(y.data(), rhs.nd);
+    out.motor_angle_rad[k] = model.drive.angle_rad(x);
+    out.motor_rate_rad_s[k] = model.drive.rate_rad_s(x, rhs.u_at(t + 0.5 * h));
+    out.link_angle_rad[k] = out.motor_angle_rad[k] + y[nd];
+    out.link_rate_rad_s[k] = y[nd + 1];
+  };
+  sample(0, 0.0);
+  for (std::size_t k = 1; k < n; ++k) {
+    for (int j = 0; j < options.substeps; ++j) {
+      const double t = (static_cast<double>(k - 1) + static_cast<double>(j) / options.substeps) * ts;
+      // Held over the step: the input at its midpoint (a stage at the step's end must not see the
+      // next sample; exact for a delay that is a multiple of the step).
+      rhs.u = rhs.u_at(t + 0.5 * h);
+      stepper.do_step(rhs, y, t, h);
+      // The contact's discrete memory (torsional_system.cpp): latched at onset, cleared at separation.
+      const double phi = y[nd];
+      const double delta = std::abs(phi) - joint.half_play_rad;
+      if (delta > 0.0 && !rhs.in_contact) {
+        const Eigen::Map<const Eigen::VectorXd> x(y.data(), rhs.nd);
+        const double rate = (phi >= 0.0 ? 1.0 : -1.0) * (y[nd + 1] - model.drive.rate_rad_s(x, rhs.u));
+        rhs.memory = ContactMemory{joint.law.latch_approach_rate(rate), false};
+        rhs.in_contact = true;
+      } else if (delta <= 0.0) {
+        rhs.in_contact = false;
+      }
+    }
+    for (const double v : y) {
+      if (!std::isfinite(v)) throw RuntimeError("fixed-step simulation diverged at t = " + std::to_string(k * ts) + " s");
+    }
+    sample(k, static_cast<double>(k) * ts);
+  }
+  return out;
+}
+
+}  // namespace clearshape::plant
