@@ -18,6 +18,7 @@
 
 #include "clearshape/core/series.hpp"
 #include "clearshape/lti/process_model.hpp"
+#include "clearshape/plant/joint.hpp"
 #include "clearshape/rig/types.hpp"
 
 namespace clearshape::study {
@@ -57,10 +58,14 @@ struct ModelResponse {
   std::vector<double> link_rate_deg_s;
 };
 
+/// The plant (plant/joint.hpp) the model describes: its drive, link, play, law and friction.
+plant::PlantModel plant_of(const ClearanceModel& model);
+
 /// Simulates the model under the command the drive received (sampled at sample_time_s, held
 /// between samples: e.g. a record's command_applied). The link starts at rest at
-/// `initial_play_fraction` × β in the play (0: the centre). `design_accuracy`: tolerances of a
-/// design loop (rtol 1e-6, no energy integrals) instead of the fit's (rtol 1e-7). Throws
+/// `initial_play_fraction` × β in the play (0: the centre). `design_accuracy`: a design loop's
+/// accuracy — the fixed-step path (plant/fixed_step.hpp) for a linear dashpot flank, else CVODE
+/// at rtol 1e-6 without energy integrals — instead of the fit's CVODE at rtol 1e-7. Throws
 /// RuntimeError on integration failure.
 ModelResponse simulate_drive_command(const ClearanceModel& model, const UniformSeries& drive_command,
                                      double duration_s, double initial_play_fraction = 0.0,
