@@ -2,6 +2,7 @@
 // Nothing here allocates, locks or throws.
 #include <time.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -69,6 +70,11 @@ void SerialRig::Impl::handle_sample(const cs_frame& frame, std::int64_t arrival_
   if (!anchored || offset < anchor_ns) {
     anchor_ns = offset;
     anchored = true;
+  } else {
+    // A board clock slower than the host's (a crystal is within ±100 ppm) raises every offset a
+    // little per tick: the anchor follows by up to 500 ppm of a period per sample, so a long run
+    // is not counted late for the crystal, while a host stall (milliseconds) still is.
+    anchor_ns += std::min(offset - anchor_ns, period_ns / 2000);
   }
   const std::int64_t lateness = offset - anchor_ns;
   if (lateness > max_lateness_ns.load(std::memory_order_relaxed)) {
