@@ -273,7 +273,11 @@ void parse_shaping(const TomlSection& top, Protocol& p) {
   if (!(bound == 0.0 || (bound >= 1e-3 && bound <= 5.0))) {
     sh->fail("clearance_aware_max_duration_s", "must be 0 (ZVDD's duration for the link mode) or in [0.001, 5] s");
   }
-  sh->finish("grid_hz, clearance_aware_max_duration_s");
+  p.shaping.clearance_aware_max_evaluations = static_cast<int>(sh->number("clearance_aware_max_evaluations", 300.0));
+  if (p.shaping.clearance_aware_max_evaluations < 10 || p.shaping.clearance_aware_max_evaluations > 100000) {
+    sh->fail("clearance_aware_max_evaluations", "must be in [10, 100000]");
+  }
+  sh->finish("grid_hz, clearance_aware_max_duration_s, clearance_aware_max_evaluations");
 }
 
 void parse_inputs(const TomlSection& top, Protocol& p) {

@@ -146,7 +146,8 @@ json to_json(const Protocol& p) {
                   {"bias_window_s", p.measure.bias_window_s},
                   {"md_final_window_fraction", p.measure.md_final_window_fraction}};
   j["shaping"] = {{"grid_hz", p.shaping.grid_hz},
-                  {"clearance_aware_max_duration_s", p.shaping.clearance_aware_max_duration_s}};
+                  {"clearance_aware_max_duration_s", p.shaping.clearance_aware_max_duration_s},
+                  {"clearance_aware_max_evaluations", p.shaping.clearance_aware_max_evaluations}};
   j["inputs"] = inputs_json(p);
   j["consistency"] = consistency_json(p.consistency);
   j["identification"] = identification_json(p.identification);

@@ -78,7 +78,8 @@ void ensure_clearance_aware(Context& c) {
                                                                        : std::min(5.0, shaping::design(zvdd).duration_s());
   if (c.p.shaping.grid_hz > 0.0) r.grid_s = 1.0 / c.p.shaping.grid_hz;
   r.sample_time_s = c.p.sample_time_s();
-  r.max_evaluations = c.p.quick ? 40 : 300;
+  r.max_evaluations = c.p.quick ? std::min(40, c.p.shaping.clearance_aware_max_evaluations)
+                                : c.p.shaping.clearance_aware_max_evaluations;
   r.threads = c.threads;
   try {
     const ClearanceAwareResult d = design_clearance_aware(r);

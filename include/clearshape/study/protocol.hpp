@@ -10,7 +10,8 @@
 //   [measure]          md_signal ("link_angle_deg" | "link_rate_deg_s"), bias_window_s,
 //                      md_final_window_fraction
 //   [shaping]          grid_hz (round impulse times to the drive's update grid; 0 = off),
-//                      clearance_aware_max_duration_s (0: ZVDD's duration for the link mode)
+//                      clearance_aware_max_duration_s (0: ZVDD's duration for the link mode),
+//                      clearance_aware_max_evaluations (the design's search budget, 300)
 //   [[input]]          name, label, type (signal::signal_types()) and the signal's parameters:
 //                      amplitude_deg, second_amplitude_deg, offset_deg, limit_deg, levels_deg,
 //                      slope_deg_per_s, acceleration_deg_per_s2 (…_v… in speed mode), start_s,
@@ -91,6 +92,8 @@ struct ShapingSpec {
   /// The clearance-aware shaper's duration bound (s); 0: ZVDD's for the link mode (it never adds
   /// more delay than ZVDD).
   double clearance_aware_max_duration_s = 0.0;
+  /// The clearance-aware search's budget of objective evaluations (--quick: 40).
+  int clearance_aware_max_evaluations = 300;
 };
 
 struct ConsistencyStage {
