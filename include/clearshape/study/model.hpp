@@ -190,4 +190,76 @@ std::vector<double> sensed_link_rate_deg_s(const ClearanceFitProblem& problem,
 /// Eq. 4.1 with the measurement as the mean signal: RMS(model − measured) / range(measured).
 double clearance_agreement(const std::vector<double>& measured, const std::vector<double>& model);
 
+// --- The per-run joint fit (issue 19): runs that started at different places in the play are
+// never averaged; each keeps its own start place as a nuisance parameter.
+
+/// One record of a per-run fit: what the drive received and what the gyro measured.
+struct ClearanceRunRecord {
+  std::string id;                       ///< for the outputs (the run id)
+  UniformSeries drive_command;          ///< command_applied, from t = 0
+  std::vector<double> link_rate_deg_s;  ///< the gyro's link rate on the command's grid
+};
+
+/// The per-run fit: the joint's play, flank (K, D; n held) and friction (Coulomb c, viscous b)
+/// shared by every run, and each run's start place φ(0)/β ∈ [−1, 1] its own, fitted by
+/// Levenberg–Marquardt on the gyro records (each with its resting bias removed).
+struct ClearanceRunsFitProblem {
+  ClearanceModel start;  ///< drive, link inertia, contact law; start K, D, play, c, b, n
+  std::vector<ClearanceRunRecord> runs;
+  double duration_s = 2.0;   ///< record length compared, from t = 0
+  double rest_s = 0.4;       ///< the gyro bias window before the move: its mean is removed per run
+  /// Shared parameters fitted: of stiffness, damping, play, coulomb, viscous (n held at
+  /// start.exponent; its freedom is checked afterwards).
+  std::vector<std::string> free{"stiffness", "damping", "play", "coulomb", "viscous"};
+  double link_natural_frequency_rad_s = 0.0;  ///< the link mode (0: unknown): K/J = ω², D/J = 2ζω
+  double link_damping_ratio = 0.0;
+  std::vector<double> sensor_low_pass_grid_hz{0.0};  ///< as ClearanceFitProblem
+  /// The flank damping varies from run to run (lubrication, temperature; rig/variation.hpp):
+  /// each run its own D as a nuisance, the reported D their geometric mean. Off: D shared.
+  bool per_run_damping = true;
+  int max_iterations = 40;   ///< Levenberg–Marquardt iterations
+  int threads = 2;           ///< simulations in parallel (results do not depend on it)
+  bool check_exponent = true;  ///< the n-free alternative (score test at n = 1)
+};
+
+/// The relative 1σ of the parameters a command design needs (design stage's uncertainty set).
+struct ClearanceModelSigma {
+  double play_rel_sigma = 0.0;
+  double stiffness_rel_sigma = 0.0;
+  double coulomb_rel_sigma = 0.0;
+};
+
+struct ClearanceRunsFitResult {
+  ClearanceModel model;
+  /// stiffness, damping, play, exponent, coulomb, viscous; std_error relative (1σ / value) for
+  /// all but the exponent (absolute): the larger of the noise-based σ²(JᵀJ)⁻¹ (AR(1)-inflated)
+  /// and the run-clustered sandwich (run-to-run scatter the model does not carry). With
+  /// per-run damping, D is the runs' geometric mean and its 1σ their scatter's standard error.
+  std::vector<ClearanceParameter> parameters;
+  std::vector<std::string> run_ids;
+  std::vector<double> start_fraction;      ///< per run: φ(0)/β
+  std::vector<double> start_fraction_std;  ///< its 1σ (absolute)
+  std::vector<double> run_damping;         ///< per run: D (N·m·s/rad; all equal when shared)
+  std::vector<double> run_rms_error_deg_s; ///< per run
+  double rms_error_deg_s = 0.0;            ///< over all runs (fixed-step model)
+  double check_rms_error_deg_s = 0.0;      ///< the optimum re-simulated with CVODE (rtol 1e-7)
+  double sensor_low_pass_hz = 0.0;
+  int iterations = 0;
+  int simulations = 0;
+  bool converged = false;
+  std::string termination;
+  /// The n-free alternative: the Gauss–Newton step in n from n = 1 with the others re-fitted,
+  /// its 1σ and the χ²₁ statistic of the residual it removes (significant above 3.84, 5 %).
+  double exponent_free_value = 1.0;
+  double exponent_free_std = 0.0;
+  double exponent_chi2 = 0.0;
+  bool exponent_free_better = false;
+  ClearanceModelSigma sigma() const;
+};
+
+/// Fits the problem (coarse scans of the play and the Coulomb torque with each run's start place
+/// profiled, then Levenberg–Marquardt on everything). Throws InvalidArgument naming the field on
+/// an ill-posed problem (no runs, records shorter than duration_s, an unknown free parameter).
+ClearanceRunsFitResult fit_clearance_runs(const ClearanceRunsFitProblem& problem);
+
 }  // namespace clearshape::study
