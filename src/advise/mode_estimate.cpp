@@ -190,6 +190,54 @@ MeasuredSpectrum combined(const std::vector<MeasuredSpectrum>& spectra) {
   return sum;
 }
 
+// The first line (peak bin `top`, start p1) and a candidate second one (peak bin `cand`), fitted
+// together; nullopt unless the second is significant and a usable resonance.
+std::optional<std::vector<ModeEstimate>> two_lines(const MeasuredSpectrum& s, const ModeEstimateOptions& options, const PeakStart& p1,
+                                                   std::size_t top, std::size_t cand, std::size_t lowest) {
+  const std::size_t end = s.power.size() - 1;
+  // Each line's own band ends at the valley between the two; both are then fitted together.
+  const std::size_t a = std::min(top, cand), b = std::max(top, cand);
+  std::size_t valley = a;
+  for (std::size_t k = a; k <= b; ++k) {
+    if (s.power[k] < s.power[valley]) valley = k;
+  }
+  const auto r1 = top < cand ? line_region(s, top, lowest, valley) : line_region(s, top, valley, end);
+  const auto r2 = cand < top ? line_region(s, cand, lowest, valley) : line_region(s, cand, valley, end);
+  const PeakStart p2 = start_at(s, cand, lowest);
+  const detail::LineFit one = fit_one(s, p1, r1), two = fit_one(s, p2, r2);
+  // Both lines together: their powers adding (independent excitation) or their responses adding
+  // with residues of either relative sign (one input drives both); the best fit wins.
+  const std::vector<detail::LineStart> starts{
+      {one.converged ? one.frequency_hz : p1.frequency_hz, one.converged ? one.damping_ratio : p1.damping_ratio},
+      {two.converged ? two.frequency_hz : p2.frequency_hz, two.converged ? two.damping_ratio : p2.damping_ratio}};
+  const std::size_t from = std::min(r1.first, r2.first), to = std::max(r1.second, r2.second);
+  detail::LinesFit best;
+  for (const auto& [coherent, sign] : {std::pair{false, 1.0}, std::pair{true, 1.0}, std::pair{true, -1.0}}) {
+    detail::LinesFit fit = detail::fit_lines(s.frequency_hz, s.power, from, to, starts, coherent, {1.0, sign}, bin_correlation(s));
+    if (fit.converged && (!best.converged || fit.cost < best.cost)) best = std::move(fit);
+  }
+  // The second line must explain the band: one line fitted over the same band leaves a cost
+  // larger by more than chance allows for three more parameters (Δcost / (c·s²) > 16.3, the
+  // χ²(3) 0.1 % point; c the bin correlation, s² the two-line fit's residual variance).
+  const detail::LinesFit alone =
+      detail::fit_lines(s.frequency_hz, s.power, from, to, {{p1.frequency_hz, p1.damping_ratio}}, false, {}, bin_correlation(s));
+  const double bins = static_cast<double>(to - from + 1);
+  if (best.converged && alone.converged) {
+    const double s2 = best.cost / std::max(1.0, bins - 6.0);
+    if ((alone.cost - best.cost) / (bin_correlation(s) * s2) < 16.3) return std::nullopt;
+  }
+  const bool joint = best.converged;
+  const detail::LineFit& fit_a = joint ? best.lines[0] : one;
+  const detail::LineFit& fit_b = joint ? best.lines[1] : two;
+  // The second line must be a usable resonance too (standing out of its floor, ζ off the bounds).
+  const detail::LineVerdict verdict2 = detail::judge_line(s, fit_b, p2.frequency_hz, s.power[cand], lowest, options.min_prominence);
+  if (!verdict2.problem.empty()) return std::nullopt;
+  std::vector<ModeEstimate> out{from_fit(s, p1, fit_a), from_fit(s, p2, fit_b)};
+  out[0].prominence = detail::judge_line(s, fit_a, p1.frequency_hz, s.power[top], lowest, options.min_prominence).prominence;
+  out[1].prominence = verdict2.prominence;
+  return out;
+}
+
 }  // namespace
 
 std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEstimateOptions& options) {
@@ -220,54 +268,10 @@ std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEs
   if (!verdict1.problem.empty()) throw refuse(verdict1.problem);
   ModeEstimate single = from_fit(s, p1, fit1, band_zeta);
   single.prominence = verdict1.prominence;
-  // A second mode: the highest candidate peak that passes every test below.
-  const auto try_second = [&](std::size_t cand) -> std::optional<std::vector<ModeEstimate>> {
-    // Each line's own band ends at the valley between the two; both are then fitted together.
-    const std::size_t a = std::min(top, cand), b = std::max(top, cand);
-    std::size_t valley = a;
-    for (std::size_t k = a; k <= b; ++k) {
-      if (s.power[k] < s.power[valley]) valley = k;
-    }
-    const auto r1 = top < cand ? line_region(s, top, lowest, valley) : line_region(s, top, valley, end);
-    const auto r2 = cand < top ? line_region(s, cand, lowest, valley) : line_region(s, cand, valley, end);
-    const PeakStart p2 = start_at(s, cand, lowest);
-    const detail::LineFit one = fit_one(s, p1, r1), two = fit_one(s, p2, r2);
-    // Both lines together: their powers adding (independent excitation) or their responses adding
-    // with residues of either relative sign (one input drives both); the best fit wins.
-    const std::vector<detail::LineStart> starts{
-        {one.converged ? one.frequency_hz : p1.frequency_hz, one.converged ? one.damping_ratio : p1.damping_ratio},
-        {two.converged ? two.frequency_hz : p2.frequency_hz, two.converged ? two.damping_ratio : p2.damping_ratio}};
-    const std::size_t from = std::min(r1.first, r2.first), to = std::max(r1.second, r2.second);
-    detail::LinesFit best;
-    for (const auto& [coherent, sign] : {std::pair{false, 1.0}, std::pair{true, 1.0}, std::pair{true, -1.0}}) {
-      detail::LinesFit fit = detail::fit_lines(s.frequency_hz, s.power, from, to, starts, coherent, {1.0, sign}, bin_correlation(s));
-      if (fit.converged && (!best.converged || fit.cost < best.cost)) best = std::move(fit);
-    }
-    // The second line must explain the band: one line fitted over the same band leaves a cost
-    // larger by more than chance allows for three more parameters (Δcost / (c·s²) > 16.3, the
-    // χ²(3) 0.1 % point; c the bin correlation, s² the two-line fit's residual variance).
-    const detail::LinesFit alone =
-        detail::fit_lines(s.frequency_hz, s.power, from, to, {{p1.frequency_hz, p1.damping_ratio}}, false, {}, bin_correlation(s));
-    const double bins = static_cast<double>(to - from + 1);
-    if (best.converged && alone.converged) {
-      const double s2 = best.cost / std::max(1.0, bins - 6.0);
-      if ((alone.cost - best.cost) / (bin_correlation(s) * s2) < 16.3) return std::nullopt;
-    }
-    const bool joint = best.converged;
-    const detail::LineFit& fit_a = joint ? best.lines[0] : one;
-    const detail::LineFit& fit_b = joint ? best.lines[1] : two;
-    // The second line must be a usable resonance too (standing out of its floor, ζ off the bounds).
-    const detail::LineVerdict verdict2 = detail::judge_line(s, fit_b, p2.frequency_hz, s.power[cand], lowest, options.min_prominence);
-    if (!verdict2.problem.empty()) return std::nullopt;
-    std::vector<ModeEstimate> out{from_fit(s, p1, fit_a), from_fit(s, p2, fit_b)};
-    out[0].prominence = detail::judge_line(s, fit_a, p1.frequency_hz, s.power[top], lowest, options.min_prominence).prominence;
-    out[1].prominence = verdict2.prominence;
-    return out;
-  };
   if (options.max_modes > 1) {
     // A second mode is found by significance, not by its height relative to the first: the
     // highest peaks that stand out of their own local floor are tried in turn, and the two-line
-    // fit must beat one line by more than chance allows (try_second).
+    // fit must beat one line by more than chance allows (two_lines).
     std::size_t tries = 0;
     for (std::size_t i = 1; i < peaks.size() && tries < options.second_peak_tries; ++i) {
       const auto& pk = peaks[i];
@@ -281,7 +285,7 @@ std::vector<ModeEstimate> spectral_modes(const MeasuredSpectrum& s, const ModeEs
       // fit over two merged lines would hide the second)
       if (std::abs(f - p1.frequency_hz) <= p1.damping_ratio * p1.frequency_hz + s.resolution_hz) continue;
       ++tries;
-      if (auto two = try_second(bin)) return *two;
+      if (auto two = two_lines(s, options, p1, top, bin, lowest)) return *two;
     }
   }
   return {single};
