@@ -265,8 +265,14 @@ std::string num(const json& v) {
   return fmt::format("{:.4g}", x);
 }
 
+// A column with at least one value: a column of nulls (a thesis column where the thesis gives
+// nothing) is left out rather than printed as a column of dashes.
 bool has_values(const json& col, const char* key) {
-  return col.contains(key) && col.at(key).is_array() && !col.at(key).empty();
+  if (!col.contains(key) || !col.at(key).is_array()) return false;
+  const json& v = col.at(key);
+  // In memory a missing number may still be NaN (written as null): neither counts as a value.
+  return std::any_of(v.begin(), v.end(),
+                     [](const json& x) { return !x.is_null() && !(x.is_number() && !std::isfinite(x.get<double>())); });
 }
 
 // An improvement % to one decimal, as the thesis prints them (a printed thesis string as it is).

@@ -485,6 +485,20 @@ def check_missing_is_null(study: Path, results: dict, html: str, **_) -> None:
             ours = c.get("ours")
             if isinstance(ours, list) and None in ours and md:
                 expect("| — |" in md or "— |" in md, f"tables.md prints a null of {t['id']} as nothing")
+    # tables.md: no column that holds nothing but dashes (a thesis column where the thesis gives nothing).
+    dashes = []
+    for block in re.split(r"\n(?=### )", md):
+        lines = [ln for ln in block.splitlines() if ln.startswith("|")]
+        if len(lines) < 3:
+            continue
+        head = [x.strip() for x in lines[0].strip("|").split("|")]
+        rows = [[x.strip() for x in ln.strip("|").split("|")] for ln in lines[2:]]
+        for j in range(1, len(head)):
+            cells = [r[j] for r in rows if j < len(r) and not r[0].startswith(("**", "std", "improvement"))]
+            if cells and all(x in ("—", "") for x in cells) and any(x == "—" for x in cells):
+                dashes.append(f"{block.splitlines()[0][4:40]}: {head[j]}")
+    print(f"tables.md columns of dashes: {dashes or 'none'}")
+    expect(not dashes, f"tables.md prints columns of nothing but —: {dashes[:4]}")
 
 
 def check_thesis_verbatim(study: Path, results: dict, html: str, **_) -> None:
