@@ -210,8 +210,11 @@ nlohmann::ordered_json candidates_json(const advise::Recommendation& r, const st
         j["remaining_worst_designed"] = c.remaining_worst_designed;
       }
     }
-    if (pred) j["predicted_md"] = pred->md[&c - r.candidates.data()] ? nlohmann::ordered_json(*pred->md[&c - r.candidates.data()])
-                                                                      : nlohmann::ordered_json(nullptr);
+    if (pred) {
+      const auto& md = pred->md[&c - r.candidates.data()];
+      j["predicted_md"] = md ? nlohmann::ordered_json(*md) : nlohmann::ordered_json(nullptr);
+      j["worse_than_unshaped"] = md && *md > pred->unshaped_md;  // issue 19: never offered unmarked
+    }
     cands.push_back(j);
   }
   if (ca) {  // beside the linear candidates: designed on the model, not from a mode
@@ -225,6 +228,7 @@ nlohmann::ordered_json candidates_json(const advise::Recommendation& r, const st
                      {"bound_source", ca->bound_source},
                      {"impulses", impulses},
                      {"predicted_md", ca->predicted_md},
+                     {"worse_than_unshaped", pred && ca->predicted_md > pred->unshaped_md},
                      {"design_worst_md", ca->design_worst_md_deg},
                      {"evaluations", ca->evaluations},
                      {"design_time_s", ca->design_time_s}});
@@ -338,15 +342,16 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     fmt::print("{:<10} {:>18} {:>10.2f} {:>12} {:>12.2f} {:>10}{}{}{}\n", c.name, f, 1000.0 * c.duration_s,
                fmt::format("{}{:.2f}", c.leaves_too_much ? "!" : "", 100.0 * c.remaining_worst), 100.0 * c.remaining_nominal,
                c.within_budget ? "ok" : "over", pred ? fmt::format(" {:>13.5g}", *pred->md[k]) : std::string(),
-               grid_hz > 0.0 ? fmt::format(" {:>10.2f}", 100.0 * c.remaining_worst_designed) : "", mark);
+               grid_hz > 0.0 ? fmt::format(" {:>10.2f}", 100.0 * c.remaining_worst_designed) : "",
+               mark + (pred && pred->md[k] && *pred->md[k] > pred->unshaped_md ? " WORSE than unshaped" : ""));
     if (grid_hz > 0.0) {
       fmt::print("           applied: {}{}\n", impulses_text(*c.shaper),
                  c.duplicate_of ? fmt::format(" (the same as {}: not chosen)", *c.duplicate_of) : "");
     }
   }
   if (ca) {
-    fmt::print("{:<10} {:>18} {:>10.2f} {:>12} {:>12} {:>10} {:>13.5g}\n", "clearance-aware", "(model)", 1000.0 * ca->shaper.duration_s(),
-               "-", "-", "-", ca->predicted_md);
+    fmt::print("{:<10} {:>18} {:>10.2f} {:>12} {:>12} {:>10} {:>13.5g}{}\n", "clearance-aware", "(model)", 1000.0 * ca->shaper.duration_s(),
+               "-", "-", "-", ca->predicted_md, pred && ca->predicted_md > pred->unshaped_md ? " WORSE than unshaped" : "");
     fmt::print("           designed on the model for the move ({} evaluations, {:.2f} s; bound {:.4g} s: {})\n", ca->evaluations,
                ca->design_time_s, ca->max_duration_s, ca->bound_source);
   }

@@ -75,7 +75,11 @@ void apply_predicted_md(advise::Recommendation& r, const MovePrediction& p, doub
   const double limit = c[*least].remaining_worst + vibration_tolerance;
   std::vector<std::size_t> tied;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    if (c[i].available && c[i].within_budget && !c[i].duplicate_of && c[i].remaining_worst <= limit && p.md[i]) tied.push_back(i);
+    // Never a candidate the model says leaves more than unshaped (issue 19).
+    if (c[i].available && c[i].within_budget && !c[i].duplicate_of && c[i].remaining_worst <= limit && p.md[i] &&
+        *p.md[i] <= p.unshaped_md) {
+      tied.push_back(i);
+    }
   }
   const std::size_t rule_pick = *r.chosen;
   // Shortest first; a longer candidate wins only with a predicted MD more than 1 % below.
@@ -85,6 +89,11 @@ void apply_predicted_md(advise::Recommendation& r, const MovePrediction& p, doub
     if (*p.md[i] < 0.99 * *p.md[best]) best = i;
   }
   r.chosen = best;
+  if (p.md[best] && *p.md[best] > p.unshaped_md) {
+    r.warning += fmt::format("{}on the model every tied candidate leaves more than unshaped for the move ({} {:.4g} > "
+                             "{:.4g}): do not shape this move with it",
+                             r.warning.empty() ? "" : "; ", upper(c[best].name), *p.md[best], p.unshaped_md);
+  }
   if (best == rule_pick) {
     r.reason += fmt::format("; on the model it leaves the least predicted Eq. 5.1 MD of the {} tied candidate(s) ({:.4g}, unshaped {:.4g})",
                             tied.size(), *p.md[best], p.unshaped_md);
