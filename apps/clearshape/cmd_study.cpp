@@ -87,7 +87,7 @@ study::RigFactory configured_sim_rig(const std::filesystem::path& path) {
 // that loses a sample fails (LostSamples::fail) instead of entering the study with a hole.
 study::RigFactory serial_rig_factory(const std::string& spec) {
   rig::SerialRigOptions base;
-  parse_serial_rig_spec(spec, base.port, base.baud);
+  parse_serial_rig_spec(spec, base);
   base.lost_samples = rig::LostSamples::fail;
   study::RigFactory f;
   f.description = fmt::format("serial:{} at {} baud (rig::SerialRig, the board's firmware)", base.port, base.baud);

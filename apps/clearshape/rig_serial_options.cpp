@@ -74,29 +74,45 @@ rig::SerialRigOptions SerialCliOptions::build() const {
   return o;
 }
 
-void parse_serial_rig_spec(const std::string& spec, std::string& port, int& baud) {
+void parse_serial_rig_spec(const std::string& spec, rig::SerialRigOptions& options) {
   constexpr std::string_view prefix = "serial:";
   const auto fail = [&spec]() {
-    throw InvalidArgument(fmt::format("--rig {}: allowed: serial:PORT or serial:PORT?baud=N (N in 9600 … 2000000), "
-                                      "e.g. serial:/dev/ttyACM0", spec));
+    throw InvalidArgument(fmt::format("--rig {}: allowed: serial:PORT, serial:PORT?baud=N (N in 9600 … 2000000) and "
+                                      "&max_late_fraction=F (F in 0 … 1), e.g. serial:/dev/ttyACM0?baud=1000000",
+                                      spec));
   };
   if (spec.rfind(prefix, 0) != 0) fail();
   std::string rest = spec.substr(prefix.size());
   const auto q = rest.find('?');
   if (q != std::string::npos) {
-    const std::string query = rest.substr(q + 1);
+    std::string_view query(rest);
+    query.remove_prefix(q + 1);
+    while (!query.empty()) {
+      const auto amp = query.find('&');
+      const std::string_view item = query.substr(0, amp);
+      query = amp == std::string_view::npos ? std::string_view() : query.substr(amp + 1);
+      const auto eq = item.find('=');
+      if (eq == std::string_view::npos) fail();
+      const std::string_view key = item.substr(0, eq);
+      const std::string_view text = item.substr(eq + 1);
+      if (key == "baud") {
+        int value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec != std::errc() || end != text.data() + text.size() || value < 9600 || value > 2'000'000) fail();
+        options.baud = value;
+      } else if (key == "max_late_fraction") {
+        double value = 0.0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec != std::errc() || end != text.data() + text.size() || !(value >= 0.0 && value <= 1.0)) fail();
+        options.max_late_fraction = value;
+      } else {
+        fail();
+      }
+    }
     rest = rest.substr(0, q);
-    constexpr std::string_view key = "baud=";
-    if (query.rfind(key, 0) != 0) fail();
-    const char* first = query.data() + key.size();
-    const char* last = query.data() + query.size();
-    int value = 0;
-    const auto [end, ec] = std::from_chars(first, last, value);
-    if (ec != std::errc() || end != last || value < 9600 || value > 2'000'000) fail();
-    baud = value;
   }
   if (rest.empty()) fail();
-  port = rest;
+  options.port = rest;
 }
 
 }  // namespace clearshape::cli

@@ -32,8 +32,9 @@ struct SerialCliOptions {
   rig::SerialRigOptions build() const;
 };
 
-/// "serial:/dev/ttyACM0" or "serial:/dev/ttyACM0?baud=115200" → port and baud. Throws
-/// InvalidArgument naming --rig and the accepted forms.
-void parse_serial_rig_spec(const std::string& spec, std::string& port, int& baud);
+/// "serial:/dev/ttyACM0", "serial:/dev/ttyACM0?baud=115200" or with "&max_late_fraction=0.05" →
+/// port, baud and the late-sample tolerance in `options`. Throws InvalidArgument naming --rig
+/// and the accepted forms.
+void parse_serial_rig_spec(const std::string& spec, rig::SerialRigOptions& options);
 
 }  // namespace clearshape::cli

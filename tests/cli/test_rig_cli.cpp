@@ -90,6 +90,9 @@ TEST(RigCli, ProbeErrorsNameThePortAndTheOption) {
   const auto spec = run_cli("study studies/thesis-position.toml --rig usb:/dev/ttyACM0");
   EXPECT_EQ(spec.exit_code, 2);
   EXPECT_NE(spec.err.find("serial:PORT?baud=N"), std::string::npos) << spec.err;
+  const auto fraction = run_cli("study studies/thesis-position.toml --rig 'serial:/dev/ttyACM0?baud=115200&max_late_fraction=2'");
+  EXPECT_EQ(fraction.exit_code, 2);
+  EXPECT_NE(fraction.err.find("&max_late_fraction=F (F in 0 … 1)"), std::string::npos) << fraction.err;
 }
 
 TEST(RigCli, RunWritesTheCommandAndSensorsWithASidecar) {

@@ -53,10 +53,15 @@ TEST(StudyOnTheEmulator, MatchesTheSimulatedRigWithinTheTrialsSpread) {
   // firmware/main.c, a shaper impulse on the 30 Hz update grid made its update or the next one
   // depending on the host's sub-millisecond round trip: Eq. 5.1 with ZVDD 0.1–0.2° instead of
   // 0.02° in some trials.)
+  // A run is degraded beyond 1 % of samples later than 5 ms on the host's clock (issue 21); the
+  // emulator on a loaded host runs slower than real time, so the host's clock sees its samples
+  // late although the commands answer them in time on the board's own clock: a wider tolerance
+  // (serial:PORT?max_late_fraction=F) keeps this comparison about the firmware.
   clearshape::test::EmulatorProcess emulator({"--speed", "1", "--seed", "7"});
   ASSERT_FALSE(emulator.path().empty());
   const auto physical = clearshape::testing::run_cli("study '" + protocol_path().string() + "' --rig 'serial:" +
-                                                     emulator.path() + "' --out '" + (dir / "emulator").string() + "'");
+                                                     emulator.path() + "?max_late_fraction=0.5' --out '" +
+                                                     (dir / "emulator").string() + "'");
   ASSERT_EQ(physical.exit_code, 0) << physical.err;
   const auto simulated = clearshape::testing::run_cli("study '" + protocol_path().string() + "' --rig thesis --out '" +
                                                       (dir / "sim").string() + "'");
