@@ -59,6 +59,13 @@ TEST(RecommendModelCli, ZeroPlayRanksTheCandidatesAsTheLinearVibrationAtTheModel
     }
   }
   EXPECT_NE(doc["reason"].get<std::string>().find("predicted Eq. 5.1 MD"), std::string::npos) << doc["reason"];
+  // Never worse (issue 19): the mark is the comparison it names, and the pick is never marked.
+  const double unshaped = doc["model"]["unshaped_md"].get<double>();
+  for (const auto& c : doc["candidates"]) {
+    if (!c.contains("predicted_md") || c["predicted_md"].is_null()) continue;
+    EXPECT_EQ(c["worse_than_unshaped"].get<bool>(), c["predicted_md"].get<double>() > unshaped) << c["name"];
+    if (c["name"] == chosen) EXPECT_FALSE(c["worse_than_unshaped"].get<bool>());
+  }
   std::filesystem::remove(fit);
 }
 
