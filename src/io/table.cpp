@@ -53,6 +53,27 @@ bool parse_number(std::string_view s, double& out) {
   return ec == std::errc() && ptr == s.data() + s.size();
 }
 
+// The first field of `line` written with a decimal comma ("0,125"): a comma between two digits on a
+// line that a ';' separates, or "" when there is none.
+std::string decimal_comma_field(std::string_view line) {
+  if (line.find(';') == std::string_view::npos) return "";
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  for (std::size_t i = 1; i + 1 < line.size(); ++i) {
+    if (line[i] != ',' || !digit(line[i - 1]) || !digit(line[i + 1])) continue;
+    std::size_t a = i, b = i + 1;
+    while (a > 0 && line[a - 1] != ';' && line[a - 1] != ' ' && line[a - 1] != '\t') --a;
+    while (b < line.size() && line[b] != ';' && line[b] != ' ' && line[b] != '\t' && line[b] != '\r') ++b;
+    return std::string(line.substr(a, b - a));
+  }
+  return "";
+}
+
+std::string decimal_comma_hint(const std::string& field) {
+  return fmt::format("'{}' uses a decimal comma and ';' separates the fields: export the CSV with decimal points "
+                     "(e.g. 0.125; LC_NUMERIC=C, or a spreadsheet's English/\"C\" locale) — clearshape reads ',' "
+                     "and ';' both as separators", field);
+}
+
 bool is_blank_or_comment(std::string_view line) {
   const auto pos = line.find_first_not_of(" \t\r");
   return pos == std::string_view::npos || line[pos] == '#';
@@ -95,6 +116,11 @@ Table parse_table(std::string_view text, const std::string& source) {
     ++line_no;
     start = (end == std::string_view::npos) ? text.size() + 1 : end + 1;
     if (is_blank_or_comment(line)) continue;
+    // A decimal comma would split "0,125" into two fields: refused with the fix, before the
+    // fields are counted (a header-less file would otherwise read with twice its columns).
+    if (const std::string f = decimal_comma_field(line); !f.empty()) {
+      throw InputError(source, line_no, "", decimal_comma_hint(f));
+    }
     const auto fields = split_fields(line);
     if (first_content_line) {
       first_content_line = false;
@@ -113,8 +139,13 @@ Table parse_table(std::string_view text, const std::string& source) {
       for (std::size_t i = 0; i < fields.size(); ++i) table.names.push_back(fmt::format("col{}", i + 1));
     }
     if (fields.size() != table.columns.size()) {
+      const bool comma_decimals = fields.size() > table.columns.size() && line.find(',') != std::string_view::npos &&
+                                  std::any_of(line.begin(), line.end(), [](char c) { return c >= '0' && c <= '9'; });
       throw InputError(source, line_no, "",
-                       fmt::format("expected {} columns, found {}", table.columns.size(), fields.size()));
+                       fmt::format("expected {} columns, found {}{}", table.columns.size(), fields.size(),
+                                   comma_decimals ? " — if the numbers use a decimal comma (0,125), export them with "
+                                                    "decimal points (',' separates fields here)"
+                                                  : ""));
     }
     for (std::size_t i = 0; i < fields.size(); ++i) {
       double v = 0.0;

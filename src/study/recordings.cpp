@@ -14,6 +14,7 @@
 #include "clearshape/core/units.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/io/time_column.hpp"
+#include "recording_checks.hpp"
 #include "toml_reader.hpp"
 
 namespace clearshape::study {
@@ -23,8 +24,8 @@ namespace {
 using detail::TomlSection;
 
 constexpr const char* kColumnKeys =
-    "time, command, command_unit, command_applied, motor_angle, motor_angle_unit, counts_per_rev, "
-    "link_rate, link_rate_unit, lsb_per_deg_s";
+    "time, time_unit, command, command_unit, command_applied, motor_angle, motor_angle_unit, counts_per_rev, "
+    "link_rate, link_rate_unit, lsb_per_deg_s, gyro_full_scale_deg_s";
 
 std::string fnv_hex(std::string_view text) {
   std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a 64
@@ -54,6 +55,7 @@ std::string one_of(const TomlSection& t, std::string_view key, std::string fallb
 // The keys of [columns] (or a [[run]]'s overrides) on top of `base`.
 RecordingColumns read_columns(const TomlSection& t, RecordingColumns c, rig::CommandMode mode) {
   c.time = t.text("time", c.time);
+  c.time_unit = one_of(t, "time_unit", c.time_unit, {"s", "ms"});
   c.command = t.text("command", c.command);
   c.command_unit = mode == rig::CommandMode::position ? one_of(t, "command_unit", c.command_unit, {"deg", "rad"})
                                                       : one_of(t, "command_unit", c.command_unit, {"V"});
@@ -64,6 +66,7 @@ RecordingColumns read_columns(const TomlSection& t, RecordingColumns c, rig::Com
   c.link_rate = t.text("link_rate", c.link_rate);
   c.link_rate_unit = one_of(t, "link_rate_unit", c.link_rate_unit, {"deg/s", "rad/s", "lsb"});
   c.lsb_per_deg_s = t.positive("lsb_per_deg_s", c.lsb_per_deg_s);
+  c.gyro_full_scale_deg_s = t.positive("gyro_full_scale_deg_s", c.gyro_full_scale_deg_s);
   return c;
 }
 
@@ -210,14 +213,10 @@ Record read_recording(const RecordingEntry& e, const Protocol& p, double record_
   const io::Table t = io::read_table(e.file);
   const RecordingColumns& c = e.columns;
   const std::string time = io::require_time_column(t, c.time);
-  const double ts = io::uniform_sample_time(t, time);
+  const double time_scale = c.time_unit == "ms" ? 1e-3 : 1.0;
+  const double ts = io::uniform_sample_time(t, time) * time_scale;
   const double want = p.sample_time_s();
-  if (std::abs(ts - want) > 1e-3 * want) {
-    throw InputError(t.source, 0, time,
-                     fmt::format("samples every {} s; the protocol '{}' samples every {} s ({} Hz) — "
-                                 "resample the recording or set the protocol's sample_rate_hz",
-                                 ts, p.name, want, p.sample_rate_hz));
-  }
+  detail::check_time_spacing(t, time, c.time_unit, ts, want, p.name, p.sample_rate_hz);
   const std::size_t n = sample_count(record_s, want);
   if (t.rows() < n) {
     throw InputError(t.source, 0, time,
@@ -231,7 +230,7 @@ Record read_recording(const RecordingEntry& e, const Protocol& p, double record_
   r.sample_time_s = want;
   const auto& tv = t.column(time);
   r.time_s.resize(n);
-  for (std::size_t k = 0; k < n; ++k) r.time_s[k] = tv[k] - tv[0];
+  for (std::size_t k = 0; k < n; ++k) r.time_s[k] = (tv[k] - tv[0]) * time_scale;
   r.command = to_command_units(t.column(c.command), c.command_unit);
   r.command_applied =
       c.command_applied.empty() ? r.command : to_command_units(t.column(c.command_applied), c.command_unit);
@@ -252,6 +251,9 @@ Record read_recording(const RecordingEntry& e, const Protocol& p, double record_
     r.link_rate_deg_s[k] = c.link_rate_unit == "deg/s" ? x : c.link_rate_unit == "rad/s" ? rad_to_deg(x) : x / c.lsb_per_deg_s;
     r.gyro_raw[k] = c.link_rate_unit == "lsb" ? x : std::round(r.link_rate_deg_s[k] * c.lsb_per_deg_s);
   }
+  // Travel first: a deg/rad mistake in either column shows there with the column it is in.
+  detail::check_link_travel(t.source, c, r.motor_angle_deg, r.link_rate_deg_s, want, n);
+  detail::check_gyro_full_scale(t, c, r.link_rate_deg_s, n);
   r.flags.assign(n, 0.0);
   for (auto* v : {&r.command, &r.command_applied, &r.motor_angle_deg, &r.encoder_counts, &r.link_rate_deg_s,
                   &r.gyro_raw}) {
@@ -269,7 +271,7 @@ std::string recordings_manifest_template(const Protocol& p) {
   s += "# Runs you did not record: delete their run entries (the stages needing them are skipped).\n";
   s += fmt::format("format = \"{}\"\ndescription = \"\"\n\n", kRecordingsFormat);
   s += "[columns]  # every run's columns; a run entry may override any of these keys\n";
-  s += "time = \"time_s\"  # seconds; default: the first of time_s, time, t\n";
+  s += "time = \"time_s\"  # default: the first of time_s, time, t\ntime_unit = \"s\"  # s | ms\n";
   s += fmt::format("command = \"{}\"\ncommand_unit = \"{}\"  # {}\n", c.command, c.command_unit,
                    p.mode == rig::CommandMode::position ? "deg | rad" : "V");
   s += fmt::format("command_applied = \"{}\"  # what the drive received; delete the key to use the command\n",
@@ -278,6 +280,7 @@ std::string recordings_manifest_template(const Protocol& p) {
   s += "counts_per_rev = 12000  # with motor_angle_unit = \"counts\"\n";
   s += "link_rate = \"link_rate_deg_s\"  # the gyroscope on the link\nlink_rate_unit = \"deg/s\"  # deg/s | rad/s | lsb\n";
   s += "lsb_per_deg_s = 14.375  # with link_rate_unit = \"lsb\"\n";
+  s += "gyro_full_scale_deg_s = 2000  # the gyroscope's range (ITG-3205: ±2000 deg/s); a rate beyond it is refused\n";
   std::map<std::string, std::vector<std::string>> users;
   for (const auto& stage : plan_runs(p)) {
     for (const auto& r : stage.runs) {

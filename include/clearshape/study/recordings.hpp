@@ -5,13 +5,14 @@
 //   format = "clearshape-recordings/1"
 //   description = "axis 2, belt drive, 2026-11-20"      # optional, shown in results.json
 //   [columns]                    # defaults of every run (each [[run]] may override any key)
-//   time = "time_s"              # default: the first of time_s, time, t
+//   time = "time_s"              # default: the first of time_s, time, t; time_unit: s | ms
 //   command = "command_deg"      # command_unit: deg | rad (position mode), V (speed mode)
 //   command_applied = "command_applied_deg"   # optional; default: the command
 //   motor_angle = "motor_angle_deg"           # motor_angle_unit: deg | rad | counts
 //   counts_per_rev = 12000                    # with motor_angle_unit = "counts"
 //   link_rate = "link_rate_deg_s"             # link_rate_unit: deg/s | rad/s | lsb
 //   lsb_per_deg_s = 14.375                    # with link_rate_unit = "lsb"
+//   gyro_full_scale_deg_s = 2000              # the gyroscope's range (ITG-3205: ±2000 °/s)
 //   [[run]]
 //   id = "unshaped/step-20/r01"  # a run of the protocol (--print-manifest lists them all)
 //   file = "step20-1.csv"        # relative to DIR
@@ -35,6 +36,7 @@ inline constexpr const char* kRecordingsFormat = "clearshape-recordings/1";
 /// How one recording's columns map onto a run's records.
 struct RecordingColumns {
   std::string time;                   ///< "" = the first of time_s, time, t
+  std::string time_unit = "s";        ///< s | ms
   std::string command;
   std::string command_unit;           ///< deg | rad | V
   std::string command_applied;        ///< "" = the command
@@ -44,6 +46,7 @@ struct RecordingColumns {
   std::string link_rate = "link_rate_deg_s";
   std::string link_rate_unit = "deg/s";  ///< deg/s | rad/s | lsb
   double lsb_per_deg_s = 14.375;
+  double gyro_full_scale_deg_s = 2000.0;  ///< the ITG-3205's ±2000 °/s; a rate beyond it is refused
 };
 
 struct RecordingEntry {
