@@ -49,6 +49,9 @@ struct Context {
   ModeResult drive_mode;
   ModeResult link_mode;
   std::optional<ClearanceModel> model;
+  /// The relative 1σ of the model's play, K and Coulomb torque (stage_clearance: from the fit that
+  /// gave `model`), for the design stage's uncertainty set; nullopt when not fitted.
+  std::optional<ClearanceModelSigma> model_sigma;
   /// The clearance-aware shaper (designed once on `model`, ensure_clearance_aware), or why not.
   std::optional<shaping::Shaper> clearance_aware;
   std::string clearance_aware_note;

@@ -6,6 +6,7 @@
 // and its reference models → tabulate (log, table 4.3-clearance, results section, figure).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "clearshape/dsp/encoder_speed.hpp"
 #include "clearshape/dsp/sosfilt.hpp"
 #include "clearshape/plant/gyroscope.hpp"
+#include "clearshape/rig/builtin_truths.hpp"
 #include "clearshape/study/measures.hpp"
 #include "context.hpp"
 #include "rig_tests.hpp"  // opt()
@@ -344,6 +346,134 @@ void clearance_figure(Context& c, const ClearancePlan& plan, const ClearanceRun&
                                    {{"column", "model_link_rate_deg_s"}, {"label", "model with clearance (through the gyro's low-pass)"}}}}});
 }
 
+// --- The per-run joint fit (study/model.hpp fit_clearance_runs, issue 19): the input's runs one
+// by one, each with its own start place in the play and flank damping, never their average. In
+// position mode with the dashpot law, whenever the play is fitted; its model replaces the
+// averaged fit's where it determines the joint (play and K to 10 %, n = 1 not rejected).
+struct PerRunFit {
+  bool tried = false;
+  bool adopted = false;
+  std::string reason;  ///< why it was not tried or not adopted
+  ClearanceRunsFitResult fit;
+};
+
+PerRunFit run_per_run_fit(Context& c, const ClearancePlan& plan) {
+  const auto& cl = c.p.clearance;
+  PerRunFit out;
+  const bool play_free = std::find(cl.fit.begin(), cl.fit.end(), "play") != cl.fit.end();
+  if (c.p.mode != rig::CommandMode::position || cl.filter_gyro || !play_free ||
+      plan.fp.start.contact_law != ContactLawChoice::dashpot) {
+    out.reason = "not tried: it fits a position-mode record with the dashpot law (Eq. 4.3) when the play is fitted";
+    return out;
+  }
+  ClearanceRunsFitProblem rp;
+  rp.start = plan.fp.start;
+  rp.start.exponent = 1.0;  // a linear flank held; n free is the checked alternative
+  rp.start.coulomb_n_m = 0.0;
+  rp.start.viscous_n_m_s_per_rad = 0.0;
+  if (!(rp.start.damping > 0.0)) rp.start.damping = 0.1;
+  rp.duration_s = plan.fp.duration_s;
+  rp.rest_s = c.p.measure.bias_window_s;
+  rp.link_natural_frequency_rad_s = plan.fp.link_natural_frequency_rad_s;
+  rp.link_damping_ratio = plan.fp.link_damping_ratio;
+  rp.sensor_low_pass_grid_hz = plan.fp.sensor_low_pass_grid_hz;
+  rp.threads = std::max(1, c.threads);
+  for (const Record& r : c.unshaped_runs(cl.input)) {
+    const std::size_t n = std::min(r.size(), sample_count(rp.duration_s, r.sample_time_s));
+    ClearanceRunRecord run;
+    run.id = r.id;
+    run.drive_command.sample_time_s = r.sample_time_s;
+    run.drive_command.values.assign(r.command_applied.begin(), r.command_applied.begin() + static_cast<std::ptrdiff_t>(n));
+    run.link_rate_deg_s.assign(r.link_rate_deg_s.begin(), r.link_rate_deg_s.begin() + static_cast<std::ptrdiff_t>(n));
+    rp.runs.push_back(std::move(run));
+  }
+  out.tried = true;
+  out.fit = fit_clearance_runs(rp);
+  const ClearanceModelSigma s = out.fit.sigma();
+  const bool determined = std::isfinite(s.play_rel_sigma) && s.play_rel_sigma < 0.1 && std::isfinite(s.stiffness_rel_sigma) &&
+                          s.stiffness_rel_sigma < 0.1;
+  out.adopted = determined && !out.fit.exponent_free_better;
+  out.reason = out.adopted ? "adopted: play and K determined to 10 %, n = 1 not rejected"
+               : !determined ? fmt::format("not adopted: play ± {:.3g} %, K ± {:.3g} % (both must be below 10 %)",
+                                           100.0 * s.play_rel_sigma, 100.0 * s.stiffness_rel_sigma)
+                             : fmt::format("not adopted: n free fits significantly better (χ²₁ {:.3g} > 3.84, n {:.3g})",
+                                           out.fit.exponent_chi2, out.fit.exponent_free_value);
+  return out;
+}
+
+// The truth of a built-in simulated rig, for scoring (null for any other rig: its truth is hidden).
+json simulated_truth(const Context& c) {
+  const std::string kind = c.source ? c.source->kind() : std::string();
+  const std::string prefix = "simulated-";
+  if (kind.rfind(prefix, 0) != 0 || !rig::is_builtin_truth(kind.substr(prefix.size()))) return json();
+  const rig::RigTruth t = rig::builtin_truth(kind.substr(prefix.size()));
+  const auto& contact = t.contact(c.p.mode);
+  return {{"rig", kind.substr(prefix.size())},
+          {"play_deg", rad_to_deg(t.clearance_rad)},
+          {"stiffness_n_m_per_rad_pow_n", contact.stiffness},
+          {"exponent", contact.exponent},
+          {"damping_n_m_s_per_rad", contact.damping},
+          {"coulomb_n_m", t.joint_friction.coulomb},
+          {"viscous_n_m_s_per_rad", t.joint_friction.viscous}};
+}
+
+json sigma_json(const ClearanceModelSigma& s) {
+  const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(); };
+  return {{"play_rel_sigma", num(s.play_rel_sigma)},
+          {"stiffness_rel_sigma", num(s.stiffness_rel_sigma)},
+          {"coulomb_rel_sigma", num(s.coulomb_rel_sigma)}};
+}
+
+json per_run_json(const Context& c, const PerRunFit& pr) {
+  json out = {{"tried", pr.tried}, {"adopted", pr.adopted}, {"status", pr.reason}};
+  if (!pr.tried) return out;
+  const ClearanceRunsFitResult& f = pr.fit;
+  const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(); };
+  json parameters = json::array();
+  for (const auto& q : f.parameters) {
+    const bool deg = q.name == "play";
+    parameters.push_back({{"name", q.name}, {"value", deg ? rad_to_deg(q.value) : q.value},
+                          {"unit", clearance_parameter_unit(q.name)}, {"free", q.free},
+                          {"std_error", num(q.std_error)},
+                          {"std_error_kind", q.name == "exponent" ? "absolute" : "relative (1σ / value)"},
+                          {"identifiable", q.identifiable}});
+  }
+  json runs = json::array();
+  for (std::size_t i = 0; i < f.run_ids.size(); ++i) {
+    runs.push_back({{"id", f.run_ids[i]}, {"start_fraction", f.start_fraction[i]},
+                    {"start_fraction_std", num(f.start_fraction_std[i])}, {"damping_n_m_s_per_rad", f.run_damping[i]},
+                    {"rms_error_deg_s", f.run_rms_error_deg_s[i]}});
+  }
+  out["method"] = "each run with its own start place φ(0)/β and flank damping (nuisances), K, play, Coulomb and "
+                  "viscous friction shared, n held at 1; Levenberg–Marquardt on the gyro records (docs/worn-coupling.md)";
+  out["parameters"] = parameters;
+  out["model_sigma"] = sigma_json(f.sigma());
+  out["runs"] = runs;
+  out["rms_error_deg_s"] = f.rms_error_deg_s;
+  out["cvode_check_rms_error_deg_s"] = f.check_rms_error_deg_s;
+  out["gyro_low_pass_hz"] = f.sensor_low_pass_hz;
+  out["exponent_check"] = {{"exponent_free", f.exponent_free_value}, {"exponent_free_std", num(f.exponent_free_std)},
+                           {"chi2", f.exponent_chi2}, {"significantly_better", f.exponent_free_better}};
+  out["iterations"] = f.iterations;
+  out["simulations"] = f.simulations;
+  out["converged"] = f.converged;
+  out["termination"] = f.termination;
+  out["truth"] = simulated_truth(c);
+  return out;
+}
+
+// The relative 1σ of the averaged fit's play, K and Coulomb torque (NaN where not fitted).
+ClearanceModelSigma averaged_sigma(const ClearanceFitResult& fit) {
+  ClearanceModelSigma s{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+                        std::numeric_limits<double>::quiet_NaN()};
+  for (const auto& q : fit.parameters) {
+    if (q.name == "play" && q.free) s.play_rel_sigma = q.std_error;
+    if (q.name == "stiffness" && q.free) s.stiffness_rel_sigma = q.std_error;
+    if (q.name == "coulomb" && q.free) s.coulomb_rel_sigma = q.std_error;
+  }
+  return s;
+}
+
 }  // namespace
 
 void stage_clearance(Context& c) {
@@ -358,6 +488,23 @@ void stage_clearance(Context& c) {
   c.sections["clearance"] = clearance_section(c, run);
   clearance_figure(c, plan, run);
   c.model = run.fit.model;  // the model of the simulated tests (stage 5)
+  c.model_sigma = averaged_sigma(run.fit);
+  const PerRunFit per_run = run_per_run_fit(c, plan);
+  if (per_run.tried) {
+    const ClearanceModel& m = per_run.fit.model;
+    c.log(fmt::format("clearance: per-run fit over {} runs: play = {:.4g}° ± {:.2g} %, K = {:.4g} ± {:.2g} %, c = {:.3g} N·m ± "
+                      "{:.2g} %, D = {:.4g} (geometric mean), RMS {:.4g} deg/s; {}",
+                      per_run.fit.run_ids.size(), rad_to_deg(m.play_rad), 100.0 * per_run.fit.sigma().play_rel_sigma,
+                      m.stiffness, 100.0 * per_run.fit.sigma().stiffness_rel_sigma, m.coulomb_n_m,
+                      100.0 * per_run.fit.sigma().coulomb_rel_sigma, m.damping, per_run.fit.rms_error_deg_s, per_run.reason));
+  }
+  if (per_run.adopted) {
+    c.model = per_run.fit.model;
+    c.model_sigma = per_run.fit.sigma();
+  }
+  c.sections["clearance"]["per_run_fit"] = per_run_json(c, per_run);
+  c.sections["clearance"]["model_source"] = per_run.adopted ? "per-run fit" : "averaged-record fit";
+  c.sections["clearance"]["model_sigma"] = sigma_json(*c.model_sigma);
 }
 
 }  // namespace detail
