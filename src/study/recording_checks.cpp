@@ -67,8 +67,8 @@ Fix general_fix(const RecordingColumns& c) {
     return {c.motor_angle, fmt::format("check counts_per_rev (= {})", c.counts_per_rev)};
   }
   return {c.link_rate, fmt::format("check that '{}' is the link's gyroscope rate of this axis in {} and '{}' the "
-                                   "motor angle in {}, and remove the gyro's zero-rate offset (it integrates to "
-                                   "travel)",
+                                   "motor angle in {} (a gyro offset that changes after the command starts "
+                                   "integrates to travel)",
                                    c.link_rate, c.link_rate_unit, c.motor_angle, c.motor_angle_unit)};
 }
 
@@ -116,13 +116,23 @@ void check_gyro_full_scale(const io::Table& t, const RecordingColumns& c, const 
   }
 }
 
-void check_link_travel(const std::string& file, const RecordingColumns& c, const std::vector<double>& motor_deg,
-                       const std::vector<double>& link_deg_s, double sample_time_s, std::size_t n) {
-  n = std::min({n, motor_deg.size(), link_deg_s.size()});
+void check_link_travel(const std::string& file, const RecordingColumns& c, const std::vector<double>& command,
+                       const std::vector<double>& motor_deg, const std::vector<double>& link_deg_s,
+                       double sample_time_s, std::size_t n) {
+  n = std::min({n, command.size(), motor_deg.size(), link_deg_s.size()});
   if (n < 2) return;
+  // The gyro's zero-rate offset, as the study removes it (measures.hpp): the mean rate at rest,
+  // here the samples before the command first moves (all of them on a rest trial).
+  std::size_t rest = 0;
+  while (rest < n && std::abs(command[rest] - command[0]) <= 1e-9 * std::max(1.0, std::abs(command[0]))) ++rest;
+  double bias = 0.0;
+  if (rest >= kTravelBiasMinSamples) {
+    for (std::size_t k = 0; k < rest; ++k) bias += link_deg_s[k];
+    bias /= static_cast<double>(rest);
+  }
   std::vector<double> link_deg(n, 0.0);
   for (std::size_t k = 1; k < n; ++k) {
-    link_deg[k] = link_deg[k - 1] + 0.5 * (link_deg_s[k - 1] + link_deg_s[k]) * sample_time_s;
+    link_deg[k] = link_deg[k - 1] + 0.5 * ((link_deg_s[k - 1] - bias) + (link_deg_s[k] - bias)) * sample_time_s;
   }
   const double link = range_of(link_deg, n);
   const double motor = range_of(motor_deg, n);
@@ -140,11 +150,11 @@ void check_link_travel(const std::string& file, const RecordingColumns& c, const
     return;
   }
   throw InputError(file, 0, fix.column,
-                   fmt::format("the link travels {:.4g}° ('{}' integrated over {:g} s) and the motor {:.4g}° ('{}'), "
-                               "ratio {:.4g}; allowed: within {:g}° + {:g} % of the motor's travel, and no deg/rad "
-                               "factor 57.3 — {}",
-                               link, c.link_rate, static_cast<double>(n - 1) * sample_time_s, motor, c.motor_angle,
-                               ratio, kTravelAllowanceDeg, kTravelAllowanceRelative * 100.0, fix.hint));
+                   fmt::format("the link travels {:.4g}° ('{}' integrated over {:g} s, its rest offset {:.3g} deg/s "
+                               "removed) and the motor {:.4g}° ('{}'), ratio {:.4g}; allowed: within {:g}° + {:g} % "
+                               "of the motor's travel, and no deg/rad factor 57.3 — {}",
+                               link, c.link_rate, static_cast<double>(n - 1) * sample_time_s, bias, motor,
+                               c.motor_angle, ratio, kTravelAllowanceDeg, kTravelAllowanceRelative * 100.0, fix.hint));
 }
 
 }  // namespace clearshape::study::detail

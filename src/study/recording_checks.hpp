@@ -26,12 +26,15 @@ void check_gyro_full_scale(const io::Table& t, const RecordingColumns& c, const 
 /// The link's travel (the rate integrated over the record, its range) against the motor's travel
 /// (the range of the motor angle): a ratio near 57.3 or 1/57.3 is a deg/rad mistake, and a
 /// difference beyond kTravelAllowanceDeg + kTravelAllowanceRelative × the motor's travel is more
-/// than a play of a few degrees can explain.
-void check_link_travel(const std::string& file, const RecordingColumns& c, const std::vector<double>& motor_deg,
-                       const std::vector<double>& link_deg_s, double sample_time_s, std::size_t n);
+/// than a play of a few degrees can explain. The gyro's rest offset (its mean rate before the
+/// command first moves, when that is at least kTravelBiasMinSamples samples) is removed first.
+void check_link_travel(const std::string& file, const RecordingColumns& c, const std::vector<double>& command,
+                       const std::vector<double>& motor_deg, const std::vector<double>& link_deg_s,
+                       double sample_time_s, std::size_t n);
 
 inline constexpr double kTravelAllowanceDeg = 10.0;
 inline constexpr double kTravelAllowanceRelative = 0.25;
+inline constexpr std::size_t kTravelBiasMinSamples = 10;
 /// When neither the link nor the motor travels this far (deg), the deg/rad ratio test is not made
 /// (a rest trial has no travel).
 inline constexpr double kTravelRatioMinDeg = 1.0;

@@ -252,7 +252,7 @@ Record read_recording(const RecordingEntry& e, const Protocol& p, double record_
     r.gyro_raw[k] = c.link_rate_unit == "lsb" ? x : std::round(r.link_rate_deg_s[k] * c.lsb_per_deg_s);
   }
   // Travel first: a deg/rad mistake in either column shows there with the column it is in.
-  detail::check_link_travel(t.source, c, r.motor_angle_deg, r.link_rate_deg_s, want, n);
+  detail::check_link_travel(t.source, c, r.command_applied, r.motor_angle_deg, r.link_rate_deg_s, want, n);
   detail::check_gyro_full_scale(t, c, r.link_rate_deg_s, n);
   r.flags.assign(n, 0.0);
   for (auto* v : {&r.command, &r.command_applied, &r.motor_angle_deg, &r.encoder_counts, &r.link_rate_deg_s,

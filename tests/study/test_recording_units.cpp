@@ -32,20 +32,21 @@ constexpr double kRad = 180.0 / clearshape::kPi;
 // `time_scale` the time column; `spike_row` puts `spike` deg/s in the link column there.
 struct Writer {
   double link_scale = 1.0;
+  double link_offset = 0.0;  ///< deg/s added to every link rate (a gyro's zero-rate offset)
   double motor_scale = 1.0;
   double time_scale = 1.0;
   std::size_t spike_row = 0;
   double spike = 0.0;
   std::string write(const std::filesystem::path& path) const {
     std::ofstream out(path);
-    out << "time_s,command_deg,motor_angle_deg,link_rate_deg_s\n";
+    out << "time_s,command_deg,motor_angle_deg,link_rate_deg_s\n";  // the command steps at 0.2 s
     for (std::size_t k = 0; k < 1200; ++k) {
       const double t = 1e-3 * static_cast<double>(k);
       const double u = std::clamp((t - 0.2) / 0.2, 0.0, 1.0);
       const double angle = 10.0 * 0.5 * (1.0 - std::cos(clearshape::kPi * u));
       const double rate = (u > 0.0 && u < 1.0) ? 10.0 * 0.5 * clearshape::kPi / 0.2 * std::sin(clearshape::kPi * u) : 0.0;
-      out << fmt::format("{},{},{},{}\n", t * time_scale, angle, angle * motor_scale,
-                         k == spike_row && spike != 0.0 ? spike : rate * link_scale);
+      out << fmt::format("{},{},{},{}\n", t * time_scale, t >= 0.2 ? 10.0 : 0.0, angle * motor_scale,
+                         k == spike_row && spike != 0.0 ? spike : rate * link_scale + link_offset);
     }
     return path.string();
   }
@@ -158,6 +159,20 @@ TEST(RecordingUnits, LinkTravelFarFromMotorTravelIsRefused) {
   w.link_scale = 1.4;
   w.write(g);
   EXPECT_NO_THROW((void)st::read_recording(entry(g), protocol(), kRecordS));
+}
+
+TEST(RecordingUnits, TheGyroRestOffsetIsNotTravel) {
+  // A 6 deg/s zero-rate offset would integrate to 6° over the 1 s record (16° for the motor's
+  // 10°, beyond 10° + 25 %); measured before the command moves and removed, as the study does.
+  const auto f = dir() / "offset.csv";
+  Writer w;
+  w.link_offset = 6.0;
+  w.write(f);
+  EXPECT_NO_THROW((void)st::read_recording(entry(f), protocol(), kRecordS));
+  // Declared rad/s with the same offset in deg/s: still the deg/rad factor.
+  auto e = entry(f);
+  e.columns.link_rate_unit = "rad/s";
+  EXPECT_NE(std::string(read_error(e).what()).find("declared rad/s, looks like deg/s"), std::string::npos);
 }
 
 TEST(RecordingUnits, RateBeyondTheGyroFullScaleIsRefusedWithItsLine) {
