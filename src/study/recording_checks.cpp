@@ -144,6 +144,11 @@ void check_link_travel(const std::string& file, const RecordingColumns& c, const
     fix = deg_rad_fix(c, true);
   } else if (travels && near_ratio(ratio, 1.0 / kDegPerRad, 0.2)) {
     fix = deg_rad_fix(c, false);
+  } else if (travels && c.link_rate_unit == "deg/s" && near_ratio(ratio, c.lsb_per_deg_s, 0.2)) {
+    fix = {c.link_rate, fmt::format("declared deg/s, looks like the gyro's raw words ({} LSB per °/s): set "
+                                    "link_rate_unit = \"lsb\"", c.lsb_per_deg_s)};
+  } else if (travels && c.link_rate_unit == "lsb" && near_ratio(ratio, 1.0 / c.lsb_per_deg_s, 0.2)) {
+    fix = {c.link_rate, "declared lsb, looks like deg/s: set link_rate_unit = \"deg/s\""};
   } else if (std::abs(link - motor) > allowed) {
     fix = general_fix(c);
   } else {

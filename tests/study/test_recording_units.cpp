@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
 #include <string>
 
 #include <fmt/format.h>
@@ -79,6 +80,24 @@ InputError read_error(const st::RecordingEntry& e) {
   return InputError("", 0, "", "");
 }
 
+std::filesystem::path dir();
+
+// A recording written by a Writer that `edit` changed, as dir()/name.
+std::filesystem::path written(const std::string& name, const std::function<void(Writer&)>& edit) {
+  Writer w;
+  edit(w);
+  const auto f = dir() / name;
+  w.write(f);
+  return f;
+}
+
+// Reading `e` is refused naming `field`, with every one of `parts` in the message.
+void expect_refused(const st::RecordingEntry& e, const std::string& field, std::initializer_list<std::string> parts) {
+  const InputError err = read_error(e);
+  EXPECT_EQ(err.field(), field) << err.what();
+  for (const auto& part : parts) EXPECT_NE(std::string(err.what()).find(part), std::string::npos) << err.what();
+}
+
 std::filesystem::path dir() {
   static const auto d = clearshape::testing::fresh_temp_dir("clearshape_recording_units");
   return d;
@@ -115,32 +134,18 @@ TEST(RecordingUnits, GyroInDegPerSecondDeclaredRadPerSecondIsRefused) {
                                         "link_rate_unit = \"rad/s\"\n[[run]]\nid = \"" << id << "\"\n"
                                         "file = \"step-1.csv\"\n";
   const st::RecordingsManifest m = st::load_recordings_manifest(d, protocol());
-  const InputError e = read_error(m.runs.at(id));
-  EXPECT_EQ(e.field(), "link_rate_deg_s");
-  EXPECT_NE(std::string(e.what()).find("step-1.csv"), std::string::npos) << e.what();
-  EXPECT_NE(std::string(e.what()).find("declared rad/s, looks like deg/s"), std::string::npos) << e.what();
-  EXPECT_NE(std::string(e.what()).find("link_rate_unit = \"deg/s\""), std::string::npos) << e.what();
+  expect_refused(m.runs.at(id), "link_rate_deg_s",
+                 {"step-1.csv", "declared rad/s, looks like deg/s", "link_rate_unit = \"deg/s\""});
 }
 
 TEST(RecordingUnits, GyroInRadPerSecondDeclaredDegPerSecondIsRefused) {
-  const auto f = dir() / "gyro-rad.csv";
-  Writer w;
-  w.link_scale = 1.0 / kRad;
-  w.write(f);
-  const InputError e = read_error(entry(f));
-  EXPECT_EQ(e.field(), "link_rate_deg_s");
-  EXPECT_NE(std::string(e.what()).find("declared deg/s, looks like rad/s"), std::string::npos) << e.what();
+  const auto f = written("gyro-rad.csv", [](Writer& w) { w.link_scale = 1.0 / kRad; });
+  expect_refused(entry(f), "link_rate_deg_s", {"declared deg/s, looks like rad/s"});
 }
 
 TEST(RecordingUnits, MotorInRadiansDeclaredDegreesIsRefused) {
-  const auto f = dir() / "motor-rad.csv";
-  Writer w;
-  w.motor_scale = 1.0 / kRad;
-  w.write(f);
-  const InputError e = read_error(entry(f));
-  EXPECT_EQ(e.field(), "motor_angle_deg");
-  EXPECT_NE(std::string(e.what()).find("declared deg, looks like rad"), std::string::npos) << e.what();
-  EXPECT_NE(std::string(e.what()).find("motor_angle_unit = \"rad\""), std::string::npos) << e.what();
+  const auto f = written("motor-rad.csv", [](Writer& w) { w.motor_scale = 1.0 / kRad; });
+  expect_refused(entry(f), "motor_angle_deg", {"declared deg, looks like rad", "motor_angle_unit = \"rad\""});
 }
 
 TEST(RecordingUnits, LinkTravelFarFromMotorTravelIsRefused) {
@@ -150,10 +155,7 @@ TEST(RecordingUnits, LinkTravelFarFromMotorTravelIsRefused) {
   Writer w;
   w.link_scale = 3.0;
   w.write(f);
-  const InputError e = read_error(entry(f));
-  EXPECT_EQ(e.field(), "link_rate_deg_s");
-  EXPECT_NE(std::string(e.what()).find("ratio 3"), std::string::npos) << e.what();
-  EXPECT_NE(std::string(e.what()).find("allowed: within 10°"), std::string::npos) << e.what();
+  expect_refused(entry(f), "link_rate_deg_s", {"ratio 3", "allowed: within 10°"});
   // 1.4× (the link 4° beyond the motor's 10°) is what a few degrees of play can do: read.
   const auto g = dir() / "times1_4.csv";
   w.link_scale = 1.4;
@@ -161,13 +163,24 @@ TEST(RecordingUnits, LinkTravelFarFromMotorTravelIsRefused) {
   EXPECT_NO_THROW((void)st::read_recording(entry(g), protocol(), kRecordS));
 }
 
+TEST(RecordingUnits, RawGyroWordsDeclaredDegPerSecondAreRefused) {
+  // The gyro's words (14.375 LSB per °/s) in a column declared deg/s, and deg/s declared lsb.
+  const auto f = written("lsb.csv", [](Writer& w) { w.link_scale = 14.375; });
+  expect_refused(entry(f), "link_rate_deg_s", {"looks like the gyro's raw words", "link_rate_unit = \"lsb\""});
+  auto as_lsb = entry(f);
+  as_lsb.columns.link_rate_unit = "lsb";
+  EXPECT_NO_THROW((void)st::read_recording(as_lsb, protocol(), kRecordS));
+  const auto g = dir() / "degs-as-lsb.csv";
+  Writer{}.write(g);
+  auto wrong = entry(g);
+  wrong.columns.link_rate_unit = "lsb";
+  EXPECT_NE(std::string(read_error(wrong).what()).find("declared lsb, looks like deg/s"), std::string::npos);
+}
+
 TEST(RecordingUnits, TheGyroRestOffsetIsNotTravel) {
   // A 6 deg/s zero-rate offset would integrate to 6° over the 1 s record (16° for the motor's
   // 10°, beyond 10° + 25 %); measured before the command moves and removed, as the study does.
-  const auto f = dir() / "offset.csv";
-  Writer w;
-  w.link_offset = 6.0;
-  w.write(f);
+  const auto f = written("offset.csv", [](Writer& w) { w.link_offset = 6.0; });
   EXPECT_NO_THROW((void)st::read_recording(entry(f), protocol(), kRecordS));
   // Declared rad/s with the same offset in deg/s: still the deg/rad factor.
   auto e = entry(f);
@@ -197,14 +210,8 @@ TEST(RecordingUnits, RateBeyondTheGyroFullScaleIsRefusedWithItsLine) {
 }
 
 TEST(RecordingUnits, TimeInMillisecondsGetsTheHint) {
-  const auto f = dir() / "ms.csv";
-  Writer w;
-  w.time_scale = 1e3;
-  w.write(f);
-  const InputError e = read_error(entry(f));
-  EXPECT_EQ(e.field(), "time_s");
-  EXPECT_NE(std::string(e.what()).find("declared s, looks like ms"), std::string::npos) << e.what();
-  EXPECT_NE(std::string(e.what()).find("time_unit = \"ms\""), std::string::npos) << e.what();
+  const auto f = written("ms.csv", [](Writer& w) { w.time_scale = 1e3; });
+  expect_refused(entry(f), "time_s", {"declared s, looks like ms", "time_unit = \"ms\""});
   // With time_unit = "ms" the same file reads, its time in seconds.
   auto ms = entry(f);
   ms.columns.time_unit = "ms";
