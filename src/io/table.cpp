@@ -54,18 +54,25 @@ bool parse_number(std::string_view s, double& out) {
 }
 
 // The first field of `line` written with a decimal comma ("0,125"): a comma between two digits on a
-// line that a ';' separates, or "" when there is none.
-std::string decimal_comma_field(std::string_view line) {
-  if (line.find(';') == std::string_view::npos) return "";
+// line that a ';' separates, and its 0-based position among the ';'-separated fields; text ""
+// when there is none.
+struct CommaField {
+  std::string text;
+  std::size_t index = 0;
+};
+
+CommaField decimal_comma_field(std::string_view line) {
+  if (line.find(';') == std::string_view::npos) return {};
   const auto digit = [](char c) { return c >= '0' && c <= '9'; };
   for (std::size_t i = 1; i + 1 < line.size(); ++i) {
     if (line[i] != ',' || !digit(line[i - 1]) || !digit(line[i + 1])) continue;
     std::size_t a = i, b = i + 1;
     while (a > 0 && line[a - 1] != ';' && line[a - 1] != ' ' && line[a - 1] != '\t') --a;
     while (b < line.size() && line[b] != ';' && line[b] != ' ' && line[b] != '\t' && line[b] != '\r') ++b;
-    return std::string(line.substr(a, b - a));
+    const std::string_view before = line.substr(0, a);
+    return {std::string(line.substr(a, b - a)), static_cast<std::size_t>(std::count(before.begin(), before.end(), ';'))};
   }
-  return "";
+  return {};
 }
 
 std::string decimal_comma_hint(const std::string& field) {
@@ -118,8 +125,10 @@ Table parse_table(std::string_view text, const std::string& source) {
     if (is_blank_or_comment(line)) continue;
     // A decimal comma would split "0,125" into two fields: refused with the fix, before the
     // fields are counted (a header-less file would otherwise read with twice its columns).
-    if (const std::string f = decimal_comma_field(line); !f.empty()) {
-      throw InputError(source, line_no, "", decimal_comma_hint(f));
+    if (const CommaField f = decimal_comma_field(line); !f.text.empty()) {
+      const std::string column =
+          f.index < table.names.size() ? table.names[f.index] : fmt::format("column {}", f.index + 1);
+      throw InputError(source, line_no, column, decimal_comma_hint(f.text));
     }
     const auto fields = split_fields(line);
     if (first_content_line) {

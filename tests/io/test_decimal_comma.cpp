@@ -28,6 +28,8 @@ InputError parse_error(const std::string& text) {
 TEST(DecimalComma, SemicolonSeparatedDecimalCommasGetTheHint) {
   const InputError e = parse_error("time_s;link_rate_deg_s\n0;0\n0,001;1,25\n");
   EXPECT_EQ(e.line(), 3u);
+  EXPECT_EQ(e.field(), "time_s");
+  EXPECT_EQ(parse_error("time_s;link_rate_deg_s\n0;1,25\n").field(), "link_rate_deg_s");
   EXPECT_NE(std::string(e.what()).find("axis.csv"), std::string::npos) << e.what();
   EXPECT_NE(std::string(e.what()).find("'0,001' uses a decimal comma"), std::string::npos) << e.what();
   EXPECT_NE(std::string(e.what()).find("decimal points"), std::string::npos) << e.what();
@@ -37,6 +39,7 @@ TEST(DecimalComma, HeaderlessFileIsNotReadWithTwiceItsColumns) {
   // Without a header every line splits the same way: today this would read as 4 columns.
   const InputError e = parse_error("0,000;0,5\n0,001;0,75\n");
   EXPECT_EQ(e.line(), 1u);
+  EXPECT_EQ(e.field(), "column 1");
   EXPECT_NE(std::string(e.what()).find("'0,000' uses a decimal comma"), std::string::npos) << e.what();
 }
 
