@@ -88,8 +88,6 @@ UniformSeries step_command(const ClearanceAwareRequest& r, double move, double d
   return s;
 }
 
-double record_s(const ClearanceAwareRequest& r) { return r.move_start_s + r.max_duration_s + r.rise_s + r.settle_s; }
-
 // The command held at its last value out to `duration_s`.
 UniformSeries extended(const UniformSeries& c, double duration_s) {
   UniformSeries out = c;
