@@ -64,7 +64,9 @@ TEST(RecommendModelCli, ZeroPlayRanksTheCandidatesAsTheLinearVibrationAtTheModel
   for (const auto& c : doc["candidates"]) {
     if (!c.contains("predicted_md") || c["predicted_md"].is_null()) continue;
     EXPECT_EQ(c["worse_than_unshaped"].get<bool>(), c["predicted_md"].get<double>() > unshaped) << c["name"];
-    if (c["name"] == chosen) EXPECT_FALSE(c["worse_than_unshaped"].get<bool>());
+    if (c["name"] == chosen) {
+      EXPECT_FALSE(c["worse_than_unshaped"].get<bool>());
+    }
   }
   std::filesystem::remove(fit);
 }
