@@ -349,7 +349,8 @@ void clearance_figure(Context& c, const ClearancePlan& plan, const ClearanceRun&
 // --- The per-run joint fit (study/model.hpp fit_clearance_runs, issue 19): the input's runs one
 // by one, each with its own start place in the play and flank damping, never their average. In
 // position mode with the dashpot law, whenever the play is fitted; its model replaces the
-// averaged fit's where it determines the joint (play and K to 10 %, n = 1 not rejected).
+// averaged fit's where it determines the joint: play and K to 10 %, the Coulomb torque told apart
+// from 0 (1σ below its value, the averaged fit's own rule for friction), n = 1 not rejected.
 struct PerRunFit {
   bool tried = false;
   bool adopted = false;
@@ -392,10 +393,13 @@ PerRunFit run_per_run_fit(Context& c, const ClearancePlan& plan) {
   const ClearanceModelSigma s = out.fit.sigma();
   const bool determined = std::isfinite(s.play_rel_sigma) && s.play_rel_sigma < 0.1 && std::isfinite(s.stiffness_rel_sigma) &&
                           s.stiffness_rel_sigma < 0.1;
-  out.adopted = determined && !out.fit.exponent_free_better;
-  out.reason = out.adopted ? "adopted: play and K determined to 10 %, n = 1 not rejected"
+  const bool friction = std::isfinite(s.coulomb_rel_sigma) && s.coulomb_rel_sigma < 1.0;
+  out.adopted = determined && friction && !out.fit.exponent_free_better;
+  out.reason = out.adopted ? "adopted: play and K determined to 10 %, the Coulomb torque told apart from 0, n = 1 not rejected"
                : !determined ? fmt::format("not adopted: play ± {:.3g} %, K ± {:.3g} % (both must be below 10 %)",
                                            100.0 * s.play_rel_sigma, 100.0 * s.stiffness_rel_sigma)
+               : !friction   ? fmt::format("not adopted: the Coulomb torque ± {:.3g} % is not told apart from 0",
+                                           100.0 * s.coulomb_rel_sigma)
                              : fmt::format("not adopted: n free fits significantly better (χ²₁ {:.3g} > 3.84, n {:.3g})",
                                            out.fit.exponent_chi2, out.fit.exponent_free_value);
   return out;
