@@ -428,12 +428,14 @@ json sigma_json(const ClearanceModelSigma& s) {
           {"coulomb_rel_sigma", num(s.coulomb_rel_sigma)}};
 }
 
-json per_run_json(const PerRunFit& pr) {
+// The fit's scalars (per_run_fit) and its two lists, kept at the section's top level
+// (per_run_parameters, per_run_starts) so that the report's all-numbers view nests no table twice.
+json per_run_json(const PerRunFit& pr, json& parameters, json& runs) {
   json out = {{"tried", pr.tried}, {"adopted", pr.adopted}, {"status", pr.reason}};
   if (!pr.tried) return out;
   const ClearanceRunsFitResult& f = pr.fit;
   const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(); };
-  json parameters = json::array();
+  parameters = json::array();
   for (const auto& q : f.parameters) {
     const bool deg = q.name == "play";
     parameters.push_back({{"name", q.name}, {"value", deg ? rad_to_deg(q.value) : q.value},
@@ -442,7 +444,7 @@ json per_run_json(const PerRunFit& pr) {
                           {"std_error_kind", q.name == "exponent" ? "absolute" : "relative (1σ / value)"},
                           {"identifiable", q.identifiable}});
   }
-  json runs = json::array();
+  runs = json::array();
   for (std::size_t i = 0; i < f.run_ids.size(); ++i) {
     runs.push_back({{"id", f.run_ids[i]}, {"start_fraction", f.start_fraction[i]},
                     {"start_fraction_std", num(f.start_fraction_std[i])}, {"damping_n_m_s_per_rad", f.run_damping[i]},
@@ -450,9 +452,7 @@ json per_run_json(const PerRunFit& pr) {
   }
   out["method"] = "each run with its own start place φ(0)/β and flank damping (nuisances), K, play, Coulomb and "
                   "viscous friction shared, n held at 1; Levenberg–Marquardt on the gyro records (docs/worn-coupling.md)";
-  out["parameters"] = parameters;
   out["model_sigma"] = sigma_json(f.sigma());
-  out["runs"] = runs;
   out["rms_error_deg_s"] = f.rms_error_deg_s;
   out["cvode_check_rms_error_deg_s"] = f.check_rms_error_deg_s;
   out["gyro_low_pass_hz"] = f.sensor_low_pass_hz;
@@ -505,7 +505,12 @@ void stage_clearance(Context& c) {
     c.model = per_run.fit.model;
     c.model_sigma = per_run.fit.sigma();
   }
-  c.sections["clearance"]["per_run_fit"] = per_run_json(per_run);
+  json per_run_parameters, per_run_starts;
+  c.sections["clearance"]["per_run_fit"] = per_run_json(per_run, per_run_parameters, per_run_starts);
+  if (per_run.tried) {
+    c.sections["clearance"]["per_run_parameters"] = per_run_parameters;
+    c.sections["clearance"]["per_run_starts"] = per_run_starts;
+  }
   // The built-in simulated rig's truth, for scoring, beside the section: the clearance section
   // holds only what the runs determine (runs read back from recordings reproduce it exactly).
   if (const json truth = simulated_truth(c); !truth.is_null()) c.sections["clearance_truth"] = truth;
