@@ -204,7 +204,7 @@ ClearanceModel varied_model(const ClearanceModel& m, const UncertaintyPoint& u) 
 }
 
 std::optional<DesignMove> design_move(const std::string& name, const signal::Signal& signal, double sample_rate_hz,
-                                      double record_s) {
+                                      double record_s, double update_period_s) {
   const UniformSeries full = signal::sample(signal, sample_rate_hz, record_s);
   std::size_t first = 0, last = 0;  // the first and last sample that differ from their predecessor
   for (std::size_t k = 1; k < full.values.size(); ++k) {
@@ -214,8 +214,18 @@ std::optional<DesignMove> design_move(const std::string& name, const signal::Sig
     }
   }
   if (first == 0) return std::nullopt;
-  const std::size_t lead = std::min(first - 1, static_cast<std::size_t>(std::llround(0.05 * sample_rate_hz)));
-  const std::size_t begin = first - 1 - lead;
+  std::size_t begin = first - 1 - std::min(first - 1, static_cast<std::size_t>(std::llround(0.05 * sample_rate_hz)));
+  if (update_period_s > 0.0) {
+    // Cut whole update periods only, so the drive's update grid meets the move as it does in the
+    // full record (the pulse path reads the command at its updates): the shortest run of periods
+    // that is a whole number of samples (30 Hz at 1 kHz: three, 100 samples).
+    std::size_t block = 0;
+    for (int m = 1; m <= 1000 && block == 0; ++m) {
+      const double samples = m * update_period_s * sample_rate_hz;
+      if (std::abs(samples - std::round(samples)) < 1e-6) block = static_cast<std::size_t>(std::llround(samples));
+    }
+    begin = block == 0 ? 0 : (begin / block) * block;
+  }
   DesignMove m;
   m.name = name;
   m.command = UniformSeries{0.0, full.sample_time_s,

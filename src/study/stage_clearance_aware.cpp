@@ -10,6 +10,7 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/shaping/design.hpp"
+#include "clearshape/signal/position_path.hpp"
 #include "clearshape/study/clearance_aware.hpp"
 #include "clearshape/study/take_up.hpp"
 #include "context.hpp"
@@ -43,7 +44,9 @@ std::vector<DesignMove> moves_of(const Protocol& p) {
   for (const auto& in : p.inputs) {
     const bool kind = in.signal.get_if<signal::Step>() != nullptr || in.signal.get_if<signal::DoubleStep>() != nullptr;
     if (!kind || (!used.empty() && used.count(in.name) == 0)) continue;
-    auto m = design_move(in.name, in.signal, p.sample_rate_hz, p.record_s);
+    // Position mode: cut whole 30 Hz updates (§3.2) so the pulse path meets the move as on the rig.
+    const double update_s = p.mode == rig::CommandMode::position ? signal::PulseTrainConfig{}.update_period_s() : 0.0;
+    auto m = design_move(in.name, in.signal, p.sample_rate_hz, p.record_s, update_s);
     if (!m) continue;  // no motion
     moves.push_back(std::move(*m));
   }

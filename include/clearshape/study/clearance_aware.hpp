@@ -114,10 +114,11 @@ struct ClearanceAwareResult {
 ClearanceAwareResult design_clearance_aware(const ClearanceAwareRequest& request);
 
 /// A signal as a design move: sampled at `sample_rate_hz` over `record_s`, its rest before the
-/// motion cut to 0.05 s (nothing moves there) and cut after the motion ends; nullopt if it never
-/// moves.
+/// motion cut to about 0.05 s (nothing moves there) and cut after the motion ends; nullopt if it
+/// never moves. With `update_period_s` (the drive's update grid, e.g. 1/30 s) only whole runs of
+/// update periods are cut, so the grid meets the move where it does in the full record.
 std::optional<DesignMove> design_move(const std::string& name, const signal::Signal& signal, double sample_rate_hz,
-                                      double record_s);
+                                      double record_s, double update_period_s = 0.0);
 
 /// The moves a request designs for: its profiles, or steps of its `moves` amplitudes.
 std::vector<DesignMove> design_moves(const ClearanceAwareRequest& request);
