@@ -98,10 +98,10 @@ FixedStepResponse simulate_fixed_step(const PlantModel& model, const UniformSeri
   const double h = ts / options.substeps;
   FixedStepResponse out;
   out.sample_time_s = ts;
-  out.motor_angle_rad.resize(n);
-  out.motor_rate_rad_s.resize(n);
-  out.link_angle_rad.resize(n);
-  out.link_rate_rad_s.resize(n);
+  out.motor_angle_rad.assign(n, 0.0);
+  out.motor_rate_rad_s.assign(n, 0.0);
+  out.link_angle_rad.assign(n, 0.0);
+  out.link_rate_rad_s.assign(n, 0.0);
   boost::numeric::odeint::runge_kutta4<State> stepper;
   const auto sample = [&](std::size_t k, double t) {
     const Eigen::Map<const Eigen::VectorXd> x(y.data(), rhs.nd);
