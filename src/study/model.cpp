@@ -61,12 +61,12 @@ ModelResponse simulate_fixed(const ClearanceModel& m, const plant::PlantModel& m
   ModelResponse r;
   r.sample_time_s = u.sample_time_s;
   const std::size_t n = u.values.size();
-  r.time_s.resize(n);
+  r.time_s.assign(n, 0.0);
   r.drive_command = u.values;
-  r.motor_angle_deg.resize(n);
-  r.motor_rate_deg_s.resize(n);
-  r.link_angle_deg.resize(n);
-  r.link_rate_deg_s.resize(n);
+  r.motor_angle_deg.assign(n, 0.0);
+  r.motor_rate_deg_s.assign(n, 0.0);
+  r.link_angle_deg.assign(n, 0.0);
+  r.link_rate_deg_s.assign(n, 0.0);
   for (std::size_t k = 0; k < n; ++k) {
     r.time_s[k] = static_cast<double>(k) * u.sample_time_s;
     r.motor_angle_deg[k] = rad_to_deg(sim.motor_angle_rad[k]);
@@ -142,10 +142,10 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
   r.time_s = sim.time_s;
   r.drive_command.assign(u.values.begin(), u.values.begin() + static_cast<std::ptrdiff_t>(std::min(count, n)));
   r.drive_command.resize(count, u.values.back());
-  r.motor_angle_deg.resize(count);
-  r.motor_rate_deg_s.resize(count);
-  r.link_angle_deg.resize(count);
-  r.link_rate_deg_s.resize(count);
+  r.motor_angle_deg.assign(count, 0.0);
+  r.motor_rate_deg_s.assign(count, 0.0);
+  r.link_angle_deg.assign(count, 0.0);
+  r.link_rate_deg_s.assign(count, 0.0);
   for (std::size_t k = 0; k < count; ++k) {
     r.motor_angle_deg[k] = rad_to_deg(sim.motor_angle_rad[k]);
     r.motor_rate_deg_s[k] = rad_to_deg(sim.motor_rate_rad_s[k]);
