@@ -321,7 +321,7 @@ ClearanceAwareResult design_clearance_aware(const ClearanceAwareRequest& request
 
   // Three starts (header): the unshaped step, the uniform staircase, the ZV pair on the grid.
   std::vector<double> best_x(slots, 0.0);
-  best_x[0] = 1.0;
+  if (!best_x.empty()) best_x[0] = 1.0;  // never empty (slots ≥ 1); GCC 12 -Wnull-dereference cannot tell
   if (slots == 1) {
     result.termination = "one impulse slot (the bound is shorter than the grid)";
   } else {
