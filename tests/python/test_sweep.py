@@ -289,7 +289,11 @@ def _alive(pid):
 # PID 1. They now die with their parent (PR_SET_PDEATHSIG) and SIGTERM shuts the pool down.
 @pytest.mark.parametrize("signo", [signal.SIGTERM, signal.SIGKILL])
 def test_pool_workers_die_with_their_parent(tmp_path, signo):
-    slow = SWEEP.replace("duration_s = 1.2", "duration_s = 60.0").replace("batch = 3", "batch = 4")
+    # Long enough that an idle machine is still in the first batches when the signal comes: 200
+    # draws × 8 grid points of 60 s runs (a few minutes of work; the test stops it after ~1 s).
+    slow = (SWEEP.replace("duration_s = 1.2", "duration_s = 60.0").replace("batch = 3", "batch = 4")
+            .replace("samples = 2", "samples = 200"))
+    assert slow.count("60.0") == 1 and "samples = 200" in slow
     f = tmp_path / "slow.toml"
     f.write_text(slow)
     env = dict(os.environ)
