@@ -42,7 +42,9 @@ st::ClearanceModel worn_model() {
 st::ClearanceAwareRequest request() {
   st::ClearanceAwareRequest r;
   r.model = worn_model();
-  const auto add = [&](const char* name, const sg::Signal& s) { r.profiles.push_back(*st::design_move(name, s, 1000.0, 3.0)); };
+  const auto add = [&](const char* name, const sg::Signal& s) {
+    r.profiles.push_back(*st::design_move(name, s, 1000.0, 3.0, 1.0 / 30.0));  // cut on the 30 Hz update grid
+  };
   add("step-10", sg::Step{10.0, 0.5});
   add("step-20", sg::Step{20.0, 0.5});
   add("step-56-low-jerk", sg::Step{56.0, 0.5, 0.1});
