@@ -500,6 +500,9 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
 WITHOUT_BAR_COLOUR = "#4D4D4D"
 # A result worse than unshaped (the report's --worse colour): cross-hatched bars and their label.
 WORSE_COLOUR = "#B3003C"
+# Bars of a result worse than unshaped are cross-hatched (matplotlib hatch pattern: dense crosses),
+# so they read as "worse" in greyscale print too, not by colour alone.
+WORSE_HATCH = "xxx"
 
 
 def _draw_md_summary(axes, spec: dict) -> None:
@@ -554,7 +557,7 @@ def _draw_md_summary(axes, spec: dict) -> None:
     ax2.axhline(0.0, color="#1a1a1a", linewidth=0.8, zorder=5)
     for b, v in zip(bars, ours):
         if not np.isnan(v) and v < 0:
-            b.set_hatch("xxx")
+            b.set_hatch(WORSE_HATCH)
             b.set_edgecolor(WORSE_COLOUR)
             ax2.annotate("▼ worse than\nunshaped", (b.get_x() + b.get_width() / 2, v), xytext=(0, -3),
                          textcoords="offset points", ha="center", va="top", fontsize=6.5, color=WORSE_COLOUR,
