@@ -1,5 +1,6 @@
 #include "clearshape/dsp/welch.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
@@ -8,6 +9,7 @@
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
+#include "welch_segments.hpp"
 
 namespace clearshape::dsp {
 
@@ -50,68 +52,93 @@ void detrend(std::vector<double>& x, std::size_t n, Detrend type) {
 
 }  // namespace
 
-Spectrum welch(std::span<const double> input, double sample_rate_hz, const WelchOptions& options) {
+namespace detail {
+
+SegmentPlan plan_segments(std::size_t samples, double sample_rate_hz, const WelchOptions& options,
+                          std::string_view who) {
   require_positive("sample_rate_hz", sample_rate_hz);
-  const std::size_t nperseg = options.segment_length;
+  SegmentPlan plan;
+  plan.segment_length = options.segment_length;
+  const std::size_t nperseg = plan.segment_length;
   if (nperseg == 0) throw_invalid("segment_length", 0.0, ">= 1");
   const std::size_t noverlap = options.overlap.value_or(nperseg / 2);
-  const std::size_t nfft = options.fft_length.value_or(nperseg);
+  plan.fft_length = options.fft_length.value_or(nperseg);
   if (noverlap >= nperseg) {
     throw_invalid("overlap", static_cast<double>(noverlap), fmt::format("< segment_length = {}", nperseg));
   }
-  if (nfft < nperseg) {
-    throw_invalid("fft_length", static_cast<double>(nfft), fmt::format(">= segment_length = {}", nperseg));
+  if (plan.fft_length < nperseg) {
+    throw_invalid("fft_length", static_cast<double>(plan.fft_length), fmt::format(">= segment_length = {}", nperseg));
   }
-  if (input.size() < nperseg) {
+  if (samples < nperseg) {
     throw InvalidArgument(fmt::format(
-        "welch: the signal has {} samples; allowed: at least segment_length = {}. Use a shorter "
-        "segment_length or a longer record", input.size(), nperseg));
+        "{}: the signal has {} samples; allowed: at least segment_length = {}. Use a shorter "
+        "segment_length or a longer record", who, samples, nperseg));
   }
-  for (std::size_t i = 0; i < input.size(); ++i) {
-    if (!std::isfinite(input[i])) {
-      throw InvalidArgument(fmt::format("welch: sample {} is not finite ({})", i, input[i]));
-    }
-  }
-
-  const std::vector<double> window = make_window(options.window, nperseg);
+  plan.window = make_window(options.window, nperseg);
   double sum_w = 0.0;
   double sum_w2 = 0.0;
-  for (double w : window) {
+  for (double w : plan.window) {
     sum_w += w;
     sum_w2 += w * w;
   }
   // Welch (1967): density scale 1/(fs·Σw²) gives unit²/Hz; spectrum scale 1/(Σw)² gives unit².
-  const double scale = options.scaling == SpectralScaling::density ? 1.0 / (sample_rate_hz * sum_w2)
-                                                                   : 1.0 / (sum_w * sum_w);
-  const std::size_t step = nperseg - noverlap;
-  const std::size_t segments = (input.size() - noverlap) / step;
-  const std::size_t bins = nfft / 2 + 1;
+  plan.scale = options.scaling == SpectralScaling::density ? 1.0 / (sample_rate_hz * sum_w2)
+                                                           : 1.0 / (sum_w * sum_w);
+  plan.step = nperseg - noverlap;
+  plan.segments = (samples - noverlap) / plan.step;
+  plan.bins = plan.fft_length / 2 + 1;
+  plan.resolution_hz = 1.0 / (static_cast<double>(plan.fft_length) * (1.0 / sample_rate_hz));  // numpy rfftfreq
+  plan.detrend = options.detrend;
+  return plan;
+}
 
-  Eigen::FFT<double> fft;
-  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
-  std::vector<double> segment(nfft, 0.0);
-  std::vector<std::complex<double>> transform;
-  std::vector<double> accumulated(bins, 0.0);
-  for (std::size_t s = 0; s < segments; ++s) {
-    const std::size_t start = s * step;
-    std::fill(segment.begin(), segment.end(), 0.0);
-    for (std::size_t i = 0; i < nperseg; ++i) segment[i] = input[start + i];
-    detrend(segment, nperseg, options.detrend);
-    for (std::size_t i = 0; i < nperseg; ++i) segment[i] *= window[i];
-    fft.fwd(transform, segment);
-    for (std::size_t k = 0; k < bins; ++k) accumulated[k] += std::norm(transform[k]);
+void require_finite(std::span<const double> x, std::string_view who, std::string_view signal) {
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i])) {
+      throw InvalidArgument(fmt::format("{}: {}sample {} is not finite ({})", who,
+                                        signal.empty() ? "" : fmt::format("{} ", signal), i, x[i]));
+    }
   }
+}
 
+double one_sided_factor(const SegmentPlan& plan, std::size_t k) noexcept {
+  const bool single = k == 0 || (plan.fft_length % 2 == 0 && k == plan.bins - 1);
+  return single ? 1.0 : 2.0;
+}
+
+SegmentTransformer::SegmentTransformer(const SegmentPlan& plan)
+    : plan_(plan), segment_(plan.fft_length, 0.0) {
+  fft_.SetFlag(Eigen::FFT<double>::HalfSpectrum);
+}
+
+const std::vector<std::complex<double>>& SegmentTransformer::transform(std::span<const double> x, std::size_t s) {
+  const std::size_t start = s * plan_.step;
+  std::fill(segment_.begin(), segment_.end(), 0.0);
+  for (std::size_t i = 0; i < plan_.segment_length; ++i) segment_[i] = x[start + i];
+  detrend(segment_, plan_.segment_length, plan_.detrend);
+  for (std::size_t i = 0; i < plan_.segment_length; ++i) segment_[i] *= plan_.window[i];
+  fft_.fwd(spectrum_, segment_);
+  return spectrum_;
+}
+
+}  // namespace detail
+
+Spectrum welch(std::span<const double> input, double sample_rate_hz, const WelchOptions& options) {
+  const detail::SegmentPlan plan = detail::plan_segments(input.size(), sample_rate_hz, options, "welch");
+  detail::require_finite(input, "welch", "");
+  detail::SegmentTransformer transformer(plan);
+  std::vector<double> accumulated(plan.bins, 0.0);
+  for (std::size_t s = 0; s < plan.segments; ++s) {
+    const auto& transform = transformer.transform(input, s);
+    for (std::size_t k = 0; k < plan.bins; ++k) accumulated[k] += std::norm(transform[k]);
+  }
   Spectrum out;
-  out.segments = segments;
-  out.frequency_hz.resize(bins);
-  out.power.resize(bins);
-  const double df = 1.0 / (static_cast<double>(nfft) * (1.0 / sample_rate_hz));  // numpy rfftfreq
-  for (std::size_t k = 0; k < bins; ++k) {
-    out.frequency_hz[k] = static_cast<double>(k) * df;
-    // One-sided: double every bin except DC and (even nfft) Nyquist.
-    const bool single = k == 0 || (nfft % 2 == 0 && k == bins - 1);
-    out.power[k] = accumulated[k] * scale * (single ? 1.0 : 2.0) / static_cast<double>(segments);
+  out.segments = plan.segments;
+  out.frequency_hz.resize(plan.bins);
+  out.power.resize(plan.bins);
+  for (std::size_t k = 0; k < plan.bins; ++k) {
+    out.frequency_hz[k] = static_cast<double>(k) * plan.resolution_hz;
+    out.power[k] = accumulated[k] * plan.scale * detail::one_sided_factor(plan, k) / static_cast<double>(plan.segments);
   }
   return out;
 }

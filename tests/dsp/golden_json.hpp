@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clearshape/dsp/sos.hpp"
+#include "clearshape/dsp/welch.hpp"
 #include "support/paths.hpp"
 
 namespace clearshape::dsp::testing {
@@ -77,6 +78,26 @@ inline double max_sos_diff(const std::vector<Section>& ours, const std::vector<S
     }
   }
   return m;
+}
+
+/// WelchOptions from a golden case's scipy keywords (window, nperseg, noverlap, nfft, detrend, scaling).
+inline WelchOptions options_of(const nlohmann::json& c) {
+  WelchOptions o;
+  const std::string window = c["window"].get<std::string>();
+  o.window = window == "hann" ? Window::hann
+             : window == "hamming" ? Window::hamming
+                                   : Window::rectangular;
+  o.segment_length = c["nperseg"].get<std::size_t>();
+  if (c.contains("noverlap")) o.overlap = c["noverlap"].get<std::size_t>();
+  if (c.contains("nfft")) o.fft_length = c["nfft"].get<std::size_t>();
+  if (c.contains("detrend")) {
+    const std::string d = c["detrend"].get<std::string>();
+    o.detrend = d == "linear" ? Detrend::linear : d == "none" ? Detrend::none : Detrend::constant;
+  }
+  if (c.contains("scaling") && c["scaling"].get<std::string>() == "spectrum") {
+    o.scaling = SpectralScaling::spectrum;
+  }
+  return o;
 }
 
 }  // namespace clearshape::dsp::testing

@@ -18,30 +18,8 @@ namespace dsp = clearshape::dsp;
 using dsp::testing::load_golden;
 using dsp::testing::max_abs;
 using dsp::testing::max_abs_diff;
+using dsp::testing::options_of;
 using dsp::testing::to_vector;
-
-namespace {
-
-dsp::WelchOptions options_of(const nlohmann::json& c) {
-  dsp::WelchOptions o;
-  const std::string window = c["window"].get<std::string>();
-  o.window = window == "hann" ? dsp::Window::hann
-             : window == "hamming" ? dsp::Window::hamming
-                                   : dsp::Window::rectangular;
-  o.segment_length = c["nperseg"].get<std::size_t>();
-  if (c.contains("noverlap")) o.overlap = c["noverlap"].get<std::size_t>();
-  if (c.contains("nfft")) o.fft_length = c["nfft"].get<std::size_t>();
-  if (c.contains("detrend")) {
-    const std::string d = c["detrend"].get<std::string>();
-    o.detrend = d == "linear" ? dsp::Detrend::linear : d == "none" ? dsp::Detrend::none : dsp::Detrend::constant;
-  }
-  if (c.contains("scaling") && c["scaling"].get<std::string>() == "spectrum") {
-    o.scaling = dsp::SpectralScaling::spectrum;
-  }
-  return o;
-}
-
-}  // namespace
 
 TEST(Welch, MatchesScipy) {
   const auto golden = load_golden("dsp_welch.json");
