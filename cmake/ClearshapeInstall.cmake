@@ -70,5 +70,5 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE amd64)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS
-    "libeigen3-dev, libfmt-dev, nlohmann-json3-dev, libnlopt-cxx-dev, libsundials-dev, libceres-dev, libtomlplusplus-dev, libserialport-dev, pkg-config, python3-numpy")
+    "libeigen3-dev, libfmt-dev, nlohmann-json3-dev, libnlopt-cxx-dev, libsundials-dev, libceres-dev, libtomlplusplus-dev, libserialport-dev, liborocos-kdl-dev, liburdfdom-dev, pkg-config, python3-numpy")
 include(CPack)

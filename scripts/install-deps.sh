@@ -9,12 +9,14 @@ set -euo pipefail
 
 # make run: build the library and the CLI (the Python module is configured, so pybind11 and
 # the Python headers are needed to configure, not to build), then draw the figures and the
-# report (python/render_study.py: matplotlib, jinja2).
+# report (python/render_study.py: matplotlib, jinja2). The CLI links every module, the arm's
+# URDF reader (urdfdom) and rigid-body dynamics (Orocos KDL) included (docs/arm.md).
 run_packages=(
   build-essential cmake pkg-config ninja-build
   libeigen3-dev libsundials-dev libceres-dev libnlopt-cxx-dev libboost-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev libserialport-dev
   pybind11-dev python3-dev
+  liburdfdom-dev liborocos-kdl-dev
   python3 python3-numpy python3-matplotlib python3-jinja2 fonts-dejavu-core
 )
 # make test adds the test frameworks, SciPy (golden data), the firmware tool chain and simavr,

@@ -1,4 +1,4 @@
-#include "toml_reader.hpp"
+#include "clearshape/io/toml_section.hpp"
 
 #include <cmath>
 
@@ -6,7 +6,7 @@
 
 #include "clearshape/core/error.hpp"
 
-namespace clearshape::study::detail {
+namespace clearshape::io {
 
 toml::table parse_toml(std::string_view text, const std::string& file) {
   try {
@@ -161,4 +161,4 @@ void TomlSection::finish(std::string_view allowed) const {
   }
 }
 
-}  // namespace clearshape::study::detail
+}  // namespace clearshape::io

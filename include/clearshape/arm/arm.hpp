@@ -1,0 +1,59 @@
+#pragma once
+// The arm as a plant (docs/arm.md): a serial chain of thesis joints. Each joint i is the single
+// joint of docs/design.md §1 with a gearbox: a drive (Eq. 4.2, position or speed mode) imposes
+// the motor angle θ_m,i (one-way coupling); the gearbox output turns by θ_m,i / N_i; the link
+// sits in a play of total width 2β_i around it and feels the contact torque of a contact law
+// (plant/contact_law.hpp) when the play closes, plus bearing friction on its joint rate. The
+// links obey the rigid-body dynamics of the chain (arm/chain.hpp):
+//   M(q) q̈ + C(q, q̇) q̇ + g(q) = τ_contact(q, θ_m/N, q̇, ω_m/N) + τ_friction(q̇).
+// An ArmModel is an immutable design read from a URDF (the chain) and a TOML (drives, gears,
+// play, contact, friction and encoders per joint).
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "clearshape/arm/chain.hpp"
+#include "clearshape/plant/contact_law.hpp"
+#include "clearshape/plant/drive.hpp"
+#include "clearshape/plant/encoder.hpp"
+#include "clearshape/plant/friction.hpp"
+
+namespace clearshape::arm {
+
+struct ArmJoint {
+  std::string name;  ///< the URDF joint's name
+  plant::DriveModel drive = plant::DriveModel::first_order_position(0.01);
+  double gear_ratio = 1.0;     ///< N > 0: the gearbox output turns θ_m / N
+  double half_play_rad = 0.0;  ///< β ≥ 0 at the link: it turns freely for |q − θ_m/N| ≤ β
+  plant::ContactLaw law = plant::ContactLaw::kelvin_voigt(1e4, 0.0);  ///< torque on the link
+  plant::Friction friction{};      ///< bearing friction on the joint rate q̇ (N·m, rad/s)
+  plant::EncoderConfig encoder{};  ///< on the motor shaft
+};
+
+struct ArmModel {
+  std::string name;
+  RigidChain chain;
+  std::vector<ArmJoint> joints;  ///< one per revolute joint of the chain, in chain order
+  /// Throws InvalidArgument naming "joint[i].field" and the allowed range.
+  void validate() const;
+  int dof() const noexcept { return chain.dof(); }
+};
+
+/// The arm of a URDF and its TOML (docs/arm.md, "Bring your own arm"). Every revolute joint of
+/// the URDF needs one [[joint]] table with its name; errors name the file, line and key.
+ArmModel load_arm(const std::string& urdf_path, const std::string& toml_path);
+/// The same from texts; `urdf_file` and `toml_file` name them in errors.
+ArmModel arm_from_text(std::string_view urdf, const std::string& urdf_file, std::string_view toml,
+                       const std::string& toml_file);
+
+/// The arms shipped with clearshape: "scara-2", "vertical-2" (docs/arm.md).
+std::vector<std::string> builtin_arm_names();
+struct ArmText {
+  std::string urdf;
+  std::string toml;
+};
+/// The URDF and TOML texts of a built-in arm (InvalidArgument listing the names otherwise).
+ArmText builtin_arm_text(std::string_view name);
+ArmModel builtin_arm(std::string_view name);
+
+}  // namespace clearshape::arm

@@ -1,0 +1,85 @@
+#pragma once
+// The arm's rigid-body part (docs/arm.md): a serial chain of revolute joints read from URDF
+// (urdfdom) whose joint-space dynamics come from Orocos KDL, not from hand-derived equations:
+//   M(q) q̈ + C(q, q̇) q̇ + g(q) = τ
+// M by KDL's composite-rigid-body solver, C q̇ + g by its recursive Newton–Euler solver with
+// q̈ = 0 (Featherstone, Rigid Body Dynamics Algorithms, 2008, §5.3 and §6.2).
+// A RigidChain is an immutable design: copies share the KDL chain; the solvers and their
+// workspaces live in a ChainWorkspace (a state, one per simulation).
+#include <array>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace clearshape::arm {
+
+/// The URDF's revolute joints in chain order, with their limits (rad) if the URDF gives them.
+struct ChainJoint {
+  std::string name;
+  std::string child_link;
+  bool limited = false;  ///< revolute (true) or continuous (false)
+  double lower_rad = 0.0;
+  double upper_rad = 0.0;
+};
+
+class RigidChain {
+ public:
+  /// Reads a URDF document. `file` names it in errors (a path, or "<builtin scara-2>").
+  /// Throws InputError naming the file, the element (joint/link) and the reason for malformed
+  /// XML, a joint type other than revolute/continuous/fixed (prismatic, floating, planar), a
+  /// link with two child joints (a branching tree; URDF cannot close a chain), a moving joint
+  /// without a massive link after it, or a chain without any revolute joint.
+  static RigidChain from_urdf(std::string_view urdf_xml, const std::string& file);
+  /// Reads the URDF at `path` (InputError if it cannot be read).
+  static RigidChain from_urdf_file(const std::string& path);
+
+  int dof() const noexcept;
+  const std::vector<ChainJoint>& joints() const noexcept;
+  const std::string& robot_name() const noexcept;
+  const std::string& tip_link() const noexcept;
+  /// Gravity in the root link's frame (m/s²); URDF has none: (0, 0, −9.80665) by default.
+  const Eigen::Vector3d& gravity_m_s2() const noexcept;
+  /// A copy with another gravity vector (finite entries, else InvalidArgument).
+  RigidChain with_gravity(const Eigen::Vector3d& gravity_m_s2) const;
+  /// The KDL chain (kdl/chain.hpp) behind an opaque pointer, for the workspace.
+  const void* kdl_chain() const noexcept;
+
+  struct Data;  ///< opaque: the KDL chain and the joints (src/arm/chain.cpp)
+
+ private:
+  explicit RigidChain(std::shared_ptr<const Data> data) : data_(std::move(data)) {}
+  std::shared_ptr<const Data> data_;
+  friend class ChainWorkspace;
+};
+
+/// KDL's solvers for one chain with preallocated joint arrays (a state: not thread-safe).
+class ChainWorkspace {
+ public:
+  explicit ChainWorkspace(const RigidChain& chain);
+  ~ChainWorkspace();
+  ChainWorkspace(const ChainWorkspace&) = delete;
+  ChainWorkspace& operator=(const ChainWorkspace&) = delete;
+
+  /// M(q), dof × dof, symmetric positive definite.
+  void mass_matrix(const Eigen::VectorXd& q, Eigen::MatrixXd& m);
+  /// C(q, q̇) q̇ + g(q): the torque that holds q̈ = 0 (RNE with zero acceleration).
+  void bias_torque(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, Eigen::VectorXd& tau);
+  /// g(q) alone (the torque that holds the arm still against gravity).
+  void gravity_torque(const Eigen::VectorXd& q, Eigen::VectorXd& tau);
+  /// The tip link's origin in the root frame (m), by KDL's forward kinematics.
+  Eigen::Vector3d tip_position_m(const Eigen::VectorXd& q);
+  /// Potential energy −Σ m_i gᵀ c_i(q) of every link's centre of mass c_i (J): from forward
+  /// kinematics and the masses, independent of the dynamics solvers (energy checks).
+  double potential_energy_j(const Eigen::VectorXd& q);
+  /// Kinetic energy ½ q̇ᵀ M(q) q̇ (J).
+  double kinetic_energy_j(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace clearshape::arm

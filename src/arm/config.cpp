@@ -1,0 +1,221 @@
+// The arm's TOML: drives, gears, play, contact, friction and encoders per joint (docs/arm.md).
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "clearshape/arm/arm.hpp"
+#include "clearshape/core/error.hpp"
+#include "clearshape/io/toml_section.hpp"
+#include "clearshape/lti/process_model.hpp"
+
+namespace clearshape::arm {
+
+namespace {
+
+using io::TomlSection;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+double non_negative(const TomlSection& t, std::string_view key, double fallback) {
+  const double v = t.number(key, fallback);
+  if (v < 0.0) t.fail(key, fmt::format("= {} is out of range; allowed: >= 0", v));
+  return v;
+}
+
+// [joint.drive]: a process model of thesis §4.2 (MATLAB procest codes), the thesis's Eq. 4.2,
+// or a first-order lag; outputs in degrees (deg/s in speed mode) of the motor per command unit.
+plant::DriveModel read_drive(const TomlSection& t) {
+  const std::string model = t.text("model");
+  const std::string mode = t.text("mode", "position");
+  if (mode != "position" && mode != "speed") t.fail("mode", fmt::format("'{}' is not a drive mode; allowed: position, speed", mode));
+  const auto drive_mode = mode == "position" ? plant::DriveMode::position : plant::DriveMode::speed;
+  if (model == "thesis") {
+    t.finish("model, mode");
+    return drive_mode == plant::DriveMode::position ? plant::DriveModel::thesis_position_mode()
+                                                   : plant::DriveModel::thesis_speed_mode();
+  }
+  if (model == "first-order") {
+    if (drive_mode != plant::DriveMode::position) t.fail("mode", "a first-order drive is a position-mode drive; allowed: position");
+    const double tau = t.positive("time_constant_s", 0.01);
+    t.finish("model, mode, time_constant_s");
+    return plant::DriveModel::first_order_position(tau);
+  }
+  lti::ProcessStructure structure;
+  try {
+    structure = lti::ProcessStructure::parse(model);
+  } catch (const InvalidArgument& e) {
+    t.fail("model", fmt::format("'{}': {}; allowed also: thesis, first-order", model, e.what()));
+  }
+  lti::ProcessParameters p;
+  std::string allowed = "model, mode";
+  for (std::string_view name : structure.parameter_names()) {
+    std::string key(name);
+    for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    p.set(name, t.number(key));
+    allowed += ", " + key;
+  }
+  t.finish(allowed);
+  try {
+    return plant::DriveModel::from_process_model(drive_mode, lti::ProcessModel(structure, p));
+  } catch (const InvalidArgument& e) {
+    t.fail("", e.what());
+  }
+}
+
+plant::DampingPolicy read_policy(const TomlSection& t) {
+  const std::string p = t.text("policy", "clamped");
+  if (p == "raw") return plant::DampingPolicy::raw;
+  if (p == "clamped") return plant::DampingPolicy::clamped;
+  if (p == "bounded") return plant::DampingPolicy::bounded;
+  t.fail("policy", fmt::format("'{}' is not a damping policy; allowed: raw, clamped, bounded", p));
+}
+
+// [joint.contact]: one of plant/contact_law.hpp's laws; δ in rad at the link, torque in N·m.
+plant::ContactLaw read_contact(const TomlSection& t) {
+  const std::string law = t.text("law");
+  const double k = t.positive("stiffness", 1.0);
+  try {
+    if (law == "kelvin-voigt" || law == "hertz-dashpot") {
+      const double n = law == "kelvin-voigt" ? 1.0 : t.positive("exponent", 1.5);
+      const double d = non_negative(t, "damping", 0.0);
+      const plant::DampingPolicy policy = read_policy(t);
+      t.finish(law == "kelvin-voigt" ? "law, stiffness, damping, policy" : "law, stiffness, exponent, damping, policy");
+      return law == "kelvin-voigt" ? plant::ContactLaw::kelvin_voigt(k, d, policy)
+                                   : plant::ContactLaw::hertz_dashpot(k, n, d, policy);
+    }
+    const plant::Hysteresis h = law == "hunt-crossley"         ? plant::Hysteresis::hunt_crossley
+                                : law == "lankarani-nikravesh" ? plant::Hysteresis::lankarani_nikravesh
+                                : law == "flores"              ? plant::Hysteresis::flores
+                                                               : (t.fail("law", fmt::format(
+                                                                      "'{}' is not a contact law; allowed: kelvin-voigt, "
+                                                                      "hertz-dashpot, hunt-crossley, lankarani-nikravesh, flores",
+                                                                      law)),
+                                                                  plant::Hysteresis::flores);
+    const double n = t.positive("exponent", 1.5);
+    const double e = t.number("restitution");
+    if (!(e > 0.0 && e <= 1.0)) t.fail("restitution", fmt::format("= {} is out of range; allowed: (0, 1]", e));
+    t.finish("law, stiffness, exponent, restitution");
+    return plant::ContactLaw::hysteresis(h, k, n, e);
+  } catch (const InvalidArgument& e) {
+    t.fail("", e.what());
+  }
+}
+
+plant::Friction read_friction(const TomlSection& t) {
+  plant::Friction f;
+  f.viscous = non_negative(t, "viscous_n_m_s_per_rad", 0.0);
+  f.coulomb = non_negative(t, "coulomb_n_m", 0.0);
+  f.regularization_rate = t.positive("regularization_rate_rad_s", f.regularization_rate);
+  t.finish("viscous_n_m_s_per_rad, coulomb_n_m, regularization_rate_rad_s");
+  return f;
+}
+
+plant::EncoderConfig read_encoder(const TomlSection& t) {
+  plant::EncoderConfig e;
+  e.lines_per_revolution = static_cast<int>(t.integer("lines_per_revolution", 3000, 1, 1 << 24));
+  const auto decoding = t.integer("decoding", 4, 1, 4);
+  if (decoding == 3) t.fail("decoding", "= 3 is not a decoding; allowed: 1, 2, 4");
+  e.decoding = static_cast<plant::Decoding>(decoding);
+  t.finish("lines_per_revolution, decoding");
+  return e;
+}
+
+ArmJoint read_joint(const TomlSection& t) {
+  ArmJoint j;
+  j.name = t.text("name");
+  j.gear_ratio = t.positive("gear_ratio", 1.0);
+  j.half_play_rad = 0.5 * non_negative(t, "play_deg", 0.0) * kDeg;  // play = total width 2β
+  const auto drive = t.table("drive");
+  if (!drive) t.fail("drive", "missing table [joint.drive]");
+  j.drive = read_drive(*drive);
+  const auto contact = t.table("contact");
+  if (!contact) t.fail("contact", "missing table [joint.contact]");
+  j.law = read_contact(*contact);
+  if (const auto f = t.table("friction")) j.friction = read_friction(*f);
+  if (const auto e = t.table("encoder")) j.encoder = read_encoder(*e);
+  t.finish("name, gear_ratio, play_deg, drive, contact, friction, encoder");
+  return j;
+}
+
+// Orders the [[joint]] tables as the chain's joints; every chain joint exactly once.
+std::vector<ArmJoint> match_joints(const TomlSection& root, const RigidChain& chain) {
+  const std::vector<TomlSection> tables = root.tables("joint");
+  std::string names;
+  for (const ChainJoint& c : chain.joints()) names += (names.empty() ? "" : ", ") + c.name;
+  std::vector<ArmJoint> read;
+  for (const TomlSection& t : tables) read.push_back(read_joint(t));
+  std::vector<ArmJoint> ordered;
+  for (const ChainJoint& c : chain.joints()) {
+    int found = -1;
+    for (std::size_t i = 0; i < read.size(); ++i) {
+      if (read[i].name != c.name) continue;
+      if (found >= 0) tables[i].fail("name", fmt::format("joint '{}' is given twice", c.name));
+      found = static_cast<int>(i);
+    }
+    if (found < 0) root.fail("joint", fmt::format("no [[joint]] for the URDF's joint '{}'; the URDF's joints: {}", c.name, names));
+    ordered.push_back(read[static_cast<std::size_t>(found)]);
+  }
+  for (std::size_t i = 0; i < read.size(); ++i) {
+    bool known = false;
+    for (const ChainJoint& c : chain.joints()) known = known || c.name == read[i].name;
+    if (!known) tables[i].fail("name", fmt::format("'{}' is not a revolute joint of the URDF; allowed: {}", read[i].name, names));
+  }
+  return ordered;
+}
+
+std::string read_text(const std::string& path, const char* what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", fmt::format("cannot open the {} file", what));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+void ArmModel::validate() const {
+  if (static_cast<int>(joints.size()) != chain.dof()) {
+    throw InvalidArgument(fmt::format("arm '{}' has {} joint configurations for {} chain joints; allowed: one per joint",
+                                      name, joints.size(), chain.dof()));
+  }
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const ArmJoint& j = joints[i];
+    const std::string field = fmt::format("joint[{}]", i);
+    if (j.name != chain.joints()[i].name) {
+      throw InvalidArgument(fmt::format("{}.name = '{}' but the chain's joint {} is '{}'", field, j.name, i, chain.joints()[i].name));
+    }
+    require_positive(field + ".gear_ratio", j.gear_ratio);
+    require_non_negative(field + ".half_play_rad", j.half_play_rad);
+    j.friction.validate(field.c_str());
+  }
+}
+
+ArmModel arm_from_text(std::string_view urdf, const std::string& urdf_file, std::string_view toml,
+                       const std::string& toml_file) {
+  RigidChain chain = RigidChain::from_urdf(urdf, urdf_file);
+  const toml::table doc = io::parse_toml(toml, toml_file);
+  const TomlSection root(doc, "", toml_file);
+  std::string name = chain.robot_name();
+  if (const auto arm = root.table("arm")) {
+    name = arm->text("name", name);
+    const std::vector<double> g = arm->numbers("gravity_m_s2");
+    if (arm->has("gravity_m_s2")) {
+      if (g.size() != 3) arm->fail("gravity_m_s2", "must hold 3 numbers (x, y, z in the URDF's root frame, m/s²)");
+      chain = chain.with_gravity(Eigen::Vector3d(g[0], g[1], g[2]));
+    }
+    arm->finish("name, gravity_m_s2");
+  }
+  ArmModel model{name, chain, match_joints(root, chain)};
+  root.finish("arm, joint");
+  model.validate();
+  return model;
+}
+
+ArmModel load_arm(const std::string& urdf_path, const std::string& toml_path) {
+  return arm_from_text(read_text(urdf_path, "URDF"), urdf_path, read_text(toml_path, "TOML"), toml_path);
+}
+
+}  // namespace clearshape::arm

@@ -1,0 +1,181 @@
+#include "clearshape/arm/simulation.hpp"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "arm_system.hpp"
+#include "clearshape/core/error.hpp"
+
+namespace clearshape::arm {
+
+void ArmSolverOptions::validate() const {
+  require_in_open("solver.relative_tolerance", relative_tolerance, 0.0, 1.0);
+  require_positive("solver.angle_tolerance_rad", angle_tolerance_rad);
+  require_positive("solver.rate_tolerance_rad_s", rate_tolerance_rad_s);
+  require_non_negative("solver.max_step_s", max_step_s);
+  if (max_steps_per_output < 1) throw_invalid("solver.max_steps_per_output", static_cast<double>(max_steps_per_output), ">= 1");
+}
+
+void ArmSimulationOptions::validate(int dof) const {
+  require_positive("duration_s", duration_s);
+  require_positive("output_rate_hz", output_rate_hz);
+  solver.validate();
+  for (const auto* v : {&initial.relative_angle_rad, &initial.link_rate_rad_s}) {
+    if (v->size() != 0 && v->size() != dof) {
+      throw InvalidArgument(fmt::format("initial state has {} values for {} joints; allowed: {} or none", v->size(), dof, dof));
+    }
+    if (!v->allFinite()) throw InvalidArgument("initial state must hold finite values");
+  }
+}
+
+namespace {
+
+int rhs_callback(realtype t, N_Vector y, N_Vector yd, void* user) {
+  return static_cast<detail::ArmSystem*>(user)->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yd));
+}
+
+int root_callback(realtype t, N_Vector y, realtype* g, void* user) {
+  static_cast<detail::ArmSystem*>(user)->roots(t, N_VGetArrayPointer(y), g);
+  return 0;
+}
+
+void check(int flag, const char* what) {
+  if (flag < 0) throw RuntimeError(fmt::format("CVODE setup failed in {} (flag {})", what, flag));
+}
+
+// CVODE with a dense BDF solver and root finding around an ArmSystem (RAII).
+class Integrator {
+ public:
+  Integrator(detail::ArmSystem& system, const ArmSolverOptions& o) {
+    if (SUNContext_Create(nullptr, &ctx_) != 0) throw RuntimeError("CVODE: SUNContext_Create failed");
+    const auto n = static_cast<sunindextype>(system.size());
+    y_ = N_VNew_Serial(n, ctx_);
+    atol_ = N_VNew_Serial(n, ctx_);
+    mem_ = CVodeCreate(CV_BDF, ctx_);
+    if (!y_ || !atol_ || !mem_) throw RuntimeError("CVODE: cannot allocate the integrator");
+    N_VConst(0.0, y_);
+    system.tolerances(o, N_VGetArrayPointer(atol_));
+    check(CVodeInit(mem_, rhs_callback, 0.0, y_), "CVodeInit");
+    check(CVodeSVtolerances(mem_, o.relative_tolerance, atol_), "CVodeSVtolerances");
+    check(CVodeSetUserData(mem_, &system), "CVodeSetUserData");
+    check(CVodeSetMaxNumSteps(mem_, o.max_steps_per_output), "CVodeSetMaxNumSteps");
+    check(CVodeSetMaxHnilWarns(mem_, -1), "CVodeSetMaxHnilWarns");
+    if (o.max_step_s > 0.0) check(CVodeSetMaxStep(mem_, o.max_step_s), "CVodeSetMaxStep");
+    matrix_ = SUNDenseMatrix(n, n, ctx_);
+    linear_ = SUNLinSol_Dense(y_, matrix_, ctx_);
+    if (!matrix_ || !linear_) throw RuntimeError("CVODE: cannot create the dense linear solver");
+    check(CVodeSetLinearSolver(mem_, linear_, matrix_), "CVodeSetLinearSolver");
+    check(CVodeRootInit(mem_, system.root_count(), root_callback), "CVodeRootInit");
+    check(CVodeSetNoInactiveRootWarn(mem_), "CVodeSetNoInactiveRootWarn");
+  }
+  ~Integrator() {
+    if (mem_) CVodeFree(&mem_);
+    if (linear_) SUNLinSolFree(linear_);
+    if (matrix_) SUNMatDestroy(matrix_);
+    if (atol_) N_VDestroy(atol_);
+    if (y_) N_VDestroy(y_);
+    if (ctx_) SUNContext_Free(&ctx_);
+  }
+  Integrator(const Integrator&) = delete;
+  Integrator& operator=(const Integrator&) = delete;
+
+  double* y() noexcept { return N_VGetArrayPointer(y_); }
+  void restart(double t, double stop_s) {
+    totals(true);
+    check(CVodeReInit(mem_, t, y_), "CVodeReInit");
+    check(CVodeSetStopTime(mem_, stop_s), "CVodeSetStopTime");
+  }
+  int advance(double tout, double& t) noexcept { return CVode(mem_, tout, y_, &t, CV_NORMAL); }
+  void roots(int* found) { check(CVodeGetRootInfo(mem_, found), "CVodeGetRootInfo"); }
+  /// Steps and right-hand sides since the start (CVodeReInit resets CVODE's own counters).
+  void totals(bool carry) {
+    long steps = 0, rhs = 0, rhs_jac = 0;
+    CVodeGetNumSteps(mem_, &steps);
+    CVodeGetNumRhsEvals(mem_, &rhs);
+    CVodeGetNumLinRhsEvals(mem_, &rhs_jac);
+    current_steps = steps;
+    current_rhs = rhs + rhs_jac;
+    if (carry) {
+      carried_steps += steps;
+      carried_rhs += rhs + rhs_jac;
+      current_steps = current_rhs = 0;
+    }
+  }
+  long carried_steps = 0, carried_rhs = 0, current_steps = 0, current_rhs = 0;
+
+ private:
+  SUNContext ctx_ = nullptr;
+  N_Vector y_ = nullptr;
+  N_Vector atol_ = nullptr;
+  SUNMatrix matrix_ = nullptr;
+  SUNLinearSolver linear_ = nullptr;
+  void* mem_ = nullptr;
+};
+
+void allocate(ArmTrace& tr, Eigen::Index rows, int dof) {
+  for (Eigen::MatrixXd* m : {&tr.motor_angle_rad, &tr.encoder_angle_rad, &tr.output_angle_rad, &tr.link_angle_rad,
+                             &tr.link_rate_rad_s, &tr.contact_torque_n_m}) {
+    m->setZero(rows, dof);
+  }
+  tr.tool_position_m.setZero(rows, 3);
+  for (std::vector<double>* v : {&tr.time_s, &tr.kinetic_j, &tr.potential_j, &tr.contact_energy_j}) {
+    v->reserve(static_cast<std::size_t>(rows));
+  }
+}
+
+}  // namespace
+
+ArmTrace simulate_arm(const ArmModel& model, std::span<const plant::Command> commands,
+                      const ArmSimulationOptions& options) {
+  options.validate(model.dof());
+  detail::ArmSystem system(model, commands);
+  Integrator cv(system, options.solver);
+  ArmTrace trace;
+  const auto rows = static_cast<Eigen::Index>(std::floor(options.duration_s * options.output_rate_hz + 1e-9)) + 1;
+  allocate(trace, rows, model.dof());
+  system.initial_state(options.initial, cv.y(), trace.events);
+  const std::vector<double> jumps = system.discontinuities_s();
+  auto next_jump = [&](double t) {
+    const auto it = std::upper_bound(jumps.begin(), jumps.end(), t);
+    return it == jumps.end() ? options.duration_s * 2.0 + 1.0 : *it;
+  };
+  double t = 0.0;
+  double stop = next_jump(t);
+  cv.restart(t, stop);
+  std::vector<int> found(static_cast<std::size_t>(system.root_count()));
+  system.record(t, cv.y(), trace, 0);
+  for (Eigen::Index k = 1; k < rows; ++k) {
+    const double tout = static_cast<double>(k) / options.output_rate_hz;
+    while (t < tout) {
+      const int flag = cv.advance(std::min(tout, stop), t);
+      if (flag < 0) {
+        throw RuntimeError(fmt::format("arm '{}': CVODE failed (flag {}) at {}", model.name, flag, system.describe(t, cv.y())));
+      }
+      bool restart = false;
+      if (flag == CV_ROOT_RETURN) {
+        cv.roots(found.data());
+        restart = system.on_roots(t, cv.y(), found.data(), trace.events);
+      }
+      if (t >= stop) {  // a command jump: restart the multistep history there
+        stop = next_jump(t);
+        restart = true;
+      }
+      if (restart) cv.restart(t, stop);
+    }
+    if (system.check_consistency(t, cv.y(), trace.events)) cv.restart(t, stop);
+    system.record(t, cv.y(), trace, k);
+  }
+  cv.totals(false);
+  trace.steps = cv.carried_steps + cv.current_steps;
+  trace.rhs_evaluations = cv.carried_rhs + cv.current_rhs;
+  return trace;
+}
+
+}  // namespace clearshape::arm
