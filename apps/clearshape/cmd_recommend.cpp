@@ -21,13 +21,9 @@
 #include "clearshape/advise/spectrum_input.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/json.hpp"
-#include "clearshape/signal/parameters.hpp"
-#include "clearshape/shaping/grid.hpp"
+#include "clearshape/study/recommend_report.hpp"
 #include "command.hpp"
 #include "option_checks.hpp"
-#include "clearance_model_json.hpp"
-#include "recommend_clearance_aware.hpp"
-#include "recommend_model.hpp"
 #include "recommend_plot.hpp"
 #include "signal_options.hpp"
 
@@ -137,45 +133,6 @@ advise::RecommendOptions options(const RecommendState& st) {
   return o;
 }
 
-nlohmann::ordered_json mode_json(const advise::ModeEstimate& m) {
-  return {{"frequency_hz", m.frequency_hz},           {"frequency_std_hz", m.frequency_std_hz},
-          {"damping_ratio", m.damping_ratio},         {"damping_ratio_std", m.damping_ratio_std},
-          {"source", m.source},                       {"peak_power", m.peak_power},
-          {"prominence", m.prominence},
-          {"damping_ratio_range", m.damping_ratio_range ? nlohmann::ordered_json({m.damping_ratio_range->first, m.damping_ratio_range->second})
-                                                        : nlohmann::ordered_json(nullptr)},
-          {"note", m.note},
-          {"half_power_low_hz", m.half_power_low_hz}, {"half_power_high_hz", m.half_power_high_hz}};
-}
-
-// A ready `clearshape shape` line for the chosen candidate.
-std::string shape_command(const advise::CandidateResult& c, const advise::Recommendation& r, double grid_hz) {
-  const auto star = c.name.find('*');
-  const std::string method = c.name.substr(0, star);
-  std::string s = fmt::format("clearshape shape --method {} --frequency-hz {:.6g} --zeta {:.6g}", method, c.design_frequency_hz[0],
-                              c.design_damping);
-  if (method == "si") {
-    const double u = (r.frequency_scales.size() > 1 ? r.frequency_scales.back() - 1.0 : 0.0);
-    const double half = std::max(u, 0.02);
-    s += fmt::format(" --band-low-hz {:.6g} --band-high-hz {:.6g}", c.design_frequency_hz[0] * (1.0 - half),
-                     c.design_frequency_hz[0] * (1.0 + half));
-  }
-  if (star != std::string::npos && c.design_frequency_hz.size() > 1) {
-    s += fmt::format(" --second-frequency-hz {:.6g} --second-zeta {:.6g}", c.design_frequency_hz[1],
-                     std::clamp(r.modes[1].damping_ratio, 0.0, 0.9));
-  }
-  if (grid_hz > 0.0) s += fmt::format(" --grid-hz {:g}", grid_hz);
-  return s;
-}
-
-nlohmann::ordered_json number_or_null(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); }
-
-nlohmann::ordered_json impulses_json(const shaping::Shaper& s) {
-  nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
-  for (const auto& i : s.impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
-  return impulses;
-}
-
 // "0 ms 0.6031, 33.33 ms 0.3969": the impulses the drive applies, for the table.
 std::string impulses_text(const shaping::Shaper& s) {
   std::string out;
@@ -183,129 +140,9 @@ std::string impulses_text(const shaping::Shaper& s) {
   return out;
 }
 
-// Every candidate as the JSON lists it: the linear ones (with their predicted MD given a model),
-// then the clearance-aware design when it was asked for.
-nlohmann::ordered_json candidates_json(const advise::Recommendation& r, const std::optional<MovePrediction>& pred,
-                                       const std::optional<ClearanceAwareCandidate>& ca, double grid_hz) {
-  nlohmann::ordered_json cands = nlohmann::ordered_json::array();
-  for (const auto& c : r.candidates) {
-    nlohmann::ordered_json j{{"name", c.name}, {"available", c.available}, {"note", c.note}};
-    if (c.available) {
-      nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
-      for (const auto& i : c.shaper->impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
-      j["design_frequency_hz"] = c.design_frequency_hz;
-      j["design_damping"] = c.design_damping;
-      j["duration_s"] = c.duration_s;
-      j["remaining_worst"] = c.remaining_worst;
-      j["remaining_nominal"] = c.remaining_nominal;
-      j["least_remaining"] = c.least_remaining;
-      j["least_remaining_frequency_hz"] = c.least_remaining_frequency_hz;
-      j["within_budget"] = c.within_budget;
-      j["leaves_too_much"] = c.leaves_too_much;
-      j["impulses"] = impulses;
-      if (grid_hz > 0.0) {  // the impulses above are the applied ones, on the drive's update grid
-        j["update_grid_hz"] = grid_hz;
-        j["duplicate_of"] = c.duplicate_of ? nlohmann::ordered_json(*c.duplicate_of) : nlohmann::ordered_json(nullptr);
-        j["designed_impulses"] = impulses_json(*c.designed);
-        j["remaining_worst_designed"] = c.remaining_worst_designed;
-      }
-    }
-    if (pred) {
-      const auto& md = pred->md[&c - r.candidates.data()];
-      j["predicted_md"] = md ? nlohmann::ordered_json(*md) : nlohmann::ordered_json(nullptr);
-      j["worse_than_unshaped"] = md && *md > pred->unshaped_md;  // issue 19: never offered unmarked
-    }
-    cands.push_back(j);
-  }
-  if (ca) {  // beside the linear candidates: designed on the model, not from a mode
-    nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
-    for (const auto& i : ca->shaper.impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
-    cands.push_back({{"name", "clearance-aware"},
-                     {"available", true},
-                     {"note", "designed by simulation on the model for the move (not ranked by remaining vibration)"},
-                     {"duration_s", ca->shaper.duration_s()},
-                     {"max_duration_s", ca->max_duration_s},
-                     {"bound_source", ca->bound_source},
-                     {"impulses", impulses},
-                     {"predicted_md", ca->predicted_md},
-                     {"worse_than_unshaped", pred && ca->predicted_md > pred->unshaped_md},
-                     {"design_worst_md", ca->design_worst_md_deg},
-                     {"evaluations", ca->evaluations},
-                     {"design_time_s", ca->design_time_s}});
-  }
-  return cands;
-}
-
-void print_json_result(const RecommendState& st, const std::vector<advise::MeasuredSpectrum>& spectra,
-                       const advise::ModeEstimation& est, const advise::Recommendation& r, const advise::RecommendOptions& o,
-                       const std::optional<MovePrediction>& pred,
-                       const std::optional<ClearanceAwareCandidate>& ca) {
-  auto doc = io::make_document();
-  doc["command"] = "recommend";
-  nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
-  for (const auto& s : spectra) {
-    inputs.push_back({{"file", s.source},
-                      {"format", std::string(advise::to_string(s.format))},
-                      {"column", s.column},
-                      {"samples", s.series ? nlohmann::ordered_json(s.series->size()) : nlohmann::ordered_json(nullptr)},
-                      {"sample_rate_hz", s.series ? nlohmann::ordered_json(1.0 / s.series->sample_time_s) : nlohmann::ordered_json(nullptr)},
-                      {"window_s", s.series ? nlohmann::ordered_json({s.series->start_s, s.series->end_s()}) : nlohmann::ordered_json(nullptr)},
-                      {"segments", s.segments},
-                      {"resolution_hz", s.resolution_hz},
-                      {"bins", s.frequency_hz.size()}});
-  }
-  doc["inputs"] = inputs;
-  nlohmann::ordered_json modes = nlohmann::ordered_json::array(), spectral = nlohmann::ordered_json::array();
-  for (const auto& m : r.modes) modes.push_back(mode_json(m));
-  for (const auto& m : est.spectral_modes) spectral.push_back(mode_json(m));
-  doc["modes"] = modes;
-  doc["spectral_modes"] = spectral;
-  doc["free_decay"] = {{"used", est.free_decay_used}, {"fit_percent", est.free_decay_fit_percent}, {"note", est.note}};
-  doc["scoring"] = {{"measure", "remaining = sum(max(V*P - thr, 0)) / sum(max(P - thr, 0)), thr = threshold_fraction * max P"},
-                    {"threshold_fraction", o.threshold_fraction},
-                    {"design_damping", r.design_damping},
-                    {"test_damping_ratios", r.test_damping_ratios},
-                    {"frequency_scales", r.frequency_scales},
-                    {"max_delay_s", number_or_null(o.max_delay_s)},
-                    {"vibration_tolerance", o.vibration_tolerance},
-                    {"max_remaining", o.max_remaining},
-                    {"scan", o.scan_step_hz ? fmt::format("linear, {:g} Hz steps", *o.scan_step_hz)
-                                            : fmt::format("log-spaced, x{:g} per step", 1.0 + o.scan_step_ratio)}};
-  if (o.update_grid_hz > 0.0) doc["scoring"]["update_grid_hz"] = o.update_grid_hz;
-  doc["candidates"] = candidates_json(r, pred, ca, o.update_grid_hz);
-  if (pred) {
-    doc["model"] = {{"file", st.model},
-                    {"move", st.move},
-                    {"move_parameters", nlohmann::ordered_json::parse(pred->move_parameters)},
-                    {"md_signal", pred->signal_name},
-                    {"duration_s", pred->duration_s},
-                    {"sample_time_s", pred->sample_time_s},
-                    {"initial_play_fraction", pred->initial_play_fraction},
-                    {"unshaped_md", pred->unshaped_md}};
-  } else {
-    doc["model"] = nullptr;
-  }
-  if (r.chosen) {
-    const auto& c = r.candidates[*r.chosen];
-    doc["recommendation"] = {{"name", c.name},
-                             {"design_frequency_hz", c.design_frequency_hz},
-                             {"design_damping", c.design_damping},
-                             {"duration_s", c.duration_s},
-                             {"remaining_worst", c.remaining_worst},
-                             {"warning", r.warning.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.warning)},
-                             {"predicted_md", pred ? nlohmann::ordered_json(*pred->md[*r.chosen]) : nlohmann::ordered_json(nullptr)},
-                             {"shape_command", shape_command(c, r, o.update_grid_hz)}};
-  } else {
-    doc["recommendation"] = nullptr;
-  }
-  doc["reason"] = r.reason;
-  doc["plot"] = st.plot.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(st.plot);
-  print_json(doc);
-}
-
 void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const advise::ModeEstimation& est,
-                 const advise::Recommendation& r, const std::optional<MovePrediction>& pred,
-                 const std::optional<ClearanceAwareCandidate>& ca, double grid_hz) {
+                 const advise::Recommendation& r, const std::optional<study::MovePrediction>& pred,
+                 const std::optional<study::ClearanceAwareCandidate>& ca, double grid_hz) {
   for (const auto& s : spectra) {
     fmt::print("input  {} ({}, {}): {} bins, resolution {:.3g} Hz{}\n", s.source, advise::to_string(s.format), s.column,
                s.frequency_hz.size(), s.resolution_hz, s.segments > 0 ? fmt::format(", {} Welch segments", s.segments) : "");
@@ -361,7 +198,7 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
   fmt::print("\nrecommended: {}\n", r.chosen ? r.candidates[*r.chosen].name : std::string("none"));
   fmt::print("reason: {}\n", r.reason);
   if (!r.warning.empty()) fmt::print("warning: {}\n", r.warning);
-  if (r.chosen) fmt::print("shaper: {}\n", shape_command(r.candidates[*r.chosen], r, grid_hz));
+  if (r.chosen) fmt::print("shaper: {}\n", study::shape_command(r.candidates[*r.chosen], r, grid_hz));
 }
 
 // A record of a whole move (rest, move, free decay) read without --from-s: its spectrum is the
@@ -392,13 +229,28 @@ void print_window_hints(const std::vector<advise::MeasuredSpectrum>& spectra) {
   }
 }
 
-void run_recommend(const RecommendState& st) {
-  if (!st.plot.empty() && std::filesystem::path(st.plot).extension() != ".png") {
-    throw InvalidArgument(fmt::format("--plot {}: the figure is a PNG; give a path ending in .png", st.plot));
+// The library's request from the options (checked here, named by their flags).
+study::RecommendRequest request(const RecommendState& st) {
+  study::RecommendRequest q;
+  q.options = options(st);
+  for (const auto& path : st.data) {
+    advise::SpectrumRequest req;
+    req.path = path;
+    req.column = st.column;
+    req.time_column = st.time_column;
+    if (st.from_option->count() > 0) req.from_s = st.from_s;
+    if (st.to_option->count() > 0) req.to_s = st.to_s;
+    req.segment_s = st.segment_s;
+    q.data.push_back(req);
   }
-  if (!(st.segment_s >= 0.0)) throw_invalid("--segment-s", st.segment_s, ">= 0 s (0: automatic)");
-  if (st.modes < 1 || st.modes > 2) throw_invalid("--modes", static_cast<double>(st.modes), "1 or 2");
-  const advise::RecommendOptions o = options(st);
+  q.modes.max_modes = st.modes;
+  q.modes.free_decay_fit = !st.no_fit;
+  q.modes.min_frequency_hz = q.options.min_frequency_hz;
+  q.plot = st.plot;
+  return q;
+}
+
+void check_move_options(const RecommendState& st) {
   const bool move_given = st.move_option->count() > 0 || st.move_duration_option->count() > 0 || st.move_rate_option->count() > 0 ||
                           st.initial_play_option->count() > 0;
   if (st.clearance_aware && st.model.empty()) {
@@ -412,52 +264,43 @@ void run_recommend(const RecommendState& st) {
     if (!(st.move_rate_hz >= 10.0 && st.move_rate_hz <= 1e5)) throw_invalid("--move-rate-hz", st.move_rate_hz, "[10, 1e5] Hz");
     if (!(st.initial_play >= -1.0 && st.initial_play <= 1.0)) throw_invalid("--initial-play", st.initial_play, "[-1, 1] (φ(0)/β)");
   }
-  std::vector<advise::MeasuredSpectrum> spectra;
-  for (const auto& path : st.data) {
-    advise::SpectrumRequest req;
-    req.path = path;
-    req.column = st.column;
-    req.time_column = st.time_column;
-    if (st.from_option->count() > 0) req.from_s = st.from_s;
-    if (st.to_option->count() > 0) req.to_s = st.to_s;
-    req.segment_s = st.segment_s;
-    spectra.push_back(advise::load_spectrum(req));
+}
+
+study::MoveRequest move_request(const RecommendState& st) {
+  study::MoveRequest m;
+  m.model = st.model;
+  m.move_type = st.move;
+  m.move = st.move_options.build(st.move);
+  m.duration_s = st.move_duration_s;
+  m.sample_time_s = 1.0 / st.move_rate_hz;
+  m.initial_play_fraction = st.initial_play;
+  m.clearance_aware = st.clearance_aware;
+  return m;
+}
+
+void run_recommend(const RecommendState& st) {
+  if (!st.plot.empty() && std::filesystem::path(st.plot).extension() != ".png") {
+    throw InvalidArgument(fmt::format("--plot {}: the figure is a PNG; give a path ending in .png", st.plot));
   }
-  advise::ModeEstimateOptions mo;
-  mo.max_modes = st.modes;
-  mo.free_decay_fit = !st.no_fit;
-  mo.min_frequency_hz = o.min_frequency_hz;
-  const advise::ModeEstimation est = advise::estimate_modes(spectra, mo);
-  if (st.from_option->count() == 0 && !est.free_decay_used) print_window_hints(spectra);
-  advise::Recommendation r = advise::recommend(spectra, est.modes, o);
-  std::optional<MovePrediction> pred;
-  std::optional<ClearanceAwareCandidate> ca;
+  if (!(st.segment_s >= 0.0)) throw_invalid("--segment-s", st.segment_s, ">= 0 s (0: automatic)");
+  if (st.modes < 1 || st.modes > 2) throw_invalid("--modes", static_cast<double>(st.modes), "1 or 2");
+  study::RecommendRequest q = request(st);
+  check_move_options(st);
+  study::RecommendReport report = study::recommend_from_spectra(q);
+  if (st.from_option->count() == 0 && !report.estimation.free_decay_used) print_window_hints(report.spectra);
   if (!st.model.empty()) {
-    const IdentifiedClearanceModel m = read_clearance_model_json(st.model);
-    const signal::Signal move = st.move_options.build(st.move);
-    pred = predict_mean_deviations(m.model, move, st.move_duration_s, 1.0 / st.move_rate_hz, st.initial_play, r);
-    pred->move = st.move;
-    nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
-    for (const auto& [key, value] : signal::parameters_of(move)) {
-      parameters[key] = std::visit([](const auto& x) { return nlohmann::ordered_json(x); }, value);
-    }
-    pred->move_parameters = parameters.dump();
-    apply_predicted_md(r, *pred, o.vibration_tolerance);
-    if (st.clearance_aware) {
-      ca = design_for_move(m.model, move, *pred, r, o.max_delay_s);
-      if (o.update_grid_hz > 0.0) {  // as the drive applies it, like the linear candidates
-        ca->shaper = shaping::on_update_grid(ca->shaper, 1.0 / o.update_grid_hz);
-        ca->predicted_md = predict_shaped_md(m.model, move, *pred, ca->shaper);
-      }
-    }
+    const study::IdentifiedClearanceModel model = study::read_clearance_model_json(st.model);
+    q.model = move_request(st);  // the move is built after the model is read, as before
+    study::add_model_predictions(q, model, report);
   }
+  const auto& r = report.recommendation;
   if (!r.chosen) fmt::print(stderr, "clearshape recommend: warning: no recommendation: {}\n", r.reason);
   if (!r.warning.empty()) fmt::print(stderr, "clearshape recommend: warning: {}\n", r.warning);
-  if (!st.plot.empty()) write_recommend_plot(st.plot, spectra, r);
+  if (!st.plot.empty()) write_recommend_plot(st.plot, report.spectra, r);
   if (st.json) {
-    print_json_result(st, spectra, est, r, o, pred, ca);
+    print_json(study::recommend_document(q, report));
   } else {
-    print_table(spectra, est, r, pred, ca, o.update_grid_hz);
+    print_table(report.spectra, report.estimation, r, report.prediction, report.clearance_aware, q.options.update_grid_hz);
     if (!st.plot.empty()) fmt::print("plot: {}\n", st.plot);
   }
 }

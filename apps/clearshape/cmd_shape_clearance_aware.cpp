@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "clearance_model_json.hpp"
+#include "clearshape/study/clearance_model_json.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/io/json.hpp"
@@ -41,16 +41,16 @@ bool clearance_aware_options_given(const ClearanceAwareOptions& o) {
   return false;
 }
 
-IdentifiedClearanceModel read_design_model(const ClearanceAwareOptions& o, const std::string& method) {
+study::IdentifiedClearanceModel read_design_model(const ClearanceAwareOptions& o, const std::string& method) {
   if (o.model.empty()) {
     throw InvalidArgument(fmt::format("shape: --method {} needs --model FILE (fit-clearance --json output or a "
                                       "study's results.json)", method));
   }
   if (o.moves.empty()) throw InvalidArgument(fmt::format("shape: --method {} needs --moves A1,A2,… (deg)", method));
-  return read_clearance_model_json(o.model);
+  return study::read_clearance_model_json(o.model);
 }
 
-double design_duration_bound(const ClearanceAwareOptions& o, const IdentifiedClearanceModel& identified,
+double design_duration_bound(const ClearanceAwareOptions& o, const study::IdentifiedClearanceModel& identified,
                              double frequency_hz, double zeta, const std::string& method, std::string& source) {
   if (o.max_duration_option != nullptr && o.max_duration_option->count() > 0) {
     require_in_closed("--max-duration-s", o.max_duration_s, 1e-3, 5.0);
@@ -95,7 +95,7 @@ nlohmann::ordered_json design_document(const ClearanceAwareOptions& o, const std
 }
 
 void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, double zeta, bool json) {
-  const IdentifiedClearanceModel identified = read_design_model(o, "clearance-aware");
+  const study::IdentifiedClearanceModel identified = read_design_model(o, "clearance-aware");
   if (o.max_evaluations < 10) throw_invalid("--max-evaluations", o.max_evaluations, ">= 10");
   if (o.threads < 0 || o.threads > 256) throw_invalid("--threads", o.threads, "0 … 256 (0: all cores)");
   study::ClearanceAwareRequest request;

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "clearance_model_json.hpp"
+#include "clearshape/study/clearance_model_json.hpp"
 #include "clearshape/shaping/shaper.hpp"
 
 namespace clearshape::cli {
@@ -38,10 +38,10 @@ void run_clearance_aware(const ClearanceAwareOptions& options, double frequency_
 
 /// The model file of --model (and --moves given) for a model-designed `method`; throws
 /// InvalidArgument naming the missing option, InputError on a bad file.
-IdentifiedClearanceModel read_design_model(const ClearanceAwareOptions& options, const std::string& method);
+study::IdentifiedClearanceModel read_design_model(const ClearanceAwareOptions& options, const std::string& method);
 /// The longest shaper: --max-duration-s, else ZVDD's duration for --frequency-hz/--zeta
 /// (`frequency_hz` > 0), else for the model file's link mode; `source` says which.
-double design_duration_bound(const ClearanceAwareOptions& options, const IdentifiedClearanceModel& identified,
+double design_duration_bound(const ClearanceAwareOptions& options, const study::IdentifiedClearanceModel& identified,
                              double frequency_hz, double zeta, const std::string& method, std::string& source);
 
 /// `shape --method custom --impulses` text of a shaper: "t1:a1,t2:a2,…".

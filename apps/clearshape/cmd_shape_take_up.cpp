@@ -22,7 +22,7 @@ void run_take_up(const ClearanceAwareOptions& o, double frequency_hz, double zet
                                         "no search)", opt->get_name()));
     }
   }
-  const IdentifiedClearanceModel identified = read_design_model(o, "take-up");
+  const study::IdentifiedClearanceModel identified = read_design_model(o, "take-up");
   study::TakeUpRequest request;
   request.model = identified.model;
   request.moves = o.moves;

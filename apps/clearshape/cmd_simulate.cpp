@@ -22,13 +22,13 @@
 #include "clearshape/io/table.hpp"
 #include "clearshape/metrics/mean_deviation.hpp"
 #include "clearshape/rig/builtin_truths.hpp"
+#include "clearshape/rig/config.hpp"
 #include "clearshape/rig/offline.hpp"
 #include "clearshape/shaping/apply.hpp"
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/signal/parameters.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "command.hpp"
-#include "rig_config.hpp"
 #include "run_json.hpp"
 #include "signal_options.hpp"
 
@@ -172,11 +172,11 @@ struct Plan {
 };
 
 // The truth starts from the built-in rig (--rig, default the calibrated thesis rig) or a config file.
-cs::cli::RigConfig rig_config(const State& st, rig::CommandMode mode) {
+rig::RigConfig rig_config(const State& st, rig::CommandMode mode) {
   if (st.rig_option->count() > 0 && !st.config.empty()) {
     throw cs::InvalidArgument("--rig and --config: give one (a config file starts from the thesis rig)");
   }
-  cs::cli::RigConfig config = st.config.empty() ? cs::cli::RigConfig{} : cs::cli::load_rig_config(st.config);
+  rig::RigConfig config = st.config.empty() ? rig::RigConfig{} : rig::load_rig_config(st.config);
   if (st.rig_option->count() > 0) {
     config.truth = rig::builtin_truth(st.rig_name, "--rig");
     config.contact_model = config.truth.contact(mode).model;
@@ -195,11 +195,11 @@ rig::RunOptions run_options(const State& st, rig::RunOptions options) {
 }
 
 // --contact (else the config's law, else the thesis law) with --restitution over it.
-rig::ContactSpec contact_of(const State& st, const cs::cli::RigConfig& config, rig::CommandMode mode) {
+rig::ContactSpec contact_of(const State& st, const rig::RigConfig& config, rig::CommandMode mode) {
   const rig::ContactModel model = !st.contact.empty()
                                       ? rig::contact_model_from_string(st.contact)
                                       : config.contact_model.value_or(rig::ContactModel::thesis);
-  rig::ContactSpec contact = cs::cli::resolve_contact(config, model, mode);
+  rig::ContactSpec contact = rig::resolve_contact(config, model, mode);
   if (st.restitution_option->count() > 0) {
     if (model == rig::ContactModel::thesis) {
       throw cs::InvalidArgument("--restitution does not apply to --contact thesis (it has K and D); "
@@ -214,7 +214,7 @@ rig::ContactSpec contact_of(const State& st, const cs::cli::RigConfig& config, r
 Plan plan(const State& st) {
   Plan p;
   p.mode = rig::command_mode_from_string(st.mode);
-  const cs::cli::RigConfig config = rig_config(st, p.mode);
+  const rig::RigConfig config = rig_config(st, p.mode);
   p.truth = config.truth;
   p.options = run_options(st, config.run);
   if (st.clearance_option->count() > 0) {

@@ -22,13 +22,13 @@
 #include "clearshape/rig/builtin_truths.hpp"
 #include "clearshape/rig/serial_rig.hpp"
 #include "clearshape/rig/sim_rig.hpp"
+#include "clearshape/rig/config.hpp"
 #include "clearshape/rig/truth.hpp"
 #include "clearshape/study/protocol.hpp"
 #include "clearshape/study/recordings.hpp"
 #include "clearshape/study/run_source.hpp"
 #include "clearshape/study/runner.hpp"
 #include "command.hpp"
-#include "rig_config.hpp"
 #include "rig_serial_options.hpp"
 
 namespace clearshape::cli {
@@ -59,16 +59,7 @@ std::string file_hash(const std::filesystem::path& path) {
 
 // A simulated rig with the truth of a `clearshape simulate` configuration file (what-if studies).
 study::RigFactory configured_sim_rig(const std::filesystem::path& path) {
-  const RigConfig config = load_rig_config(path);
-  auto truth = std::make_shared<rig::RigTruth>(config.truth);
-  const bool contact_set = config.contact_model || config.has_stiffness || config.has_exponent ||
-                           config.has_damping || config.has_restitution || config.has_static_rate;
-  if (contact_set) {
-    const rig::ContactModel model = config.contact_model.value_or(rig::ContactModel::thesis);
-    truth->position_contact = resolve_contact(config, model, rig::CommandMode::position);
-    truth->speed_contact = resolve_contact(config, model, rig::CommandMode::speed);
-  }
-  truth->validate();
+  auto truth = std::make_shared<rig::RigTruth>(rig::configured_truth(rig::load_rig_config(path)));
   study::RigFactory f;
   f.description = fmt::format("sim (rig::SimRig, truth from {} {})", path.filename().string(), file_hash(path));
   f.kind = "simulated-config";

@@ -1,4 +1,4 @@
-#include "recommend_model.hpp"
+#include "clearshape/study/recommend_model.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -10,13 +10,13 @@
 #include "clearshape/metrics/mean_deviation.hpp"
 #include "clearshape/shaping/apply.hpp"
 
-namespace clearshape::cli {
+namespace clearshape::study {
 namespace {
 
 // Eq. 5.1 (thesis §5.1.2) of the signal the study measures in the model's mode.
-double md_of(const study::ClearanceModel& model, const UniformSeries& command, double duration_s,
+double md_of(const ClearanceModel& model, const UniformSeries& command, double duration_s,
              double initial_play_fraction) {
-  const study::ModelResponse r = study::simulate_command(model, command, duration_s, initial_play_fraction);
+  const ModelResponse r = simulate_command(model, command, duration_s, initial_play_fraction);
   const bool position = model.mode == rig::CommandMode::position;
   const UniformSeries s{0.0, r.sample_time_s, position ? r.link_angle_deg : r.link_rate_deg_s};
   return metrics::mean_deviation(s).mean_deviation;
@@ -29,7 +29,7 @@ std::string upper(std::string s) {
 
 }  // namespace
 
-MovePrediction predict_mean_deviations(const study::ClearanceModel& model, const signal::Signal& move,
+MovePrediction predict_mean_deviations(const ClearanceModel& model, const signal::Signal& move,
                                        double duration_s, double sample_time_s, double initial_play_fraction,
                                        const advise::Recommendation& recommendation) {
   MovePrediction p;
@@ -57,7 +57,7 @@ MovePrediction predict_mean_deviations(const study::ClearanceModel& model, const
   return p;
 }
 
-double predict_shaped_md(const study::ClearanceModel& model, const signal::Signal& move, const MovePrediction& p,
+double predict_shaped_md(const ClearanceModel& model, const signal::Signal& move, const MovePrediction& p,
                          const shaping::Shaper& shaper) {
   const UniformSeries command = signal::sample(move, 1.0 / p.sample_time_s, p.duration_s);
   return md_of(model, shaping::shape_offline(shaper, command, false), p.duration_s, p.initial_play_fraction);
@@ -105,4 +105,4 @@ void apply_predicted_md(advise::Recommendation& r, const MovePrediction& p, doub
   }
 }
 
-}  // namespace clearshape::cli
+}  // namespace clearshape::study

@@ -9,9 +9,9 @@
 #include "clearshape/shaping/shaper.hpp"
 #include "clearshape/signal/signal.hpp"
 #include "clearshape/study/model.hpp"
-#include "recommend_model.hpp"
+#include "clearshape/study/recommend_model.hpp"
 
-namespace clearshape::cli {
+namespace clearshape::study {
 
 struct ClearanceAwareCandidate {
   shaping::Shaper shaper{"clearance-aware", {{0.0, 1.0}}};
@@ -27,8 +27,8 @@ struct ClearanceAwareCandidate {
 /// duration for the recommendation's first mode, or by `max_delay_s` when that is shorter.
 /// Throws InvalidArgument if the move is not a step or there is no mode; RuntimeError if the
 /// design fails.
-ClearanceAwareCandidate design_for_move(const study::ClearanceModel& model, const signal::Signal& move,
+ClearanceAwareCandidate design_for_move(const ClearanceModel& model, const signal::Signal& move,
                                         const MovePrediction& prediction, const advise::Recommendation& recommendation,
                                         double max_delay_s);
 
-}  // namespace clearshape::cli
+}  // namespace clearshape::study

@@ -1,5 +1,6 @@
 #pragma once
-// The rig configuration file of `clearshape simulate` (TOML, read with toml++). Every key is
+// The rig configuration file of `clearshape simulate --config` and `clearshape study --rig-config`
+// (TOML, read with toml++; Python: clearshape.load_rig_config, rig_truth_from_toml). Every key is
 // optional; what is absent keeps the built-in (calibrated) thesis rig (rig/truth.hpp). Unknown tables or
 // keys, values of the wrong type and values out of range are InputErrors naming the file, the
 // line and the key. Schema (units in the key names; see docs/cli.md "clearshape simulate"):
@@ -30,16 +31,21 @@
 #include "clearshape/rig/offline.hpp"
 #include "clearshape/rig/truth.hpp"
 
-namespace clearshape::cli {
+namespace clearshape::rig {
 
 /// What a config file sets, applied over the defaults in this order: file, then CLI flags.
 struct RigConfig {
-  rig::RigTruth truth = rig::thesis_rig_truth();
-  rig::RunOptions run{};
-  std::optional<rig::ContactModel> contact_model;  ///< [contact] model, if given
-  rig::ContactSpec contact_overrides{};            ///< [contact] numbers (see the flags below)
+  RigTruth truth = thesis_rig_truth();
+  RunOptions run{};
+  std::optional<ContactModel> contact_model;  ///< [contact] model, if given
+  ContactSpec contact_overrides{};            ///< [contact] numbers (see the flags below)
   bool has_stiffness = false, has_exponent = false, has_damping = false,
        has_restitution = false, has_static_rate = false;
+
+  /// True when the file has a [contact] table with any key.
+  [[nodiscard]] bool sets_contact() const {
+    return contact_model || has_stiffness || has_exponent || has_damping || has_restitution || has_static_rate;
+  }
 };
 
 /// Reads `path` over the defaults. Throws InputError (file, line, key).
@@ -50,7 +56,11 @@ RigConfig parse_rig_config(std::string_view text, const std::string& file);
 /// The contact spec for `mode`: the truth's own contact if it uses `model` (the built-in rig:
 /// the calibrated thesis law), else the model's defaults (ContactSpec::defaults); then the
 /// config's numbers.
-rig::ContactSpec resolve_contact(const RigConfig& config, rig::ContactModel model,
-                                 rig::CommandMode mode);
+ContactSpec resolve_contact(const RigConfig& config, ContactModel model, CommandMode mode);
 
-}  // namespace clearshape::cli
+/// The truth the file describes, both modes' contact laws included: with a [contact] table, its
+/// model (default thesis) resolved for position and speed (resolve_contact); validated. What
+/// `clearshape study --rig-config` simulates.
+RigTruth configured_truth(const RigConfig& config);
+
+}  // namespace clearshape::rig

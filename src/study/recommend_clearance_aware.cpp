@@ -1,4 +1,4 @@
-#include "recommend_clearance_aware.hpp"
+#include "clearshape/study/recommend_clearance_aware.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -9,9 +9,9 @@
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/study/clearance_aware.hpp"
 
-namespace clearshape::cli {
+namespace clearshape::study {
 
-ClearanceAwareCandidate design_for_move(const study::ClearanceModel& model, const signal::Signal& move,
+ClearanceAwareCandidate design_for_move(const ClearanceModel& model, const signal::Signal& move,
                                         const MovePrediction& prediction, const advise::Recommendation& recommendation,
                                         double max_delay_s) {
   const auto* step = move.get_if<signal::Step>();
@@ -32,14 +32,14 @@ ClearanceAwareCandidate design_for_move(const study::ClearanceModel& model, cons
     out.max_duration_s = max_delay_s;
     out.bound_source = "--max-delay-s";
   }
-  study::ClearanceAwareRequest request;
+  ClearanceAwareRequest request;
   request.model = model;
   request.moves = {step->amplitude};
   request.rise_s = step->rise_s;
   if (step->start_s > 0.0) request.move_start_s = step->start_s;
   request.max_duration_s = out.max_duration_s;
   const auto begin = std::chrono::steady_clock::now();
-  const study::ClearanceAwareResult r = study::design_clearance_aware(request);
+  const ClearanceAwareResult r = design_clearance_aware(request);
   out.design_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   out.shaper = r.shaper;
   out.design_worst_md_deg = r.worst_md_deg;
@@ -48,4 +48,4 @@ ClearanceAwareCandidate design_for_move(const study::ClearanceModel& model, cons
   return out;
 }
 
-}  // namespace clearshape::cli
+}  // namespace clearshape::study

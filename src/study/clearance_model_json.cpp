@@ -1,4 +1,4 @@
-#include "clearance_model_json.hpp"
+#include "clearshape/study/clearance_model_json.hpp"
 
 #include <string>
 
@@ -10,7 +10,7 @@
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/rig/types.hpp"
 
-namespace clearshape::cli {
+namespace clearshape::study {
 namespace {
 
 using json = nlohmann::json;
@@ -33,7 +33,7 @@ double optional_number(const json& j, const std::string& key, double fallback, c
 }
 
 // The joint's friction (absent in files written before it was fitted: none).
-void friction_of(const json& coulomb, const json& viscous, const json& regularization, study::ClearanceModel& m,
+void friction_of(const json& coulomb, const json& viscous, const json& regularization, ClearanceModel& m,
                  const std::string& file, const std::string& path) {
   m.coulomb_n_m = coulomb.is_null() ? 0.0 : number(coulomb, "value", file, path + "coulomb.");
   m.viscous_n_m_s_per_rad = viscous.is_null() ? 0.0 : number(viscous, "value", file, path + "viscous.");
@@ -48,14 +48,14 @@ void friction_of(const json& coulomb, const json& viscous, const json& regulariz
 // The contact law (absent in files written before it was a choice, or for the default: dashpot)
 // and the Flores law's restitution e ∈ (0, 1] at `key` of `e_holder`.
 void contact_law_of(const json& doc, const json& e_holder, const std::string& e_key, const std::string& e_path,
-                    study::ClearanceModel& m, const std::string& file, const std::string& path) {
+                    ClearanceModel& m, const std::string& file, const std::string& path) {
   if (!doc.contains("contact_law")) return;
   const json& law = doc.at("contact_law");
   if (!law.is_string() || (law != "dashpot" && law != "flores")) {
     throw InputError(file, 0, path + "contact_law", "must be \"dashpot\" or \"flores\"");
   }
-  m.contact_law = study::contact_law_from_string(law.get<std::string>());
-  if (m.contact_law != study::ContactLawChoice::flores) return;
+  m.contact_law = contact_law_from_string(law.get<std::string>());
+  if (m.contact_law != ContactLawChoice::flores) return;
   m.restitution = number(e_holder, e_key, file, e_path);
   if (!(m.restitution > 0.0 && m.restitution <= 1.0)) throw InputError(file, 0, e_path + e_key, "must be in (0, 1]");
 }
@@ -72,11 +72,11 @@ lti::ProcessModel drive_of(const json& d, const std::string& file, const std::st
 // `clearshape fit-clearance --json`: parameters with their uncertainty, the drive, the inertia.
 IdentifiedClearanceModel from_fit_clearance(const json& doc, const std::string& file) {
   IdentifiedClearanceModel out;
-  study::ClearanceModel& m = out.model;
+  ClearanceModel& m = out.model;
   const json& p = at(doc, "parameters", file, "");
   m.stiffness = number(at(p, "stiffness", file, "parameters."), "value", file, "parameters.stiffness.");
   contact_law_of(doc, p.contains("restitution") ? p.at("restitution") : json(), "value", "parameters.restitution.", m, file, "");
-  if (m.contact_law == study::ContactLawChoice::dashpot) {
+  if (m.contact_law == ContactLawChoice::dashpot) {
     m.damping = number(at(p, "damping", file, "parameters."), "value", file, "parameters.damping.");
   }
   m.exponent = number(at(p, "exponent", file, "parameters."), "value", file, "parameters.exponent.");
@@ -95,7 +95,7 @@ IdentifiedClearanceModel from_fit_clearance(const json& doc, const std::string& 
 // A study's results.json: sections.clearance, the selected drive model, the link mode.
 IdentifiedClearanceModel from_study(const json& doc, const std::string& file) {
   IdentifiedClearanceModel out;
-  study::ClearanceModel& m = out.model;
+  ClearanceModel& m = out.model;
   const json& s = doc.at("sections");
   const json& c = s.at("clearance");
   const std::string cp = "sections.clearance.";
@@ -167,4 +167,4 @@ IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& 
   throw_no_model(doc, file);
 }
 
-}  // namespace clearshape::cli
+}  // namespace clearshape::study

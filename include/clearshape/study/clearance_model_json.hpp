@@ -1,6 +1,7 @@
 #pragma once
 // Reads an identified nonlinear model (drive + play + contact law) for clearance-aware design
-// (`clearshape shape --method clearance-aware --model FILE`) from either
+// (`clearshape shape --method clearance-aware --model FILE`, `clearshape recommend --model FILE`;
+// Python: clearshape.read_clearance_model) from either
 //   - the JSON of `clearshape fit-clearance --json` (parameters, drive, link_inertia_kg_m2,
 //     mode), or
 //   - a study's results.json (sections.clearance, the identification's selected drive model,
@@ -14,10 +15,10 @@
 
 #include "clearshape/study/model.hpp"
 
-namespace clearshape::cli {
+namespace clearshape::study {
 
 struct IdentifiedClearanceModel {
-  study::ClearanceModel model;
+  ClearanceModel model;
   /// The link's identified residual mode, when the file has one (a study's link-mode stage).
   std::optional<double> link_frequency_hz;
   std::optional<double> link_damping_ratio;
@@ -25,4 +26,4 @@ struct IdentifiedClearanceModel {
 
 IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& path);
 
-}  // namespace clearshape::cli
+}  // namespace clearshape::study

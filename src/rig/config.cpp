@@ -1,4 +1,4 @@
-#include "rig_config.hpp"
+#include "clearshape/rig/config.hpp"
 
 #include <cmath>
 #include <functional>
@@ -13,7 +13,7 @@
 #include "clearshape/core/units.hpp"
 #include "clearshape/lti/process_model.hpp"
 
-namespace clearshape::cli {
+namespace clearshape::rig {
 namespace {
 
 using Setter = std::function<void(const toml::node&, const std::string& key)>;
@@ -89,7 +89,7 @@ Setter contact_override(double& field, bool& given) {
   };
 }
 
-// One table per section of the file (the schema in rig_config.hpp).
+// One table per section of the file (the schema in rig/config.hpp).
 std::vector<Key> run_keys(RigConfig& c) {
   return {{"duration_s", num(c.run.duration_s)},
           {"output_rate_hz", num(c.run.output_rate_hz)},
@@ -103,7 +103,7 @@ std::vector<Key> run_keys(RigConfig& c) {
           {"sensor_noise", [&c](const toml::node& n, const std::string& k) { c.run.sensor_noise = boolean(n, k); }}};
 }
 
-std::vector<Key> joint_keys(rig::RigTruth& t) {
+std::vector<Key> joint_keys(RigTruth& t) {
   return {{"clearance_deg",
            [&t](const toml::node& n, const std::string& k) {
              const double v = number(n, k);
@@ -118,7 +118,7 @@ std::vector<Key> contact_keys(RigConfig& c) {
   auto& o = c.contact_overrides;
   return {{"model",
            [&c](const toml::node& n, const std::string& k) {
-             c.contact_model = rig::contact_model_from_string(text(n, k));
+             c.contact_model = contact_model_from_string(text(n, k));
            }},
           {"stiffness", contact_override(o.stiffness, c.has_stiffness)},
           {"exponent", contact_override(o.exponent, c.has_exponent)},
@@ -127,7 +127,7 @@ std::vector<Key> contact_keys(RigConfig& c) {
           {"static_rate_rad_s", contact_override(o.static_rate_rad_s, c.has_static_rate)}};
 }
 
-std::vector<Key> link_keys(rig::RigTruth& t) {
+std::vector<Key> link_keys(RigTruth& t) {
   return {{"inertia_kg_m2", num(t.link.inertia_kg_m2)},
           {"mass_kg", num(t.link.mass_kg)},
           {"com_distance_m", num(t.link.com_distance_m)},
@@ -148,7 +148,7 @@ std::vector<Key> drive_keys(DriveEdit& d) {  // Eq. 4.2, P3UZ[D]
           {"tp3_s", p(&lti::ProcessParameters::tp3)}, {"td_s", p(&lti::ProcessParameters::td)}};
 }
 
-std::vector<Key> encoder_keys(rig::RigTruth& t) {
+std::vector<Key> encoder_keys(RigTruth& t) {
   return {{"lines_per_revolution", int_in(t.encoder.lines_per_revolution, 1, 100000000, "1 … 1e8")},
           {"decoding", [&t](const toml::node& n, const std::string& k) {
              const auto v = integer(n, k);
@@ -157,7 +157,7 @@ std::vector<Key> encoder_keys(rig::RigTruth& t) {
            }}};
 }
 
-std::vector<Key> gyroscope_keys(rig::RigTruth& t) {
+std::vector<Key> gyroscope_keys(RigTruth& t) {
   return {{"sensitivity_lsb_per_dps", num(t.gyro.sensitivity_lsb_per_dps)},
           {"full_scale_dps", num(t.gyro.full_scale_dps)},
           {"noise_density_dps_per_rthz", num(t.gyro.noise_density_dps_per_rthz)},
@@ -168,20 +168,20 @@ std::vector<Key> gyroscope_keys(rig::RigTruth& t) {
                                      fmt::format("0 … {}", plant::kMaxGyroLatencySamples))}};
 }
 
-std::vector<Key> position_path_keys(rig::RigTruth& t) {
+std::vector<Key> position_path_keys(RigTruth& t) {
   return {{"update_rate_hz", num(t.pulse_train.update_rate_hz)},
           {"counts_per_rev", num(t.pulse_train.counts_per_rev)},
           {"gear_ratio", num(t.pulse_train.gear_ratio)},
           {"max_pulse_frequency_hz", num(t.pulse_train.max_pulse_frequency_hz)}};
 }
 
-std::vector<Key> speed_path_keys(rig::RigTruth& t) {
+std::vector<Key> speed_path_keys(RigTruth& t) {
   return {{"volts_per_unit", num(t.analog_output.volts_per_unit)},
           {"resolution_bits", int_in(t.analog_output.resolution_bits, 1, 24, "1 … 24")},
           {"full_scale_v", num(t.analog_output.full_scale_v)}};
 }
 
-std::vector<Key> variation_keys(rig::RigTruth& t) {  // run-to-run variation (rig/variation.hpp); SimRig only
+std::vector<Key> variation_keys(RigTruth& t) {  // run-to-run variation (rig/variation.hpp); SimRig only
   auto& v = t.variation;
   return {{"position_gain_rel_sigma", ranged(v.position_gain_rel_sigma, 0.0, 0.1)},
           {"speed_gain_rel_sigma", ranged(v.speed_gain_rel_sigma, 0.0, 0.1)},
@@ -191,7 +191,7 @@ std::vector<Key> variation_keys(rig::RigTruth& t) {  // run-to-run variation (ri
           {"flank_damping_rel_sigma", ranged(v.flank_damping_rel_sigma, 0.0, 1.0)}};
 }
 
-std::vector<Key> solver_keys(rig::RigTruth& t) {
+std::vector<Key> solver_keys(RigTruth& t) {
   return {{"integrator",
            [&t](const toml::node& n, const std::string& k) {
              const std::string v = text(n, k);
@@ -318,11 +318,11 @@ RigConfig parse_rig_config(std::string_view text, const std::string& file) {
   return config;
 }
 
-rig::ContactSpec resolve_contact(const RigConfig& config, rig::ContactModel model,
-                                 rig::CommandMode mode) {
+ContactSpec resolve_contact(const RigConfig& config, ContactModel model,
+                                 CommandMode mode) {
   // The built-in (calibrated) truth's contact when the model is its own, else the model's defaults.
-  const rig::ContactSpec& built_in = config.truth.contact(mode);
-  rig::ContactSpec spec = built_in.model == model ? built_in : rig::ContactSpec::defaults(model, mode);
+  const ContactSpec& built_in = config.truth.contact(mode);
+  ContactSpec spec = built_in.model == model ? built_in : ContactSpec::defaults(model, mode);
   const auto& o = config.contact_overrides;
   if (config.has_stiffness) spec.stiffness = o.stiffness;
   if (config.has_exponent) spec.exponent = o.exponent;
@@ -332,4 +332,15 @@ rig::ContactSpec resolve_contact(const RigConfig& config, rig::ContactModel mode
   return spec;
 }
 
-}  // namespace clearshape::cli
+RigTruth configured_truth(const RigConfig& config) {
+  RigTruth truth = config.truth;
+  if (config.sets_contact()) {
+    const ContactModel model = config.contact_model.value_or(ContactModel::thesis);
+    truth.position_contact = resolve_contact(config, model, CommandMode::position);
+    truth.speed_contact = resolve_contact(config, model, CommandMode::speed);
+  }
+  truth.validate();
+  return truth;
+}
+
+}  // namespace clearshape::rig
