@@ -2,7 +2,8 @@
 
 The C++ library for Python: command signals and the drive's command paths, shaper design
 (every method), residual vibration and sensitivity, offline and streaming shaping, the
-simulated rig, identification, vibration modes and the thesis's metrics (Eq. 4.1, Eq. 5.1).
+simulated rig (also from a rig configuration file), identification, vibration modes, the
+thesis's metrics (Eq. 4.1, Eq. 5.1) and shaper recommendation (on an identified clearance model).
 NumPy arrays in and out; a bad parameter raises ValueError with the C++ message, a failure
 while computing raises RuntimeError. Units are in the names (_s, _hz, _rad, _deg, _n_m).
 Sweeps over rigs, commands and shapers: clearshape.sweep (docs/sweeps.md).
@@ -17,10 +18,14 @@ from ._core import (  # noqa: F401
     identify,
     improvement_percent,
     insensitivity,
+    load_rig_config,
     mean_deviation,
     modes,
     position_path,
+    read_clearance_model,
+    recommend,
     residual_vibration,
+    rig_truth_from_toml,
     sensitivity,
     shape,
     shaper_methods,

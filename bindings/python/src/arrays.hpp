@@ -48,5 +48,6 @@ void bind_shaping(py::module_& m);
 void bind_simulation(py::module_& m);
 void bind_ident(py::module_& m);
 void bind_metrics(py::module_& m);
+void bind_study(py::module_& m);
 
 }  // namespace clearshape::python
