@@ -17,7 +17,6 @@
 #include "clearshape/dsp/butterworth.hpp"
 #include "clearshape/dsp/differentiate.hpp"
 #include "clearshape/dsp/sosfilt.hpp"
-#include "clearshape/ident/column_check.hpp"
 #include "clearshape/ident/cross_validation.hpp"
 #include "clearshape/ident/process_fit.hpp"
 #include "clearshape/ident/trust.hpp"
@@ -25,6 +24,8 @@
 #include "clearshape/io/table.hpp"
 #include "clearshape/io/time_column.hpp"
 #include "command.hpp"
+#include "identify_residuals.hpp"
+#include "io_columns.hpp"
 
 namespace clearshape::cli {
 
@@ -50,78 +51,12 @@ struct IdentifyState {
   double to_s = 0.0;        ///< window end, s (0 = the end of the record)
   bool derivative = false;  ///< differentiate the output (backward difference)
   std::string butterworth;  ///< low-pass the output: 4th-order Butterworth, "30rad/s" or "5Hz"
+  std::size_t resid_lags = 25;     ///< residual tests: lags M (MATLAB resid's default)
+  double resid_confidence = 0.99;  ///< residual tests: confidence of the bands and verdicts
   mutable std::string output_name;  ///< the output column's name, set by load (guard rails)
   mutable std::string input_name;
   mutable double sample_time_used_s = 0.0;  ///< the largest sample time of the runs (aliasing check)
 };
-
-// The longest hold of a converter copy of the input (ident::is_converted_copy): 1.5 updates of the
-// thesis's 30 Hz pulse-train drive (§3.2).
-constexpr double kMaxConverterHoldS = 0.05;
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-// Index of a column given by name or 1-based number; nullopt if absent.
-std::optional<std::size_t> column_index(const io::Table& t, const std::string& spec) {
-  if (auto i = t.find(spec)) return i;
-  (void)t.column(spec);  // throws InputError listing the columns when neither a name nor an index
-  return static_cast<std::size_t>(std::stoul(spec)) - 1;
-}
-
-std::optional<std::size_t> find_named(const io::Table& t, std::initializer_list<const char*> names, bool prefix) {
-  for (std::size_t i = 0; i < t.names.size(); ++i) {
-    const std::string n = lower(t.names[i]);
-    for (const char* want : names) {
-      if (n == want || (prefix && n.rfind(want, 0) == 0)) return i;
-    }
-  }
-  return std::nullopt;
-}
-
-struct Columns {
-  std::optional<std::size_t> time;
-  std::size_t input = 0, output = 0;
-};
-
-// Column choice: explicit options first; else a time column named time_s/time/t, an input column
-// named command…/input…/u…, and the output as the next other column.
-Columns choose_columns(const io::Table& t, const std::string& input, const std::string& output,
-                       const std::string& time, bool have_sample_time, bool need_input) {
-  Columns c;
-  if (!time.empty()) {
-    if (have_sample_time) throw InvalidArgument("give either --time-column or --sample-time, not both");
-    c.time = column_index(t, time);
-  } else if (!have_sample_time) {
-    if (const auto name = io::find_time_column(t)) c.time = t.find(*name);  // the shared defaults
-  }
-  auto others = [&](std::size_t i) { return !c.time || i != *c.time; };
-  if (need_input) {
-    if (!input.empty()) {
-      c.input = *column_index(t, input);
-    } else if (auto named = find_named(t, {"command", "input", "u"}, true); named && others(*named)) {
-      c.input = *named;
-    } else {
-      std::size_t i = 0;
-      while (i < t.columns.size() && !others(i)) ++i;
-      c.input = i;
-    }
-  }
-  if (!output.empty()) {
-    c.output = *column_index(t, output);
-  } else {
-    std::size_t i = 0;
-    while (i < t.columns.size() && (!others(i) || (need_input && i == c.input))) ++i;
-    c.output = i;
-  }
-  if (c.output >= t.columns.size() || (need_input && c.input >= t.columns.size())) {
-    throw InputError(t.source, 0, "", "needs an input and an output column besides the time column; found " +
-                                          std::to_string(t.columns.size()) + " column(s)");
-  }
-  return c;
-}
 
 // --from-s/--to-s: keep [from, to) of the record (after the derivative and the filter, so the
 // filter has settled on the part before the window).
@@ -165,7 +100,7 @@ double parse_cutoff_rad_s(const std::string& text) {
 ident::Experiment load(const std::string& path, const IdentifyState& st) {
   const io::Table t = io::read_table(path);
   const bool have_ts = st.sample_time_option != nullptr && st.sample_time_option->count() > 0;
-  const Columns c = choose_columns(t, st.input_column, st.output_column, st.time_column, have_ts, true);
+  const IoColumns c = choose_io_columns(t, st.input_column, st.output_column, st.time_column, have_ts, true);
   ident::Experiment e;
   e.name = std::filesystem::path(path).stem().string();
   if (c.time) {
@@ -183,21 +118,8 @@ ident::Experiment load(const std::string& path, const IdentifyState& st) {
   st.output_name = t.names[c.output];
   st.sample_time_used_s = std::max(st.sample_time_used_s, e.sample_time_s);
   // Say which columns were used (the defaults guess: command…/input…/u…, then the next column).
-  fmt::print(stderr, "clearshape identify: {}: input '{}' (column {}), output '{}' (column {}), {}\n", path, st.input_name, c.input + 1,
-             st.output_name, c.output + 1,
-             c.time ? fmt::format("time '{}' (column {})", t.names[*c.time], *c.time + 1) : fmt::format("--sample-time {:g} s", e.sample_time_s));
-  // An output that only converts the input (a D/A or the drive's applied command) has no dynamics.
-  const auto hold_samples = static_cast<std::size_t>(std::ceil(kMaxConverterHoldS / e.sample_time_s));
-  if (ident::is_converted_copy(e.input, e.output, hold_samples)) {
-    std::string others;
-    for (std::size_t i = 0; i < t.names.size(); ++i) {
-      if (i != c.input && i != c.output && (!c.time || i != *c.time)) others += (others.empty() ? "" : ", ") + t.names[i];
-    }
-    throw InvalidArgument(fmt::format(
-        "identify: {}: output '{}' is input '{}' through a converter (equal within {:g} % of its range apart from holds of at most "
-        "{:g} s): nothing to identify; give the response with --output-column (other columns: {})",
-        path, st.output_name, st.input_name, 100.0 * ident::kCopyTolerance, kMaxConverterHoldS, others.empty() ? "none" : others));
-  }
+  fmt::print(stderr, "clearshape identify: {}: {}\n", path, describe_io_columns(t, c, e.sample_time_s));
+  refuse_converted_copy(t, c, e.sample_time_s, "identify");
   if (st.derivative) e.output = dsp::backward_difference(e.output, e.sample_time_s);
   if (!st.butterworth.empty()) {
     e.output = dsp::sosfilt(dsp::butter_lowpass_rad_s(4, parse_cutoff_rad_s(st.butterworth), 1.0 / e.sample_time_s), e.output);
@@ -502,7 +424,7 @@ void run_crossval(const IdentifyState& st, const IdentifyPlan& p) {
 // --- fit: one model for all runs -------------------------------------------------------------------
 
 nlohmann::ordered_json fit_json(const IdentifyState& st, const IdentifyPlan& p, const ident::ProcessEstimate& est,
-                                const std::vector<std::string>& warnings) {
+                                const std::vector<std::string>& warnings, const std::vector<ExperimentResiduals>& residuals) {
   auto doc = io::make_document();
   doc["command"] = "identify";
   doc["mode"] = "fit";
@@ -510,6 +432,8 @@ nlohmann::ordered_json fit_json(const IdentifyState& st, const IdentifyPlan& p, 
   for (const auto& [k, v] : result.items()) doc[k] = v;
   doc["trusted"] = warnings.empty();
   doc["warnings"] = warnings;
+  doc["residual_tests"] = residuals_json(residuals, st.resid_lags);
+  doc["residual_warnings"] = residual_warnings(residuals);
   doc["configuration"] = {{"initial_state", st.initial_state},
                           {"hold", st.hold},
                           {"output_offset", st.output_offset},
@@ -531,10 +455,13 @@ void run_fit(const IdentifyState& st, const IdentifyPlan& p) {
   }
   const auto warnings = identify_warnings(est, st);
   report_warnings(warnings);
+  const auto residuals = test_residuals(p.experiments, est, st.resid_lags, st.resid_confidence);
+  for (const auto& w : residual_warnings(residuals)) fmt::print(stderr, "clearshape identify: warning: {}\n", w);
   if (st.json) {
-    print_json(fit_json(st, p, est, warnings));
+    print_json(fit_json(st, p, est, warnings, residuals));
   } else {
     print_estimate(est, p.model);
+    print_residuals(residuals, st.resid_lags);
   }
 }
 
@@ -574,6 +501,10 @@ void setup(CLI::App& sub) {
   sub.add_flag("--derivative", st->derivative, "Differentiate the output (backward difference): fit a speed to an angle record");
   sub.add_option("--butterworth", st->butterworth,
                  "Low-pass the output, 4th-order Butterworth at this cutoff (30rad/s = the thesis's §3.3 chain)");
+  sub.add_option("--resid-lags", st->resid_lags, "Residual tests (MATLAB resid): correlations up to this lag, samples")
+      ->capture_default_str();
+  sub.add_option("--resid-confidence", st->resid_confidence, "Residual tests: confidence of the bands and verdicts, in (0, 1)")
+      ->capture_default_str();
   sub.callback([st] { run_identify(*st); });
 }
 

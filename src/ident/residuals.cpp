@@ -171,10 +171,21 @@ ResidualTests residual_tests(std::span<const double> input, std::span<const doub
   check_options(residual.size(), options);
   const auto e = centred(residual, "residual");
   const auto u = centred(input, "input");
-  if (covariance(e, e, 0) <= 0.0) throw InvalidArgument("residual tests: the residual is constant: nothing to test");
-  if (covariance(u, u, 0) <= 0.0) throw InvalidArgument("residual tests: the input is constant: independence cannot be tested");
   const double z = two_sided_z(options.confidence);
-  return {whiteness(e, options, z), independence(u, e, options, z), residual.size(), options.confidence};
+  ResidualTests out;
+  out.samples = residual.size();
+  out.confidence = options.confidence;
+  if (covariance(e, e, 0) <= 0.0) {
+    out.untested = "the residual is constant (an exact fit): nothing to test";
+    return out;
+  }
+  out.whiteness = whiteness(e, options, z);
+  if (covariance(u, u, 0) <= 0.0) {
+    out.untested = "the input is constant: its independence from the residual cannot be tested";
+    return out;
+  }
+  out.independence = independence(u, e, options, z);
+  return out;
 }
 
 }  // namespace clearshape::ident

@@ -16,7 +16,9 @@
 // An output-error model (what `identify` fits) does not model the noise, so its residual need not
 // be white; independence from the input is the test that says the dynamics are complete.
 #include <cstddef>
+#include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace clearshape::ident {
@@ -42,16 +44,18 @@ struct CorrelationTest {
 };
 
 struct ResidualTests {
-  CorrelationTest whiteness;     ///< lags 0 … M
-  CorrelationTest independence;  ///< lags −M … M (positive τ: e(t) with the earlier u(t − τ))
+  std::optional<CorrelationTest> whiteness;     ///< lags 0 … M; none when the residual is constant
+  std::optional<CorrelationTest> independence;  ///< lags −M … M (positive τ: e(t) with the earlier u(t − τ));
+                                                ///< none when the input or the residual is constant
+  std::string untested;                         ///< why a test is missing ("" when both ran)
   std::size_t samples = 0;
   double confidence = 0.99;
 };
 
 /// Both tests on one experiment. Throws InvalidArgument (naming the option and its range) when
 /// the sizes differ, a sample is not finite, max_lag is 0 or the record is not longer than
-/// 3·max_lag + 1 samples, confidence is outside (0, 1), model_parameters ≥ max_lag, or the input
-/// or the residual is constant.
+/// 3·max_lag + 1 samples, confidence is outside (0, 1) or model_parameters ≥ max_lag. A constant
+/// residual (an exact fit) leaves both tests out, a constant input the independence test; `untested` says why.
 ResidualTests residual_tests(std::span<const double> input, std::span<const double> residual,
                              const ResidualTestOptions& options = {});
 
