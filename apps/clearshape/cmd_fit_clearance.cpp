@@ -23,6 +23,7 @@
 #include "clearshape/io/time_column.hpp"
 #include "clearshape/plant/gyroscope.hpp"
 #include "clearshape/rig/types.hpp"
+#include "clearshape/study/fit_clearance.hpp"
 #include "clearshape/study/model.hpp"
 #include "command.hpp"
 
@@ -47,22 +48,8 @@ struct FitClearanceOptions {
 
 // The drive: `identify --json` (a fit, or cross-validation's best model) or --model + --param.
 lti::ProcessModel read_drive(const FitClearanceOptions& o) {
+  if (!o.drive_json.empty()) return study::read_identified_drive(o.drive_json);
   lti::ProcessParameters p;
-  if (!o.drive_json.empty()) {
-    const std::string text = io::read_text_file(o.drive_json);
-    json doc;
-    try {
-      doc = json::parse(text);
-    } catch (const json::parse_error& e) {
-      throw InputError(o.drive_json, 0, "", fmt::format("not JSON: {}", e.what()));
-    }
-    if (doc.contains("models") && doc.contains("best")) doc = doc["models"].at(doc["best"].at("index").get<std::size_t>());
-    if (!doc.contains("model") || !doc.contains("parameters")) {
-      throw InputError(o.drive_json, 0, "model", "expected the output of `clearshape identify --json` (keys model, parameters)");
-    }
-    for (const auto& [name, v] : doc["parameters"].items()) p.set(name, v.at("value").get<double>());
-    return lti::ProcessModel(doc["model"].get<std::string>(), p);
-  }
   if (o.model.empty()) throw InvalidArgument("fit-clearance: give --drive FILE (identify --json) or --model CODE with --param");
   for (const auto& kv : o.params) {
     const auto eq = kv.find('=');
@@ -79,113 +66,25 @@ double gyro_scale(const std::string& unit) {
   throw InvalidArgument(fmt::format("--gyro-unit '{}': allowed deg/s, rad/s, lsb", unit));
 }
 
-// The samples before the command first leaves its initial value: the rest, whose gyro scatter is noise.
-std::size_t rest_samples(const std::vector<double>& command) {
-  std::size_t k = 0;
-  while (k < command.size() && command[k] == command.front()) ++k;
-  return k;
-}
-
-// The drive command of the first record and the link rate averaged over the records (as the
-// study); with an envelope window, the mean of the records' envelopes too.
-void read_records(const FitClearanceOptions& o, rig::CommandMode mode, study::ClearanceFitProblem& fp) {
-  const std::string unit = mode == rig::CommandMode::position ? "deg" : "v";
-  std::vector<double> sum;
-  std::vector<std::vector<double>> records;
-  for (const auto& file : o.data) {
-    const io::Table t = io::read_table(file);
-    const std::string time = io::require_time_column(t, o.time_column);
-    const double ts = io::uniform_sample_time(t, time);
-    std::string cmd = o.command_column;
-    if (cmd.empty()) cmd = t.find("command_applied_" + unit) ? "command_applied_" + unit : "command_" + unit;
-    const auto& rate = t.column(o.gyro_column);
-    const double scale = gyro_scale(o.gyro_unit);
-    const std::size_t n = std::min(t.rows(), sample_count(o.window_s, ts));
-    if (sum.empty()) {
-      fp.drive_command.sample_time_s = ts;
-      fp.drive_command.values.assign(t.column(cmd).begin(), t.column(cmd).begin() + static_cast<std::ptrdiff_t>(n));
-      fp.duration_s = static_cast<double>(n - 1) * ts;
-      sum.assign(n, 0.0);
-    } else if (n != sum.size() || std::abs(ts - fp.drive_command.sample_time_s) > 1e-9) {
-      throw InputError(file, 0, time, "every --data record must have the first one's sample time and length");
-    }
-    for (std::size_t k = 0; k < n; ++k) sum[k] += scale * rate[k] / static_cast<double>(o.data.size());
-    records.emplace_back(n);
-    for (std::size_t k = 0; k < n; ++k) records.back()[k] = scale * rate[k];
-  }
-  fp.measured_link_rate_deg_s = sum;
-  if (o.envelope_window_s > 0.0) {
-    fp.envelope_window_s = o.envelope_window_s;
-    fp.measured_link_rate_envelope_deg_s = study::mean_rate_envelope_deg_s(
-        records, sum.size(), o.envelope_window_s, fp.drive_command.sample_time_s, rest_samples(fp.drive_command.values));
-  }
+// The records as the library reads them (study/fit_clearance.hpp).
+study::LinkRecordsRequest records_request(const FitClearanceOptions& o) {
+  study::LinkRecordsRequest r;
+  r.files.assign(o.data.begin(), o.data.end());
+  r.time_column = o.time_column;
+  r.command_column = o.command_column;
+  r.gyro_column = o.gyro_column;
+  r.gyro_scale_deg_s = gyro_scale(o.gyro_unit);
+  r.window_s = o.window_s;
+  r.envelope_window_s = o.envelope_window_s;
+  return r;
 }
 
 std::vector<double> low_pass_grid(const std::string& spec) {
   if (spec == "none") return {0.0};
-  if (spec == "auto") {
-    std::vector<double> g{0.0};
-    for (auto lp : {plant::GyroLowPass::hz256, plant::GyroLowPass::hz188, plant::GyroLowPass::hz98, plant::GyroLowPass::hz42,
-                    plant::GyroLowPass::hz20, plant::GyroLowPass::hz10, plant::GyroLowPass::hz5}) {
-      g.push_back(plant::bandwidth_hz(lp));
-    }
-    return g;
-  }
+  if (spec == "auto") return study::gyro_low_pass_settings_hz();
   const double hz = std::stod(spec);
   if (!(hz > 0.0)) throw InvalidArgument(fmt::format("--sensor-low-pass '{}': allowed auto, none or a bandwidth > 0 Hz", spec));
   return {hz};
-}
-
-json result_json(const study::ClearanceFitProblem& fp, const study::ClearanceFitResult& fit) {
-  json doc = io::make_document();
-  doc["command"] = "fit-clearance";
-  json params = json::object();
-  json warnings = json::array();
-  for (const auto& q : fit.parameters) {
-    const bool angle = q.name == "play";
-    params[q.name] = {{"value", angle ? rad_to_deg(q.value) : q.value},
-                      {"unit", study::clearance_parameter_unit(q.name)},
-                      {"start", angle ? rad_to_deg(q.start) : q.start},
-                      {"free", q.free},
-                      {"std", std::isfinite(q.std_error) ? json(q.std_error) : json(nullptr)},
-                      {"std_kind", q.name == "exponent" ? "absolute"
-                                   : q.name == "coulomb" || q.name == "viscous" || q.name == "restitution"
-                                       ? "relative (of the value)"
-                                                                                : "relative (of log value)"},
-                      {"identifiable", q.identifiable},
-                      {"at_bound", q.at_bound}};
-    if (q.free && q.at_bound) warnings.push_back(fmt::format("{} ended on its bound", q.name));
-    if (q.free && !q.identifiable) warnings.push_back(fmt::format("{} is not identifiable from this record (1σ too large or not finite)", q.name));
-  }
-  if (!fit.converged) warnings.push_back(fmt::format("the search did not converge ({})", fit.termination));
-  doc["parameters"] = params;
-  if (fit.model.contact_law == study::ContactLawChoice::flores) doc["contact_law"] = "flores";  // dashpot: no key
-  doc["agreement"] = fit.agreement;  // Eq. 4.1: RMS(model − measured) / range(measured)
-  doc["start_agreement"] = study::clearance_agreement(
-      fp.measured_link_rate_deg_s,
-      study::sensed_link_rate_deg_s(fp, study::simulate_drive_command(fit.start_model, fp.drive_command, fp.duration_s),
-                                    fit.sensor_low_pass_hz));
-  doc["rms_error_deg_s"] = fit.rms_error_deg_s;
-  doc["envelope_window_s"] = fp.measured_link_rate_envelope_deg_s.empty() ? 0.0 : fp.envelope_window_s;
-  doc["envelope_rms_error_deg_s"] = fit.envelope_rms_error_deg_s;
-  doc["sensor_low_pass_hz"] = fit.sensor_low_pass_hz;
-  doc["evaluations"] = fit.evaluations;
-  doc["termination"] = fit.termination;
-  doc["converged"] = fit.converged;
-  doc["trusted"] = warnings.empty();
-  doc["warnings"] = warnings;
-  // The rest of the identified nonlinear model, so that this document alone describes it
-  // (`clearshape shape --method clearance-aware --model`): the drive as `identify --json` writes
-  // it, the fixed link inertia, the mode.
-  json drive_parameters = json::object();
-  const auto names = fp.start.drive.structure().parameter_names();
-  const auto values = fp.start.drive.to_vector();
-  for (std::size_t i = 0; i < names.size(); ++i) drive_parameters[std::string(names[i])] = {{"value", values[i]}};
-  doc["friction_regularization_rad_s"] = fit.model.friction_regularization_rad_s;  // v_t of the Coulomb term
-  doc["mode"] = rig::to_string(fp.start.mode);
-  doc["link_inertia_kg_m2"] = fp.start.link_inertia_kg_m2;
-  doc["drive"] = {{"model", fp.start.drive.code()}, {"parameters", drive_parameters}};
-  return doc;
 }
 
 void print_text(const json& doc) {
@@ -228,10 +127,10 @@ void run(const FitClearanceOptions& o) {
   fp.link_damping_ratio = o.link_zeta;
   fp.max_evaluations = o.max_evaluations;
   fp.sensor_low_pass_grid_hz = low_pass_grid(o.low_pass);
-  read_records(o, mode, fp);
+  study::read_link_records(records_request(o), mode, fp);
   std::cerr << fmt::format("clearshape fit-clearance: {} drive {}, {} record(s), {:.3g} s, fitting {}\n", o.mode,
                            fp.start.drive.code(), o.data.size(), fp.duration_s, fmt::join(fp.free, ", "));
-  const json doc = result_json(fp, study::fit_clearance(fp));
+  const json doc = study::fit_clearance_document(fp, study::fit_clearance(fp));
   for (const auto& w : doc["warnings"]) std::cerr << "clearshape fit-clearance: warning: " << w.get<std::string>() << "\n";
   if (o.json) {
     print_json(doc);

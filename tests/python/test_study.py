@@ -133,3 +133,39 @@ def test_rig_config_errors_are_the_clis(cli, tmp_path):
     assert str(e.value) in stderr and "bad.toml:2" in str(e.value)
     with pytest.raises(ValueError, match="unknown table"):
         clearshape.rig_truth_from_toml("[jont]\nclearance_deg = 1\n")
+
+
+THESIS_DRIVE = {"Kp": 0.9959, "Tz": 0.0042, "Zeta": 0.9968, "Tw": 0.0102, "Tp3": 0.0034}  # Eq. 4.2, P3UZ
+
+
+def test_fit_clearance_is_the_clis_and_recovers_the_simulated_play(cli, cli_json, tmp_path):
+    # A noise-free 20° step of the thesis rig with 0.5° play (its contact law: K 45.16, n 1).
+    record = tmp_path / "step.csv"
+    cli("simulate", "--signal", "step", "--amplitude", 20, "--start-s", 0.2, "--duration", 2.5,
+        "--clearance-deg", 0.5, "--no-noise", "-o", record)
+    c = clearshape.thesis_truth().contact("position")
+    ref = cli_json("fit-clearance", "--model", "P3UZ", *[f"--param={k}={v!r}" for k, v in THESIS_DRIVE.items()],
+                   "--data", record, "--command-column", "drive_command_deg", "--gyro-column", "link_deg_s",
+                   "--fit", "stiffness", "play", "--exponent", repr(c["exponent"]), "--damping", repr(c["damping"]),
+                   "--max-evaluations", 20, "--sensor-low-pass", "none")
+    got = clearshape.fit_clearance([str(record)], drive_model="P3UZ", drive_parameters=THESIS_DRIVE,
+                                   command_column="drive_command_deg", gyro_column="link_deg_s",
+                                   fit=["stiffness", "play"], exponent=c["exponent"], damping=c["damping"],
+                                   max_evaluations=20, sensor_low_pass_hz=0)
+    assert got == ref
+    p = got["parameters"]
+    assert p["play"]["value"] == pytest.approx(0.5, rel=0.1)  # the simulated truth (measured 0.518)
+    assert p["stiffness"]["value"] == pytest.approx(c["stiffness"], rel=0.05)  # measured 45.6 against 45.16
+    assert got["agreement"] < 0.01 < got["start_agreement"]  # Eq. 4.1
+    # The document reads back as the model recommend and shape --model use.
+    path = tmp_path / "fit.json"
+    path.write_text(json.dumps(got))
+    m = clearshape.read_clearance_model(str(path))
+    assert m["play_rad"] == deg_to_rad(p["play"]["value"]) and m["stiffness"] == p["stiffness"]["value"]
+
+
+def test_fit_clearance_errors_name_the_input(tmp_path):
+    with pytest.raises(ValueError, match="drive"):
+        clearshape.fit_clearance([str(tmp_path / "none.csv")])
+    with pytest.raises(ValueError, match="none.csv"):
+        clearshape.fit_clearance([str(tmp_path / "none.csv")], drive_model="P3UZ", drive_parameters=THESIS_DRIVE)

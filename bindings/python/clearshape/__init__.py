@@ -16,6 +16,7 @@ from ._core import (  # noqa: F401
     consistency,
     design,
     identify,
+    fit_clearance,
     improvement_percent,
     insensitivity,
     load_rig_config,

@@ -9,9 +9,11 @@
 
 #include "arrays.hpp"
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
 #include "clearshape/rig/config.hpp"
 #include "clearshape/signal/parameters.hpp"
 #include "clearshape/study/clearance_model_json.hpp"
+#include "clearshape/study/fit_clearance.hpp"
 #include "clearshape/study/recommend_report.hpp"
 
 namespace clearshape::python {
@@ -141,6 +143,65 @@ py::object recommend(const std::vector<std::string>& data, const std::string& co
   return json_to_python(study::recommend_document(q, report));
 }
 
+// The drive: identify --json at `drive`, or a structure code with its parameters.
+lti::ProcessModel drive_of(const std::optional<std::string>& drive, const std::optional<std::string>& drive_model,
+                           const py::dict& drive_parameters) {
+  if (drive) return study::read_identified_drive(*drive);
+  if (!drive_model) throw InvalidArgument("fit_clearance: give drive= (identify --json) or drive_model= with drive_parameters=");
+  lti::ProcessParameters p;
+  for (const auto& [name, value] : drive_parameters) p.set(py::cast<std::string>(name), py::cast<double>(value));
+  return lti::ProcessModel(*drive_model, p);
+}
+
+struct FitStart {
+  double link_inertia_kg_m2, play_deg, stiffness, exponent, damping, restitution;
+  std::string contact_law;
+};
+
+study::ClearanceModel start_model(const std::string& mode, lti::ProcessModel drive, const FitStart& s) {
+  study::ClearanceModel m;
+  m.mode = rig::command_mode_from_string(mode);
+  m.drive = std::move(drive);
+  require_positive("link_inertia_kg_m2", s.link_inertia_kg_m2);
+  m.link_inertia_kg_m2 = s.link_inertia_kg_m2;
+  m.play_rad = deg_to_rad(s.play_deg);
+  m.stiffness = s.stiffness;
+  m.exponent = s.exponent;
+  m.damping = s.damping;
+  m.contact_law = study::contact_law_from_string(s.contact_law);
+  require_in_closed("restitution", s.restitution, 0.05, 1.0);
+  m.restitution = s.restitution;
+  return m;
+}
+
+py::object fit_clearance(const std::vector<std::string>& data, const std::optional<std::string>& drive,
+                         const std::optional<std::string>& drive_model, const py::dict& drive_parameters, const std::string& mode,
+                         const std::string& time_column, const std::string& command_column, const std::string& gyro_column,
+                         double gyro_scale_deg_s, double window_s, const FitStart& start, const std::vector<std::string>& fit,
+                         double envelope_window_s, double link_wn_rad_s, double link_zeta,
+                         std::optional<double> sensor_low_pass_hz, int max_evaluations) {
+  study::ClearanceFitProblem fp;
+  fp.start = start_model(mode, drive_of(drive, drive_model, drive_parameters), start);
+  fp.free = fit;
+  fp.link_natural_frequency_rad_s = link_wn_rad_s;
+  fp.link_damping_ratio = link_zeta;
+  require_in_closed("max_evaluations", max_evaluations, 5, 100000);
+  fp.max_evaluations = max_evaluations;
+  if (sensor_low_pass_hz) require_non_negative("sensor_low_pass_hz", *sensor_low_pass_hz, "0: none; None: try the ITG-3205 settings");
+  fp.sensor_low_pass_grid_hz = sensor_low_pass_hz ? std::vector<double>{*sensor_low_pass_hz} : study::gyro_low_pass_settings_hz();
+  require_positive("window_s", window_s);
+  require_in_closed("envelope_window_s", envelope_window_s, 0.0, 10.0);
+  study::LinkRecordsRequest records{{data.begin(), data.end()}, time_column, command_column, gyro_column,
+                                    gyro_scale_deg_s, window_s, envelope_window_s};
+  study::read_link_records(records, fp.start.mode, fp);
+  nlohmann::ordered_json doc;
+  {
+    py::gil_scoped_release release;  // seconds: other Python threads may go on
+    doc = study::fit_clearance_document(fp, study::fit_clearance(fp));
+  }
+  return json_to_python(doc);
+}
+
 }  // namespace
 
 void bind_study(py::module_& m) {
@@ -161,6 +222,39 @@ study's results.json (sections.clearance). Returns a dict: mode, drive_model (it
 code, canonical: P3UZ reads as P3ZU), drive_parameters (Eq. 4.2: Kp, Tz, …), play_rad (the total play 2β), stiffness, damping, exponent (Eq. 4.3), contact_law,
 restitution, coulomb_n_m, viscous_n_m_s_per_rad, link_inertia_kg_m2, and the study's link mode
 (link_frequency_hz, link_damping_ratio; None when absent). Raises ValueError naming the key.)doc");
+  m.def("fit_clearance",
+        [](const std::vector<std::string>& data, const std::optional<std::string>& drive, const std::optional<std::string>& drive_model,
+           const py::dict& drive_parameters, const std::string& mode, const std::string& time_column, const std::string& command_column,
+           const std::string& gyro_column, double gyro_scale_deg_s, double window_s, double link_inertia_kg_m2, double play_deg,
+           double stiffness, double exponent, double damping, const std::string& contact_law, double restitution,
+           const std::vector<std::string>& fit, double envelope_window_s, double link_wn_rad_s, double link_zeta,
+           std::optional<double> sensor_low_pass_hz, int max_evaluations) {
+          const FitStart start{link_inertia_kg_m2, play_deg, stiffness, exponent, damping, restitution, contact_law};
+          return fit_clearance(data, drive, drive_model, drive_parameters, mode, time_column, command_column, gyro_column,
+                               gyro_scale_deg_s, window_s, start, fit, envelope_window_s, link_wn_rad_s, link_zeta,
+                               sensor_low_pass_hz, max_evaluations);
+        },
+        py::arg("data"), py::kw_only(), py::arg("drive") = py::none(), py::arg("drive_model") = py::none(),
+        py::arg("drive_parameters") = py::dict(), py::arg("mode") = "position", py::arg("time_column") = "",
+        py::arg("command_column") = "", py::arg("gyro_column") = "link_rate_deg_s", py::arg("gyro_scale_deg_s") = 1.0,
+        py::arg("window_s") = 2.0, py::arg("link_inertia_kg_m2") = 5e-3, py::arg("play_deg") = 0.1, py::arg("stiffness") = 300.0,
+        py::arg("exponent") = 1.5, py::arg("damping") = 0.1, py::arg("contact_law") = "dashpot", py::arg("restitution") = 0.6,
+        py::arg("fit") = std::vector<std::string>{"stiffness", "damping", "play", "exponent"}, py::arg("envelope_window_s") = 0.0,
+        py::arg("link_wn_rad_s") = 0.0, py::arg("link_zeta") = 0.0, py::arg("sensor_low_pass_hz") = py::none(),
+        py::arg("max_evaluations") = 150,
+        R"doc(Fits the Eq. 4.3 contact parameters (thesis §4.2) to link records, given a drive model, as
+`clearshape fit-clearance --json`, and returns that document as a dict (parameters with their
+1σ, identifiable, at_bound; the Eq. 4.1 agreement; trusted and warnings; drive, mode,
+link_inertia_kg_m2) — which read_clearance_model() and recommend(model=) read back from a file.
+
+data: link records (CSV: time, the command the drive received, the link gyro), averaged;
+drive: `identify --json` output, or drive_model (e.g. 'P3UZ') with drive_parameters
+({'Kp': 0.99, …}); mode: position (deg) or speed (V); gyro_scale_deg_s: deg/s per unit of
+gyro_column; window_s: compared from t = 0; the start values link_inertia_kg_m2 (held fixed),
+play_deg (total play 2β), stiffness K, exponent n, damping D, contact_law ('dashpot' or
+'flores' with restitution); fit: the free parameters of stiffness, damping, play, exponent,
+coulomb, viscous; sensor_low_pass_hz: the gyro's low pass (None: try the ITG-3205 settings, 0:
+none). Raises ValueError for bad input.)doc");
   m.def("recommend", &recommend, py::arg("data"), py::kw_only(), py::arg("column") = "", py::arg("time_column") = "",
         py::arg("from_s") = py::none(), py::arg("to_s") = py::none(), py::arg("segment_s") = 0.0, py::arg("modes") = 2,
         py::arg("free_decay_fit") = true, py::arg("max_delay_s") = py::none(), py::arg("candidates") = py::none(),

@@ -1,0 +1,144 @@
+#include "clearshape/study/fit_clearance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
+#include "clearshape/io/atomic_file.hpp"
+#include "clearshape/io/json.hpp"
+#include "clearshape/io/table.hpp"
+#include "clearshape/io/time_column.hpp"
+#include "clearshape/plant/gyroscope.hpp"
+
+namespace clearshape::study {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// The samples before the command first leaves its initial value: the rest, whose gyro scatter is noise.
+std::size_t rest_samples(const std::vector<double>& command) {
+  std::size_t k = 0;
+  while (k < command.size() && command[k] == command.front()) ++k;
+  return k;
+}
+
+// The drive command of the first record and the link rate averaged over the records (as the
+// study); with an envelope window, the mean of the records' envelopes too.
+}  // namespace
+
+void read_link_records(const LinkRecordsRequest& o, rig::CommandMode mode, ClearanceFitProblem& fp) {
+  const std::string unit = mode == rig::CommandMode::position ? "deg" : "v";
+  std::vector<double> sum;
+  std::vector<std::vector<double>> records;
+  for (const auto& file : o.files) {
+    const io::Table t = io::read_table(file);
+    const std::string time = io::require_time_column(t, o.time_column);
+    const double ts = io::uniform_sample_time(t, time);
+    std::string cmd = o.command_column;
+    if (cmd.empty()) cmd = t.find("command_applied_" + unit) ? "command_applied_" + unit : "command_" + unit;
+    const auto& rate = t.column(o.gyro_column);
+    const double scale = o.gyro_scale_deg_s;
+    const std::size_t n = std::min(t.rows(), sample_count(o.window_s, ts));
+    if (sum.empty()) {
+      fp.drive_command.sample_time_s = ts;
+      fp.drive_command.values.assign(t.column(cmd).begin(), t.column(cmd).begin() + static_cast<std::ptrdiff_t>(n));
+      fp.duration_s = static_cast<double>(n - 1) * ts;
+      sum.assign(n, 0.0);
+    } else if (n != sum.size() || std::abs(ts - fp.drive_command.sample_time_s) > 1e-9) {
+      throw InputError(file.string(), 0, time, "every --data record must have the first one's sample time and length");
+    }
+    for (std::size_t k = 0; k < n; ++k) sum[k] += scale * rate[k] / static_cast<double>(o.files.size());
+    records.emplace_back(n);
+    for (std::size_t k = 0; k < n; ++k) records.back()[k] = scale * rate[k];
+  }
+  fp.measured_link_rate_deg_s = sum;
+  if (o.envelope_window_s > 0.0) {
+    fp.envelope_window_s = o.envelope_window_s;
+    fp.measured_link_rate_envelope_deg_s = mean_rate_envelope_deg_s(
+        records, sum.size(), o.envelope_window_s, fp.drive_command.sample_time_s, rest_samples(fp.drive_command.values));
+  }
+}
+
+lti::ProcessModel read_identified_drive(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const std::string text = io::read_text_file(path);
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError(file, 0, "", fmt::format("not JSON: {}", e.what()));
+  }
+  if (doc.contains("models") && doc.contains("best")) doc = doc["models"].at(doc["best"].at("index").get<std::size_t>());
+  if (!doc.contains("model") || !doc.contains("parameters")) {
+    throw InputError(file, 0, "model", "expected the output of `clearshape identify --json` (keys model, parameters)");
+  }
+  lti::ProcessParameters p;
+  for (const auto& [name, v] : doc["parameters"].items()) p.set(name, v.at("value").get<double>());
+  return lti::ProcessModel(doc["model"].get<std::string>(), p);
+}
+
+std::vector<double> gyro_low_pass_settings_hz() {
+  std::vector<double> g{0.0};
+  for (auto lp : {plant::GyroLowPass::hz256, plant::GyroLowPass::hz188, plant::GyroLowPass::hz98, plant::GyroLowPass::hz42,
+                  plant::GyroLowPass::hz20, plant::GyroLowPass::hz10, plant::GyroLowPass::hz5}) {
+    g.push_back(plant::bandwidth_hz(lp));
+  }
+  return g;
+}
+
+json fit_clearance_document(const ClearanceFitProblem& fp, const ClearanceFitResult& fit) {
+  json doc = io::make_document();
+  doc["command"] = "fit-clearance";
+  json params = json::object();
+  json warnings = json::array();
+  for (const auto& q : fit.parameters) {
+    const bool angle = q.name == "play";
+    params[q.name] = {{"value", angle ? rad_to_deg(q.value) : q.value},
+                      {"unit", clearance_parameter_unit(q.name)},
+                      {"start", angle ? rad_to_deg(q.start) : q.start},
+                      {"free", q.free},
+                      {"std", std::isfinite(q.std_error) ? json(q.std_error) : json(nullptr)},
+                      {"std_kind", q.name == "exponent" ? "absolute"
+                                   : q.name == "coulomb" || q.name == "viscous" || q.name == "restitution"
+                                       ? "relative (of the value)"
+                                                                                : "relative (of log value)"},
+                      {"identifiable", q.identifiable},
+                      {"at_bound", q.at_bound}};
+    if (q.free && q.at_bound) warnings.push_back(fmt::format("{} ended on its bound", q.name));
+    if (q.free && !q.identifiable) warnings.push_back(fmt::format("{} is not identifiable from this record (1σ too large or not finite)", q.name));
+  }
+  if (!fit.converged) warnings.push_back(fmt::format("the search did not converge ({})", fit.termination));
+  doc["parameters"] = params;
+  if (fit.model.contact_law == ContactLawChoice::flores) doc["contact_law"] = "flores";  // dashpot: no key
+  doc["agreement"] = fit.agreement;  // Eq. 4.1: RMS(model − measured) / range(measured)
+  doc["start_agreement"] = clearance_agreement(
+      fp.measured_link_rate_deg_s,
+      sensed_link_rate_deg_s(fp, simulate_drive_command(fit.start_model, fp.drive_command, fp.duration_s), fit.sensor_low_pass_hz));
+  doc["rms_error_deg_s"] = fit.rms_error_deg_s;
+  doc["envelope_window_s"] = fp.measured_link_rate_envelope_deg_s.empty() ? 0.0 : fp.envelope_window_s;
+  doc["envelope_rms_error_deg_s"] = fit.envelope_rms_error_deg_s;
+  doc["sensor_low_pass_hz"] = fit.sensor_low_pass_hz;
+  doc["evaluations"] = fit.evaluations;
+  doc["termination"] = fit.termination;
+  doc["converged"] = fit.converged;
+  doc["trusted"] = warnings.empty();
+  doc["warnings"] = warnings;
+  // The rest of the identified nonlinear model, so that this document alone describes it
+  // (`clearshape shape --method clearance-aware --model`): the drive as `identify --json` writes
+  // it, the fixed link inertia, the mode.
+  json drive_parameters = json::object();
+  const auto names = fp.start.drive.structure().parameter_names();
+  const auto values = fp.start.drive.to_vector();
+  for (std::size_t i = 0; i < names.size(); ++i) drive_parameters[std::string(names[i])] = {{"value", values[i]}};
+  doc["friction_regularization_rad_s"] = fit.model.friction_regularization_rad_s;  // v_t of the Coulomb term
+  doc["mode"] = rig::to_string(fp.start.mode);
+  doc["link_inertia_kg_m2"] = fp.start.link_inertia_kg_m2;
+  doc["drive"] = {{"model", fp.start.drive.code()}, {"parameters", drive_parameters}};
+  return doc;
+}
+
+}  // namespace clearshape::study
