@@ -1,5 +1,6 @@
 // Python: shaper design (shaping/design.hpp, every method), residual vibration and sensitivity
 // (Eq. 2.19, shaping/residual.hpp), offline and streaming shaping (apply.hpp, streaming.hpp).
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -114,6 +115,28 @@ py::tuple sensitivity(const sh::Shaper& s, double frequency_hz, double zeta, dou
   return py::make_tuple(to_array(r), to_array(v));
 }
 
+bool shapers_equal(const sh::Shaper& a, const sh::Shaper& b) {
+  return a.method() == b.method() && std::ranges::equal(a.impulses(), b.impulses());
+}
+
+// (method, ((time_s, amplitude), …)): the state a Shaper pickles to, and its hash.
+py::tuple shaper_state(const sh::Shaper& s) {
+  py::list impulses;
+  for (const auto& i : s.impulses()) impulses.append(py::make_tuple(i.time_s, i.amplitude));
+  return py::make_tuple(s.method(), py::tuple(impulses));
+}
+
+sh::Shaper shaper_from_state(const py::tuple& state) {
+  if (state.size() != 2) throw InvalidArgument("Shaper state: expected (method, impulses)");
+  std::vector<sh::Impulse> list;
+  for (const auto& i : state[1]) {
+    const auto pair = py::cast<std::pair<double, double>>(i);
+    list.push_back({pair.first, pair.second});
+  }
+  // As stored: the amplitudes were normalised (or not) when the shaper was made.
+  return sh::Shaper(py::cast<std::string>(state[0]), list, sh::Shaper::Normalize::no);
+}
+
 // shaper_methods() and the class Shaper.
 void bind_shaper(py::module_& m) {
   m.def("shaper_methods", [] {
@@ -139,6 +162,10 @@ void bind_shaper(py::module_& m) {
       .def_property_readonly("duration_s", &sh::Shaper::duration_s, "Time of the last impulse: the delay the shaper adds (s).")
       .def_property_readonly("is_positive", &sh::Shaper::is_positive, "True when no amplitude is negative.")
       .def("__len__", &sh::Shaper::size)
+      // A value (docs/design.md §3): equal when the method and every impulse are equal.
+      .def("__eq__", [](const sh::Shaper& a, const sh::Shaper& b) { return shapers_equal(a, b); }, py::is_operator())
+      .def("__hash__", [](const sh::Shaper& s) { return py::hash(shaper_state(s)); })
+      .def(py::pickle([](const sh::Shaper& s) { return shaper_state(s); }, &shaper_from_state))
       .def("__repr__", [](const sh::Shaper& s) {
         return "<clearshape.Shaper " + s.method() + ", " + std::to_string(s.size()) + " impulses, " +
                std::to_string(s.duration_s()) + " s>";

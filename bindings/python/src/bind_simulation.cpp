@@ -168,18 +168,27 @@ void bind_rig_truth(py::module_& m) {
                     "Run-to-run variation σs (dict; rig/variation.hpp). simulate() runs the nominal rig; simulate_rig() draws them.");
 }
 
+// The names truth(name) knows: the built-in truths (rig/builtin_truths.hpp) and the prior.
+std::vector<std::string> truth_names() {
+  std::vector<std::string> names;
+  for (auto n : rg::kBuiltinTruthNames) names.emplace_back(n);
+  names.emplace_back("uncalibrated");
+  return names;
+}
+
+rg::RigTruth truth_of(const std::string& name) {
+  if (name == "uncalibrated") return rg::uncalibrated_thesis_rig_prior();
+  if (rg::is_builtin_truth(name)) return rg::builtin_truth(name, "truth");
+  std::string allowed;
+  for (const auto& n : truth_names()) allowed += (allowed.empty() ? "" : ", ") + n;
+  throw InvalidArgument("truth = '" + name + "' is not a known truth; allowed: " + allowed);
+}
+
 // The built-in truths by name: truth_names(), truth(name), thesis_truth(), uncalibrated_truth().
 void bind_truths(py::module_& m) {
-  m.def("truth_names", [] {
-    std::vector<std::string> names;
-    for (auto n : rg::kBuiltinTruthNames) names.emplace_back(n);
-    names.emplace_back("uncalibrated");
-    return names;
-  }, "Names of the truths truth(name) knows: the built-in ones (thesis, large-play, …) and uncalibrated.");
-  m.def("truth", [](const std::string& name) {
-    if (name == "uncalibrated") return rg::uncalibrated_thesis_rig_prior();
-    return rg::builtin_truth(name, "truth");
-  }, py::arg("name"),
+  m.def("truth_names", &truth_names,
+        "Names of the truths truth(name) knows: the built-in ones (thesis, large-play, …) and uncalibrated.");
+  m.def("truth", &truth_of, py::arg("name"),
         "A truth by name: thesis (the calibrated thesis rig), large-play (1° steel-pin joint; docs/large-play.md), "
         "uncalibrated (the physical prior of the calibration).");
   m.def("thesis_truth", &rg::thesis_rig_truth, "The built-in truth: the calibrated thesis rig (2β = 0.032°).");
