@@ -1,7 +1,12 @@
 // `clearshape frf` (H1 and coherence, MATLAB tfestimate/mscohere) on a record of a known resonance,
 // its option errors, and `identify`'s residual tests (MATLAB resid) on the thesis's PRBS record:
-// the true structure passes, a structure short of a pole and a zero fails independence (issue 20).
+// the true structure passes, a structure short of a pole and a zero fails independence; and the compare figure
+// python/plot_compare.py draws from its output (issue 20).
+#include <sys/wait.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -123,4 +128,27 @@ TEST(IdentifyResidualsCli, TheTrueStructurePassesAndAMissingPoleFailsIndependenc
   const auto conf = run_cli("identify --data " + data + " --resid-confidence 1");
   EXPECT_EQ(conf.exit_code, 2);
   EXPECT_NE(conf.err.find("--resid-confidence = 1 is out of range; allowed: (0, 1)"), std::string::npos) << conf.err;
+}
+
+TEST(IdentifyResidualsCli, CompareFigureIsDrawnDeterministically) {
+  // python/plot_compare.py: measured vs simulated, the residual, and the two correlation panels.
+  const std::string data = golden_path("ident_position_prbs.csv").string();
+  const auto dir = clearshape::testing::fresh_temp_dir("compare_figure");
+  const auto json = dir / "identify.json", sim = dir / "sim.csv", png = dir / "compare.png";
+  const auto r = run_cli("identify --model P2U --data " + data + " --simulated " + sim.string() + " --json > " + json.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto script = golden_path("").parent_path().parent_path().parent_path() / "python" / "plot_compare.py";
+  const std::string draw = "/usr/bin/python3 " + script.string() + " " + json.string() + " " + sim.string() + " ";
+  ASSERT_EQ(std::system((draw + png.string()).c_str()), 0);
+  const std::string first = read_bytes(png);
+  ASSERT_GT(first.size(), 10000u);
+  EXPECT_EQ(first.substr(1, 3), "PNG");
+  ASSERT_EQ(std::system((draw + (dir / "again.png").string()).c_str()), 0);
+  EXPECT_EQ(read_bytes(dir / "again.png"), first);  // same data, same bytes
+  // A JSON without residual tests (a cross-validation) is refused with exit 2 and no file.
+  const std::string bad = "/usr/bin/python3 " + script.string() + " " + sim.string() + " " + sim.string() + " " +
+                          (dir / "bad.png").string() + " 2>/dev/null";
+  EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.png"));
+  std::filesystem::remove_all(dir);
 }
