@@ -124,12 +124,23 @@ TEST(ArmPlay, AStiffJointWithoutPlayMakesTheLinkFollowTheMotor) {
   const StepResult r = shoulder_step(arm);
   EXPECT_LT(r.late_spread, 1e-3 * kDeg);   // no residual motion between motor and link
   EXPECT_LT(r.final_error, 1e-4 * kDeg);   // the link sits on the gearbox output
-  // during the move the link lags by the torque it needs: |φ| ≤ M a / K, well below a degree
-  double worst = 0.0;
-  for (Eigen::Index k = 0; k < r.trace.link_angle_rad.rows(); ++k) {
-    worst = std::max(worst, std::abs(r.trace.link_angle_rad(k, 0) - r.trace.output_angle_rad(k, 0)));
+  // during the move the link lags by the torque its acceleration needs: |φ| ≈ M11 a / K, with
+  // the overshoot of a ζ = 0.7 flank to a jump in acceleration (1 + e^(−ζπ/√(1−ζ²)) = 1.05)
+  const Eigen::MatrixXd& out = r.trace.output_angle_rad;
+  const double dt = r.trace.time_s[1] - r.trace.time_s[0];
+  double a_max = 0.0, worst = 0.0;
+  for (Eigen::Index k = 1; k + 1 < out.rows(); ++k) {
+    a_max = std::max(a_max, std::abs(out(k + 1, 0) - 2.0 * out(k, 0) + out(k - 1, 0)) / (dt * dt));
+    worst = std::max(worst, std::abs(r.trace.link_angle_rad(k, 0) - out(k, 0)));
   }
-  EXPECT_LT(worst, 0.05 * kDeg);
+  ChainWorkspace ws(arm.chain);
+  Eigen::MatrixXd m;
+  ws.mass_matrix(Eigen::Vector2d::Zero(), m);
+  const double static_lag = m(0, 0) * a_max / arm.joints[0].law.stiffness();
+  // the flank really gives under the load (a little less than statically: the drive's
+  // acceleration decays within the flank's period) …
+  EXPECT_GT(worst, 0.7 * static_lag);
+  EXPECT_LT(worst, 1.1 * static_lag);   // … by what Newton and Hooke say
 }
 
 }  // namespace
