@@ -111,6 +111,18 @@ def test_improvement_map(local):
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_results_and_batches_follow_the_umask(local):
+    """Files like any other (issue 23: they were 0600): 0666 less the umask, 0644 under 022."""
+    out, _ = local
+    mask = os.umask(0o022)
+    os.umask(mask)
+    state = os.path.join(out, ".sweep")
+    paths = [os.path.join(out, n) for n in files(out)]
+    paths += [os.path.join(state, n) for n in os.listdir(state)] if os.path.isdir(state) else []
+    for path in paths:
+        assert oct(os.stat(path).st_mode & 0o777) == oct(0o666 & ~mask), path
+
+
 def test_resume_gives_the_same_bytes(local, sweep_file, tmp_path):
     out, _ = local
     resumed = str(tmp_path / "resumed")

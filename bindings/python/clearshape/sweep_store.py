@@ -19,11 +19,31 @@ COLUMNS = ["index", "seed", *PARAMETERS, "status", *METRICS]
 STATE = ".sweep"
 
 
+def _umask():
+    """The process's umask, read without changing it (Linux /proc; else set and restored)."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except OSError:
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _new_file_mode(fd):
+    """mkstemp creates 0600; a result is a file like any other: 0666 less the umask (0644 under 022)."""
+    os.fchmod(fd, 0o666 & ~_umask())
+
+
 def write_atomic(path, data):
-    """Writes bytes to path through a temporary file in the same folder."""
+    """Writes bytes to path through a temporary file in the same folder (mode as open() gives)."""
     folder = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".part")
     try:
+        _new_file_mode(fd)
         with os.fdopen(fd, "wb") as f:
             f.write(data)
             f.flush()
@@ -123,6 +143,7 @@ def write_hdf5(path, rows, attributes):
 
     folder = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=".tmp-", suffix=".h5")
+    _new_file_mode(fd)
     os.close(fd)
     try:
         # No object timestamps anywhere (root group, group, datasets) and a fixed file format:
