@@ -2,6 +2,7 @@
 // the magnitude-squared coherence, by Welch averaging (MATLAB tfestimate/mscohere, scipy.signal
 // csd/coherence; dsp/frf.hpp, docs/frf.md).
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -177,7 +178,8 @@ void run_frf(const FrfState& st) {
   if (st.json) {
     print_json(frf_json(st, r, o, h, s));
   } else if (st.out.empty()) {
-    fmt::print("{}", io::format_csv(names, columns));
+    const std::string csv = io::format_csv(names, columns);
+    std::fwrite(csv.data(), 1, csv.size(), stdout);  // a write error is reported by main (exit 1)
   } else {
     print_summary(r, o, h, s);
   }

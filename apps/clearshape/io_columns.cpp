@@ -94,9 +94,10 @@ void refuse_converted_copy(const io::Table& t, const IoColumns& c, double sample
   }
   throw InvalidArgument(fmt::format(
       "{}: {}: output '{}' is input '{}' through a converter (equal within {:g} % of its range apart from holds of at most "
-      "{:g} s): nothing to {}; give the response with --output-column (other columns: {})",
+      "{:g} s): nothing to {}; give the response with {} (other columns: {})",
       command, t.source, t.names[c.output], t.names[c.input], 100.0 * ident::kCopyTolerance, kMaxConverterHoldS,
-      command == "identify" ? "identify" : "estimate", others.empty() ? "none" : others));
+      command == "identify" ? "identify" : "estimate", command == "identify" ? "--output-column" : "--output",
+      others.empty() ? "none" : others));
 }
 
 }  // namespace clearshape::cli

@@ -80,6 +80,7 @@ TEST(FaultsCli, StandardOutputOnAFullDeviceIsAFailureInEveryPrintingSubcommand) 
       "simulate --duration 0.1 --json",
       "identify --data " + run + " --input-column command_deg --output-column motor_deg --model P1",
       "modes --data " + run + " --output-column link_deg_s --modes 1",
+      "frf --in " + run + " --input motor_deg --output gyro_deg_s",
       "--help",
       "--version"};
   for (const std::string& args : commands) {

@@ -85,7 +85,7 @@ TEST(FrfCli, TheDaCopyAndBadOptionsAreRefusedNamingTheOption) {
   const auto copy = run_cli("frf --in " + rec);  // default pair: command and command_applied
   EXPECT_EQ(copy.exit_code, 2);
   EXPECT_NE(copy.err.find("output 'command_applied' is input 'command' through a converter"), std::string::npos) << copy.err;
-  EXPECT_NE(copy.err.find("response"), std::string::npos) << copy.err;
+  EXPECT_NE(copy.err.find("give the response with --output (other columns: response)"), std::string::npos) << copy.err;
   const std::string base = "frf --in " + rec + " --output response ";
   const auto seg = run_cli(base + "--segment-s 100");
   EXPECT_EQ(seg.exit_code, 2);
