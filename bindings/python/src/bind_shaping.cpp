@@ -1,10 +1,12 @@
 // Python: shaper design (shaping/design.hpp, every method), residual vibration and sensitivity
 // (Eq. 2.19, shaping/residual.hpp), offline and streaming shaping (apply.hpp, streaming.hpp).
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
@@ -76,10 +78,29 @@ sh::Mode actual_mode(double frequency_hz, double zeta) {
   return sh::Mode::from_hz(frequency_hz, zeta);
 }
 
-py::array_t<double> shape(const sh::Shaper& shaper, const DoubleArray& values, double sample_time_s, bool extend,
+// Samples to shape: real and finite, else ValueError naming the first bad one (NumPy would drop
+// an imaginary part silently, and a NaN would spread through every tap it reaches).
+std::vector<double> shaping_input(const py::object& samples) {
+  const py::array values = py::array::ensure(samples);
+  if (!values) throw InvalidArgument("values must be an array of numbers");
+  if (values.dtype().kind() == 'c') {
+    throw InvalidArgument("values are complex; shaping takes real samples (pass values.real, or shape real and imaginary parts apart)");
+  }
+  std::vector<double> v = to_vector(DoubleArray::ensure(values), "values");
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i])) {
+      throw InvalidArgument(fmt::format("values[{}] = {} is not finite; shaping takes finite samples (StreamingShaper.step "
+                                        "holds the previous one instead, as the real-time path does)", i, v[i]));
+    }
+  }
+  return v;
+}
+
+py::array_t<double> shape(const sh::Shaper& shaper, const py::object& values, double sample_time_s, bool extend,
                           const std::string& discretization, std::optional<double> frequency_hz,
                           std::optional<double> zeta) {
-  const UniformSeries input = to_series(values, sample_time_s, 0.0, "values");
+  require_positive("sample_time_s", sample_time_s);
+  const UniformSeries input{0.0, sample_time_s, shaping_input(values)};
   if (discretization == "linear") {
     if (frequency_hz || zeta) throw InvalidArgument("frequency_hz and zeta are for discretization 'exact' only");
     return to_array(sh::shape_offline(shaper, input, extend).values);
@@ -230,12 +251,14 @@ void bind_streaming_shaper(py::module_& m) {
            py::arg("initial_value") = 0.0,
            "A streaming shaper at sample_time_s (s); the history starts at initial_value.")
       .def("step", py::overload_cast<double>(&sh::StreamingShaper::step), py::arg("value"),
-           "Pushes one input sample and returns the shaped output (a non-finite input holds the previous one).")
-      .def("process", [](sh::StreamingShaper& s, const DoubleArray& values) {
-        std::vector<double> in = to_vector(values, "values");
+           "Pushes one input sample and returns the shaped output. A non-finite input is held as the real-time path "
+           "holds it (shaping/streaming.hpp): the previous input takes its place, so the output stays finite.")
+      .def("process", [](sh::StreamingShaper& s, const py::object& values) {
+        std::vector<double> in = shaping_input(values);  // checked before any step: a refusal leaves the history as it was
         for (double& v : in) v = s.step(v);
         return to_array(in);
-      }, py::arg("values"), "Steps every sample of an array in order and returns the outputs.")
+      }, py::arg("values"), "Steps every sample of an array in order and returns the outputs; as shape(), ValueError for a "
+         "non-finite or complex sample (none is stepped).")
       .def("reset", &sh::StreamingShaper::reset, py::arg("value") = 0.0, "Refills the history with value.")
       .def_property_readonly("sample_time_s", &sh::StreamingShaper::sample_time_s)
       .def_property_readonly("tap_count", &sh::StreamingShaper::tap_count);
