@@ -35,6 +35,15 @@ ArmSystem::ArmSystem(const ArmModel& model, std::span<const plant::Command> comm
   bias_.setZero(dof_);
   qdd_.setZero(dof_);
   mass_.setZero(dof_, dof_);
+  mass_step_.setZero(dof_, dof_);
+  d_tau_.setZero(dof_, dof_);
+  d_rigid_.setZero(dof_, dof_);
+  q_step_.setZero(dof_);
+  v_step_.setZero(dof_);
+  bias_step_.setZero(dof_);
+  d_tau_q_.setZero(dof_);
+  d_tau_v_.setZero(dof_);
+  d_tau_phi_rate_.setZero(dof_);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(dof_);
 }
 
@@ -95,6 +104,71 @@ int ArmSystem::rhs(double t, const double* y, double* yd) noexcept {
   return 0;
 }
 
+int ArmSystem::jacobian(double t, const double* y, double* jac) noexcept {
+  const int n = size_;
+  std::fill(jac, jac + static_cast<std::ptrdiff_t>(n) * n, 0.0);
+  auto at = [&](int row, int col) -> double& { return jac[row + n * col]; };
+  if (rhs(t, y, jac) != 0) return 1;  // q̈, M, τ and the bias at y (jac's first column as scratch)
+  std::fill(jac, jac + n, 0.0);
+  for (int i = 0; i < dof_; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const ArmJoint& j = model_.joints[k];
+    const plant::DriveModel& d = j.drive;
+    const int o = offset_[k];
+    for (int r = 0; r < d.order(); ++r) {
+      for (int c = 0; c < d.order(); ++c) at(o + r, o + c) = d.a()(r, c);
+    }
+    at(iq_ + i, iv_ + i) = 1.0;
+    // τ_i = −s F(δ, δ̇) + τ_f(q̇): ∂τ/∂φ = −F_δ, ∂τ/∂φ̇ = −F_δ̇ (s² = 1)
+    const JointTerms jt = terms(i, t, y);
+    const int s = side_[k] != 0 ? side_[k] : (jt.phi >= 0.0 ? 1 : -1);
+    plant::ContactForce f{};
+    if (side_[k] != 0) {
+      f = jt.delta <= 0.0 ? j.law.evaluate_continued(jt.delta, s * jt.phi_rate)
+                          : j.law.evaluate(jt.delta, s * jt.phi_rate, memory_[k]);
+    } else if (jt.delta > 0.0 && !j.law.jumps_at_onset()) {
+      f = j.law.evaluate(jt.delta, s * jt.phi_rate, plant::ContactMemory{j.law.latch_approach_rate(s * jt.phi_rate), false});
+      if (j.law.uses_approach_rate()) f.d_rate = 0.0;  // δ̇/δ̇⁻ = 1 while δ̇⁻ follows δ̇
+    }
+    d_tau_q_(i) = -f.d_penetration;
+    d_tau_phi_rate_(i) = -f.d_rate;
+    d_tau_v_(i) = -f.d_rate + j.friction.evaluate(v_(i)).d_rate;
+  }
+  llt_.compute(mass_);
+  // rigid part: ∂(M(q) q̈ + b(q, q̇))/∂q_j and ∂b/∂q̇_j by forward differences
+  for (int c = 0; c < dof_; ++c) {
+    const double hq = 1e-7 * (1.0 + std::abs(q_(c)));
+    q_step_ = q_;
+    q_step_(c) += hq;
+    workspace_.mass_matrix(q_step_, mass_step_);
+    workspace_.bias_torque(q_step_, v_, bias_step_);
+    d_rigid_.col(c) = (mass_step_ * qdd_ + bias_step_ - mass_ * qdd_ - bias_) / hq;
+    d_rigid_(c, c) -= d_tau_q_(c);
+    d_tau_.col(c) = -llt_.solve(d_rigid_.col(c));  // ∂q̈/∂q_c
+    for (int r = 0; r < dof_; ++r) at(iv_ + r, iq_ + c) = d_tau_(r, c);
+    const double hv = 1e-7 * (1.0 + std::abs(v_(c)));
+    v_step_ = v_;
+    v_step_(c) += hv;
+    workspace_.bias_torque(q_, v_step_, bias_step_);
+    d_rigid_.col(c) = (bias_step_ - bias_) / hv;
+    d_rigid_(c, c) -= d_tau_v_(c);
+    d_tau_.col(c) = -llt_.solve(d_rigid_.col(c));  // ∂q̈/∂q̇_c
+    for (int r = 0; r < dof_; ++r) at(iv_ + r, iv_ + c) = d_tau_(r, c);
+  }
+  // drives: τ_c depends on x_c through φ = q − c_angleᵀx/N and φ̇ = q̇ − (c_rateᵀx + d u)/N
+  for (int c = 0; c < dof_; ++c) {
+    const auto k = static_cast<std::size_t>(c);
+    const ArmJoint& j = model_.joints[k];
+    const plant::DriveModel& d = j.drive;
+    for (int r = 0; r < d.order(); ++r) {
+      const double dtau = -(d_tau_q_(c) * d.angle_output()(r) + d_tau_phi_rate_(c) * d.rate_output()(r)) / j.gear_ratio;
+      const Eigen::VectorXd col = llt_.solve(Eigen::VectorXd::Unit(dof_, c)) * dtau;
+      for (int row = 0; row < dof_; ++row) at(iv_ + row, offset_[k] + r) = col(row);
+    }
+  }
+  return 0;
+}
+
 void ArmSystem::roots(double t, const double* y, double* g) noexcept {
   for (int i = 0; i < dof_; ++i) {
     const auto k = static_cast<std::size_t>(i);
@@ -124,29 +198,32 @@ void ArmSystem::separation(int i, double t, double rate, std::vector<ArmEvent>& 
 }
 
 bool ArmSystem::on_roots(double t, const double* y, const int* found, std::vector<ArmEvent>& events) noexcept {
-  bool changed = false;
+  bool restart = false;  // a law that jumps at onset, or a kink of the law: new multistep history
   for (int i = 0; i < dof_; ++i) {
     const auto k = static_cast<std::size_t>(i);
     const int* fi = found + 4 * i;
     const JointTerms jt = terms(i, t, y);
+    const bool jumps = model_.joints[k].law.jumps_at_onset();
     if (side_[k] == 0) {
       for (int sigma : {1, -1}) {
         if (fi[sigma > 0 ? 0 : 1] > 0) {
           onset(i, t, sigma, sigma * jt.phi_rate, events);
-          changed = true;
+          restart = restart || jumps;
           break;
         }
       }
-    } else {
-      const int s = side_[k];
-      if (fi[s > 0 ? 0 : 1] < 0) {
-        separation(i, t, s * jt.phi_rate, events);
-        if (fi[s > 0 ? 1 : 0] > 0) onset(i, t, -s, -s * jt.phi_rate, events);  // β = 0: the other flank
-      }
-      changed = changed || fi[0] != 0 || fi[1] != 0 || fi[2] != 0 || fi[3] != 0;
+      continue;
+    }
+    const int s = side_[k];
+    if (fi[s > 0 ? 0 : 1] < 0) {
+      separation(i, t, s * jt.phi_rate, events);
+      if (fi[s > 0 ? 1 : 0] > 0) onset(i, t, -s, -s * jt.phi_rate, events);  // β = 0: the other flank
+      restart = restart || jumps;
+    } else if (fi[2] != 0 || fi[3] != 0) {
+      restart = true;
     }
   }
-  return changed;
+  return restart;
 }
 
 bool ArmSystem::check_consistency(double t, const double* y, std::vector<ArmEvent>& events) noexcept {

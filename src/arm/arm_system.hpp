@@ -24,10 +24,14 @@ class ArmSystem {
   int root_count() const noexcept { return 4 * dof_; }
   int rhs(double t, const double* y, double* ydot) noexcept;
   void roots(double t, const double* y, double* g) noexcept;
+  /// ∂f/∂y, dense column-major size × size: exact for the drives and the plays; the rigid
+  /// part ∂(M q̈ + C q̇ + g)/∂(q, q̇) at fixed q̈ by forward differences of KDL's solvers.
+  int jacobian(double t, const double* y, double* jac) noexcept;
   /// y(0) from the drives' rest states and the initial relative angles and rates.
   void initial_state(const ArmInitialState& init, double* y, std::vector<ArmEvent>& events);
   void tolerances(const ArmSolverOptions& o, double* atol) const;
-  /// After a root return: updates the contact modes; true if anything changed.
+  /// After a root return: updates the contact modes; true if the integrator must restart (a
+  /// law that jumps at onset or separation, a kink of the law; plant/ does the same).
   bool on_roots(double t, const double* y, const int* found, std::vector<ArmEvent>& events) noexcept;
   /// At an output: an onset or separation the root finder could not see (a root function that
   /// was exactly 0 at a restart). True if a mode changed.
@@ -51,7 +55,8 @@ class ArmSystem {
   std::vector<plant::ContactMemory> memory_;
   std::vector<plant::Encoder> encoders_;
   Eigen::VectorXd q_, v_, tau_, bias_, qdd_;
-  Eigen::MatrixXd mass_;
+  Eigen::MatrixXd mass_, mass_step_, d_tau_, d_rigid_;
+  Eigen::VectorXd q_step_, v_step_, bias_step_, d_tau_q_, d_tau_v_, d_tau_phi_rate_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
 };
 

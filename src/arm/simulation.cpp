@@ -46,6 +46,10 @@ int root_callback(realtype t, N_Vector y, realtype* g, void* user) {
   return 0;
 }
 
+int jac_callback(realtype t, N_Vector y, N_Vector, SUNMatrix jac, void* user, N_Vector, N_Vector, N_Vector) {
+  return static_cast<detail::ArmSystem*>(user)->jacobian(t, N_VGetArrayPointer(y), SUNDenseMatrix_Data(jac));
+}
+
 void check(int flag, const char* what) {
   if (flag < 0) throw RuntimeError(fmt::format("CVODE setup failed in {} (flag {})", what, flag));
 }
@@ -72,6 +76,7 @@ class Integrator {
     linear_ = SUNLinSol_Dense(y_, matrix_, ctx_);
     if (!matrix_ || !linear_) throw RuntimeError("CVODE: cannot create the dense linear solver");
     check(CVodeSetLinearSolver(mem_, linear_, matrix_), "CVodeSetLinearSolver");
+    if (o.analytic_jacobian) check(CVodeSetJacFn(mem_, jac_callback), "CVodeSetJacFn");
     check(CVodeRootInit(mem_, system.root_count(), root_callback), "CVodeRootInit");
     check(CVodeSetNoInactiveRootWarn(mem_), "CVodeSetNoInactiveRootWarn");
   }

@@ -22,6 +22,9 @@ struct ArmSolverOptions {
   double rate_tolerance_rad_s = 1e-6;  ///< absolute tolerance of q̇
   double max_step_s = 0.0;             ///< 0: unlimited
   long max_steps_per_output = 500000;
+  /// ArmSystem's Jacobian (exact for drives and plays, differences of KDL for the rigid part);
+  /// false: CVODE's difference quotients of the whole right-hand side.
+  bool analytic_jacobian = true;
   void validate() const;
 };
 
