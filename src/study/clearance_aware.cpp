@@ -21,11 +21,13 @@ namespace clearshape::study {
 std::vector<double> default_start_fractions() { return {-1.0, -0.5, 0.0, 0.5, 1.0}; }
 
 std::vector<UncertaintyPoint> uncertainty_set(double play_rel_sigma, double stiffness_rel_sigma,
-                                              double coulomb_rel_sigma, const std::vector<double>& start_fractions) {
+                                              double coulomb_rel_sigma, const std::vector<double>& start_fractions,
+                                              double damping_spread) {
   for (const auto& [name, v] : {std::pair{"play_rel_sigma", play_rel_sigma}, {"stiffness_rel_sigma", stiffness_rel_sigma},
                                 {"coulomb_rel_sigma", coulomb_rel_sigma}}) {
     require_in_closed(name, v, 0.0, 0.9, "A relative 1σ of 90 % or more leaves no model to design on");
   }
+  require_in_closed("damping_spread", damping_spread, 0.0, 2.0, "The 1σ of ln D over runs");
   std::vector<UncertaintyPoint> points;
   const auto add = [&](double sign) {
     for (const double f : start_fractions) {
@@ -36,6 +38,11 @@ std::vector<UncertaintyPoint> uncertainty_set(double play_rel_sigma, double stif
   if (play_rel_sigma > 0.0 || stiffness_rel_sigma > 0.0 || coulomb_rel_sigma > 0.0) {
     add(-1.0);
     add(1.0);
+  }
+  if (damping_spread > 0.0) {
+    for (const double sign : {-1.0, 1.0}) {
+      for (const double f : start_fractions) points.push_back({1.0, 1.0, f, 1.0, std::exp(sign * damping_spread)});
+    }
   }
   return points;
 }
@@ -63,6 +70,7 @@ void ClearanceAwareRequest::validate() const {
     require_in_closed("uncertainty.stiffness_factor", u.stiffness_factor, 1e-3, 100.0);
     require_in_closed("uncertainty.initial_play_fraction", u.initial_play_fraction, -1.0, 1.0);
     require_in_closed("uncertainty.coulomb_factor", u.coulomb_factor, 0.0, 10.0);
+    require_in_closed("uncertainty.damping_factor", u.damping_factor, 1e-3, 10.0);
   }
   require_in_closed("max_duration_s", max_duration_s, 1e-3, 5.0, "Use the duration of the linear shaper it replaces");
   require_in_closed("grid_s", grid_s, 1e-4, 1.0);
@@ -200,6 +208,7 @@ ClearanceModel varied_model(const ClearanceModel& m, const UncertaintyPoint& u) 
   v.play_rad *= u.play_factor;
   v.stiffness *= u.stiffness_factor;
   v.coulomb_n_m *= u.coulomb_factor;
+  v.damping *= u.damping_factor;
   return v;
 }
 

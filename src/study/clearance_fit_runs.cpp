@@ -20,6 +20,7 @@
 #include <limits>
 
 #include <Eigen/Dense>
+#include <boost/math/distributions/chi_squared.hpp>
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
@@ -735,6 +736,19 @@ ClearanceRunsFitResult tabulate(Fit& f, const Refined& fit, const Runs& v) {
 
 }  // namespace
 
+double spread_upper_bound(const std::vector<double>& log_values, double confidence) {
+  require_in_open("confidence", confidence, 0.0, 1.0);
+  const auto n = log_values.size();
+  if (n < 3) return 0.0;
+  double mean = 0.0;
+  for (const double v : log_values) mean += v / static_cast<double>(n);
+  double ss = 0.0;
+  for (const double v : log_values) ss += (v - mean) * (v - mean);
+  // σ ≤ √(SS / χ²_{1−confidence, n−1}): the one-sided bound on a normal sample's σ (Montgomery §7.4).
+  const boost::math::chi_squared chi2(static_cast<double>(n - 1));
+  return std::sqrt(ss / boost::math::quantile(chi2, 1.0 - confidence));
+}
+
 ClearanceModelSigma ClearanceRunsFitResult::sigma() const {
   ClearanceModelSigma s;
   for (const auto& q : parameters) {
@@ -742,6 +756,11 @@ ClearanceModelSigma ClearanceRunsFitResult::sigma() const {
     if (q.name == "stiffness") s.stiffness_rel_sigma = q.std_error;
     if (q.name == "coulomb") s.coulomb_rel_sigma = q.std_error;
   }
+  std::vector<double> log_damping;
+  for (const double d : run_damping) {
+    if (d > 0.0) log_damping.push_back(std::log(d));
+  }
+  s.damping_spread = spread_upper_bound(log_damping);
   return s;
 }
 

@@ -425,7 +425,8 @@ json sigma_json(const ClearanceModelSigma& s) {
   const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(); };
   return {{"play_rel_sigma", num(s.play_rel_sigma)},
           {"stiffness_rel_sigma", num(s.stiffness_rel_sigma)},
-          {"coulomb_rel_sigma", num(s.coulomb_rel_sigma)}};
+          {"coulomb_rel_sigma", num(s.coulomb_rel_sigma)},
+          {"damping_spread", num(s.damping_spread)}};
 }
 
 // The fit's scalars (per_run_fit) and its two lists, kept at the section's top level

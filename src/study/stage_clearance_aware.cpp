@@ -84,12 +84,15 @@ void ensure_clearance_aware(Context& c) {
   // Every start place at the fitted model and, when the fit gave its 1σ, at its ±1σ corners of
   // play, K and Coulomb torque (each σ capped at 50 %: beyond that the corner is another joint).
   // Corners whose σ are all under 2 % are the nominal joint within the design model's own accuracy
-  // (docs/worn-coupling.md): they would triple the cost for nothing, and are left out.
+  // (docs/worn-coupling.md): they would triple the cost for nothing, and are left out. The flank
+  // damping's run-to-run spread (per-run fit) is a variation the rig has: its ±1σ are always in.
   if (c.model_sigma) {
     const auto cap = [](double v) { return std::isfinite(v) ? std::clamp(v, 0.0, 0.5) : 0.5; };
-    const double sp = cap(c.model_sigma->play_rel_sigma), sk = cap(c.model_sigma->stiffness_rel_sigma),
-                 sc = cap(c.model_sigma->coulomb_rel_sigma);
-    if (std::max({sp, sk, sc}) >= 0.02) r.uncertainty = uncertainty_set(sp, sk, sc);
+    double sp = cap(c.model_sigma->play_rel_sigma), sk = cap(c.model_sigma->stiffness_rel_sigma),
+           sc = cap(c.model_sigma->coulomb_rel_sigma);
+    if (std::max({sp, sk, sc}) < 0.02) sp = sk = sc = 0.0;
+    const double sd = std::isfinite(c.model_sigma->damping_spread) ? std::clamp(c.model_sigma->damping_spread, 0.0, 1.0) : 0.0;
+    r.uncertainty = uncertainty_set(sp, sk, sc, default_start_fractions(), sd);
   }
   r.max_evaluations = c.p.quick ? std::min(40, c.p.shaping.clearance_aware_max_evaluations)
                                 : c.p.shaping.clearance_aware_max_evaluations;
@@ -117,6 +120,7 @@ void ensure_clearance_aware(Context& c) {
                        {"play_factor", k.point.play_factor},
                        {"stiffness_factor", k.point.stiffness_factor},
                        {"coulomb_factor", k.point.coulomb_factor},
+                       {"damping_factor", k.point.damping_factor},
                        {"initial_play_fraction", k.point.initial_play_fraction},
                        {"md_unshaped_deg", k.md_unshaped_deg},
                        {"md_shaped_deg", k.md_shaped_deg}});

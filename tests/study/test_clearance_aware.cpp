@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
@@ -130,4 +131,37 @@ shaper = "none"
       EXPECT_NE(std::string(e.what()).find("mode_source"), std::string::npos) << e.what();
     }
   }
+}
+
+// The flank damping's run spread enters as D × e^(∓s) at every start place, after the nominal
+// points and the ±1σ corners, and varied_model scales D by it.
+TEST(ClearanceAware, DampingSpreadAddsTheTwoDampingCornersAtEveryStart) {
+  const auto starts = st::default_start_fractions();
+  const auto nominal = st::uncertainty_set(0.0, 0.0, 0.0, starts, 0.2);
+  ASSERT_EQ(nominal.size(), 3 * starts.size());
+  EXPECT_DOUBLE_EQ(nominal[starts.size()].damping_factor, std::exp(-0.2));
+  EXPECT_DOUBLE_EQ(nominal.back().damping_factor, std::exp(0.2));
+  EXPECT_DOUBLE_EQ(nominal.back().play_factor, 1.0);
+  EXPECT_EQ(st::uncertainty_set(0.05, 0.05, 0.05, starts, 0.2).size(), 5 * starts.size());
+  EXPECT_EQ(st::uncertainty_set(0.0, 0.0, 0.0, starts, 0.0).size(), starts.size());
+  EXPECT_THROW(st::uncertainty_set(0.0, 0.0, 0.0, starts, -0.1), cs::InvalidArgument);
+  auto m = cs::testing::thesis_position_clearance_model();
+  m.damping = 0.12;
+  EXPECT_DOUBLE_EQ(st::varied_model(m, nominal.back()).damping, 0.12 * std::exp(0.2));
+}
+
+// The one-sided 90 % upper bound on σ: s·√((n−1)/χ²_{0.1, n−1}); the factors are SciPy's
+// (scipy.stats.chi2.ppf(0.1, n − 1)): n = 3 → 3.0807826, n = 10 → 1.4694307, and 95 % at
+// n = 10 → 1.6451976.
+TEST(ClearanceAware, SpreadUpperBoundIsTheChiSquareBound) {
+  const std::vector<double> three{-1.0, 0.0, 1.0};  // s = 1
+  EXPECT_NEAR(st::spread_upper_bound(three), 3.0807826247611008, 1e-9);
+  std::vector<double> ten;
+  for (int k = 0; k < 10; ++k) ten.push_back(k % 2 == 0 ? 0.1 : -0.1);  // s = 0.1·√(10/9)
+  const double s = 0.1 * std::sqrt(10.0 / 9.0);
+  EXPECT_NEAR(st::spread_upper_bound(ten), s * 1.4694307221378702, 1e-9);
+  EXPECT_NEAR(st::spread_upper_bound(ten, 0.95), s * 1.6451975743942215, 1e-9);
+  EXPECT_EQ(st::spread_upper_bound({0.5, 0.7}), 0.0);
+  EXPECT_EQ(st::spread_upper_bound({0.3, 0.3, 0.3}), 0.0);
+  EXPECT_THROW(st::spread_upper_bound(three, 1.0), cs::InvalidArgument);
 }

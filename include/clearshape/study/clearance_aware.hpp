@@ -44,6 +44,7 @@ struct UncertaintyPoint {
   double stiffness_factor = 1.0;       ///< × the model's K, (0, 100]
   double initial_play_fraction = 0.0;  ///< φ(0)/β: where the link rests at the start, [−1, 1]
   double coulomb_factor = 1.0;         ///< × the model's Coulomb torque, [0, 10]
+  double damping_factor = 1.0;         ///< × the model's flank damping D (dashpot law), (0, 10]
 };
 
 /// The start places a design must hold from (issue 19): −1, −½, 0, ½, 1 of the half play.
@@ -52,9 +53,12 @@ std::vector<double> default_start_fractions();
 /// Every start place at each model point: the nominal model, and with σ's given (relative 1σ of
 /// the fit, 0: not known) its two corners (play −σ, K −σ, Coulomb +σ) and (play +σ, K +σ,
 /// Coulomb −σ) — the directions that move the link's release and arrival earliest and latest.
+/// With `damping_spread` (the run-to-run 1σ of ln D the runs show, 0: none) also the nominal
+/// joint with D × e^(∓spread): a flank damping the rig really varies by, not an estimate's error.
 std::vector<UncertaintyPoint> uncertainty_set(double play_rel_sigma = 0.0, double stiffness_rel_sigma = 0.0,
                                               double coulomb_rel_sigma = 0.0,
-                                              const std::vector<double>& start_fractions = default_start_fractions());
+                                              const std::vector<double>& start_fractions = default_start_fractions(),
+                                              double damping_spread = 0.0);
 
 /// The nominal model from every default start place (uncertainty_set()).
 std::vector<UncertaintyPoint> default_uncertainty();
@@ -123,7 +127,7 @@ std::optional<DesignMove> design_move(const std::string& name, const signal::Sig
 /// The moves a request designs for: its profiles, or steps of its `moves` amplitudes.
 std::vector<DesignMove> design_moves(const ClearanceAwareRequest& request);
 
-/// The model at an uncertainty point (play, K and Coulomb scaled).
+/// The model at an uncertainty point (play, K, Coulomb torque and flank damping scaled).
 ClearanceModel varied_model(const ClearanceModel& model, const UncertaintyPoint& point);
 
 /// Eq. 5.1 of the link angle of `model` under `move` shaped by `shaper` (through the command

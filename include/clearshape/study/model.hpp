@@ -227,7 +227,15 @@ struct ClearanceModelSigma {
   double play_rel_sigma = 0.0;
   double stiffness_rel_sigma = 0.0;
   double coulomb_rel_sigma = 0.0;
+  /// The flank damping's run-to-run spread (1σ of ln D over the runs, at its one-sided 90 %
+  /// upper confidence bound): a variation the rig has, not an estimate's error. 0: not known.
+  double damping_spread = 0.0;
 };
+
+/// The one-sided upper confidence bound on the standard deviation of `log_values` (χ² with
+/// n − 1 degrees of freedom: Montgomery, Applied Statistics, §7.4): the spread the runs cannot
+/// exclude. 0 for fewer than 3 values. `confidence` in (0, 1).
+double spread_upper_bound(const std::vector<double>& log_values, double confidence = 0.9);
 
 struct ClearanceRunsFitResult {
   ClearanceModel model;
