@@ -1,4 +1,4 @@
-// `clearshape calibrate-rig` and the rig TOML's [variation] section (apps/clearshape/rig_config).
+// `clearshape calibrate-rig` and the rig TOML's [variation] section (rig/config.hpp).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
