@@ -15,6 +15,8 @@ from ._core import (  # noqa: F401
     StreamingShaper,
     consistency,
     design,
+    export,
+    export_formats,
     identify,
     fit_clearance,
     improvement_percent,

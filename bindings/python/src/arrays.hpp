@@ -49,5 +49,6 @@ void bind_simulation(py::module_& m);
 void bind_ident(py::module_& m);
 void bind_metrics(py::module_& m);
 void bind_study(py::module_& m);
+void bind_export(py::module_& m);
 
 }  // namespace clearshape::python

@@ -45,4 +45,5 @@ PYBIND11_MODULE(_core, m) {
   clearshape::python::bind_ident(m);
   clearshape::python::bind_metrics(m);
   clearshape::python::bind_study(m);
+  clearshape::python::bind_export(m);
 }
