@@ -12,6 +12,7 @@
 #include "clearshape/ident/state_space_fit.hpp"
 #include "clearshape/ident/subspace.hpp"
 #include "clearshape/metrics/fit.hpp"
+#include "decimation.hpp"
 #include "modal.hpp"
 
 namespace clearshape::ident {
@@ -35,27 +36,6 @@ void check_options(const ModeOptions& options) {
   if (options.modes < 1) throw_invalid("modes", 0.0, ">= 1", "Ask for at least one mode.");
   require_in_open("max_damping_ratio", options.max_damping_ratio, 0.0, 1.0 + 1e-12,
                   "Modes with ζ >= 1 do not oscillate; keep the limit below 1.");
-}
-
-// Block-averaging factor for the subspace step: ≥ 10 samples per period of the highest of the
-// dominant spectral peaks (Welch, mean removed per segment), and ≥ max(60, 6·order) averaged
-// samples.
-std::size_t choose_decimation(const std::vector<double>& v, std::size_t modes, std::size_t order) {
-  const std::size_t n = v.size();
-  std::size_t seg = 1;
-  while (seg * 2 <= std::min<std::size_t>(n, 2048)) seg *= 2;
-  if (seg < 16) return 1;
-  dsp::WelchOptions wo;
-  wo.segment_length = seg;
-  const dsp::Spectrum spec = dsp::welch(v, 1.0, wo);  // frequency in cycles/sample
-  const auto peaks = dsp::spectral_peaks(spec, {}, modes);
-  double f_hi = 0.0;
-  for (const auto& p : peaks) f_hi = std::max(f_hi, p.interpolated_frequency_hz);
-  if (!(f_hi > 0.0)) return 1;
-  std::size_t q = static_cast<std::size_t>(std::floor(1.0 / (10.0 * f_hi)));
-  const std::size_t q_max = n / std::max<std::size_t>(60, 6 * order);
-  q = std::min(q, q_max);
-  return std::max<std::size_t>(q, 1);
 }
 
 // Linear least squares for the initial states (free response, c = [1 0]) and the offset with the
@@ -134,17 +114,6 @@ void check_free_response(const UniformSeries& response) {
   }
 }
 
-// Means of consecutive blocks of q samples (a last partial block is dropped).
-std::vector<double> block_average(const std::vector<double>& y, std::size_t q) {
-  std::vector<double> averaged;
-  for (std::size_t k = 0; (k + 1) * q <= y.size(); ++k) {
-    double s = 0.0;
-    for (std::size_t j = 0; j < q; ++j) s += y[k * q + j];
-    averaged.push_back(s / static_cast<double>(q));
-  }
-  return averaged;
-}
-
 // The ERA model's poles at the full rate, z = exp(log(z_q)/q), as modal blocks (no input). A
 // real pole slower than the record of n samples is the constant offset when that is estimated.
 detail::ModalModel full_rate_blocks(const FreeResponseModel& era_model, std::size_t q, std::size_t n,
@@ -174,30 +143,20 @@ detail::ModalModel full_rate_blocks(const FreeResponseModel& era_model, std::siz
   return model;
 }
 
-// Keep the `modes` most energetic oscillatory blocks, and any other block whose energy Σ yᵢ²
-// stands out of the noise (> 25 σ², σ² from the residual of the linear fit of `model`):
-// spurious poles that only fit noise would leave the refinement without a unique optimum.
-detail::ModalModel energetic_blocks(const detail::ModalModel& model, const std::vector<double>& y, std::size_t modes) {
+// The blocks whose energy Σ yᵢ² stands out of the noise (> 25 σ², σ² from the residual of the
+// linear fit of `model`), and every block already marked in `keep`: spurious poles that only fit
+// noise would leave the refinement without a unique optimum.
+detail::ModalModel energetic_blocks(const detail::ModalModel& model, const std::vector<double>& y, std::vector<bool> keep) {
   const std::size_t n = y.size();
   std::vector<double> fitted(n);
   detail::simulate(model, {}, n, fitted.data(), nullptr);
   double sse = 0.0;
   for (std::size_t k = 0; k < n; ++k) sse += (y[k] - fitted[k]) * (y[k] - fitted[k]);
   const double sigma2 = sse / static_cast<double>(n);
-  std::vector<double> energy;
   for (std::size_t b = 0; b < model.blocks.size(); ++b) {
     const double r = rms(detail::block_output(model, b, {}, n));
-    energy.push_back(r * r * static_cast<double>(n));
+    if (r * r * static_cast<double>(n) > 25.0 * sigma2) keep[b] = true;
   }
-  std::vector<std::size_t> complex_order;
-  for (std::size_t b = 0; b < model.blocks.size(); ++b)
-    if (model.blocks[b].complex) complex_order.push_back(b);
-  std::stable_sort(complex_order.begin(), complex_order.end(),
-                   [&](std::size_t a, std::size_t b) { return energy[a] > energy[b]; });
-  std::vector<bool> keep(model.blocks.size(), false);
-  for (std::size_t i = 0; i < complex_order.size() && i < modes; ++i) keep[complex_order[i]] = true;
-  for (std::size_t b = 0; b < model.blocks.size(); ++b)
-    if (energy[b] > 25.0 * sigma2) keep[b] = true;
   detail::ModalModel kept;
   kept.has_input = false;
   for (std::size_t b = 0; b < model.blocks.size(); ++b)
@@ -208,21 +167,96 @@ detail::ModalModel energetic_blocks(const detail::ModalModel& model, const std::
   return kept;
 }
 
+// The `modes` most energetic oscillatory blocks.
+std::vector<bool> most_energetic(const detail::ModalModel& model, std::size_t count, std::size_t modes) {
+  std::vector<double> energy;
+  for (std::size_t b = 0; b < model.blocks.size(); ++b) {
+    const double r = rms(detail::block_output(model, b, {}, count));
+    energy.push_back(r * r);
+  }
+  std::vector<std::size_t> complex_order;
+  for (std::size_t b = 0; b < model.blocks.size(); ++b)
+    if (model.blocks[b].complex) complex_order.push_back(b);
+  std::stable_sort(complex_order.begin(), complex_order.end(),
+                   [&](std::size_t a, std::size_t b) { return energy[a] > energy[b]; });
+  std::vector<bool> keep(model.blocks.size(), false);
+  for (std::size_t i = 0; i < complex_order.size() && i < modes; ++i) keep[complex_order[i]] = true;
+  return keep;
+}
+
+// The persistent modes' poles at the diagram's chosen order: per persistent mode the nearest
+// complex block within the frequency tolerance (ωn in rad per sample, |ln z|).
+std::vector<bool> persistent_blocks(const detail::ModalModel& model, const StabilisationDiagram& diagram) {
+  const double tol = diagram.options.frequency_tolerance;
+  std::vector<bool> keep(model.blocks.size(), false);
+  for (const PersistentMode& m : diagram.modes) {
+    std::size_t best = model.blocks.size();
+    double best_gap = tol * m.natural_frequency_rad_s;
+    for (std::size_t b = 0; b < model.blocks.size(); ++b) {
+      if (!model.blocks[b].complex) continue;
+      const double gap = std::abs(std::hypot(model.blocks[b].pole0, model.blocks[b].pole1) - m.natural_frequency_rad_s);
+      if (gap <= best_gap) {
+        best = b;
+        best_gap = gap;
+      }
+    }
+    if (best < model.blocks.size()) keep[best] = true;
+  }
+  return keep;
+}
+
+StabilisationOptions diagram_options(const ModeOptions& options) {
+  StabilisationOptions so = options.stabilisation;
+  so.max_damping_ratio = options.max_damping_ratio;
+  return so;
+}
+
+// The start of the free-response fit: ERA poles at the full rate with their amplitudes, the blocks
+// that stand out of the noise, and how it was chosen (order, decimation, source).
+struct FreeStart {
+  detail::ModalModel model;
+  std::size_t order = 0, decimation = 1;
+  std::string order_source;
+};
+
+FreeStart diagram_start(const std::vector<double>& y, const StabilisationDiagram& d, const ModeOptions& options) {
+  FreeStart s{{}, d.chosen_order, d.decimation, "stabilisation"};
+  const std::vector<double> averaged = detail::block_average(y, d.decimation);
+  const std::size_t rows = std::min(averaged.size() / 3, std::max<std::size_t>(4 * d.options.max_order, 40));
+  detail::ModalModel model = full_rate_blocks(era(averaged, d.chosen_order, rows), d.decimation, y.size(), options.estimate_offset);
+  solve_amplitudes(model, y, options.estimate_offset);
+  // The persistent poles and those that stand out of the noise (a dominant mode whose subspace ζ
+  // wanders more than the tolerance is still a mode); the others are the diagram's spurious poles.
+  s.model = energetic_blocks(model, y, persistent_blocks(model, d));
+  return s;
+}
+
+FreeStart modes_start(const std::vector<double>& y, const ModeOptions& options) {
+  const std::size_t order = options.order > 0 ? options.order : 2 * options.modes + 2;
+  // Block averaging keeps the poles (z^q) of a sum of exponentials and shortens the Hankel
+  // matrix; the offset is one more pole, at z = 1, which the offset parameter then replaces.
+  FreeStart s{{}, order, detail::choose_decimation(y, options.modes, order), options.order > 0 ? "option" : "modes"};
+  const std::vector<double> averaged = detail::block_average(y, s.decimation);
+  const std::size_t era_order = std::min(order + (options.estimate_offset ? 1 : 0), averaged.size() / 3 - 1);
+  s.model = full_rate_blocks(era(averaged, era_order), s.decimation, y.size(), options.estimate_offset);
+  solve_amplitudes(s.model, y, options.estimate_offset);
+  s.model = energetic_blocks(s.model, y, most_energetic(s.model, y.size(), options.modes));
+  return s;
+}
+
 }  // namespace
 
 ModeIdentification identify_free_response_modes(const UniformSeries& response, const ModeOptions& options) {
   check_options(options);
   check_free_response(response);
   const std::vector<double>& y = response.values;
-  const std::size_t order = options.order > 0 ? options.order : 2 * options.modes + 2;
-  // Block averaging keeps the poles (z^q) of a sum of exponentials and shortens the Hankel
-  // matrix; the offset is one more pole, at z = 1, which the offset parameter then replaces.
-  const std::size_t q = choose_decimation(y, options.modes, order);
-  const std::vector<double> averaged = block_average(y, q);
-  const std::size_t era_order = std::min(order + (options.estimate_offset ? 1 : 0), averaged.size() / 3 - 1);
-  detail::ModalModel model = full_rate_blocks(era(averaged, era_order), q, y.size(), options.estimate_offset);
-  solve_amplitudes(model, y, options.estimate_offset);
-  detail::ModalModel kept = energetic_blocks(model, y, options.modes);
+  StabilisationDiagram diagram;
+  if (options.order == 0 && options.use_stabilisation) diagram = free_response_stabilisation(response, diagram_options(options));
+  // The diagram's persistent poles in frequency per full-rate sample for the block match.
+  StabilisationDiagram per_sample = diagram;
+  for (PersistentMode& m : per_sample.modes) m.natural_frequency_rad_s *= response.sample_time_s;
+  FreeStart start = diagram.modes.empty() ? modes_start(y, options) : diagram_start(y, per_sample, options);
+  detail::ModalModel kept = start.model;
   solve_amplitudes(kept, y, options.estimate_offset);
   const std::vector<bool> free = detail::free_mask(kept, false, true, false, options.estimate_offset);
   Eigen::MatrixXd covariance;
@@ -237,27 +271,56 @@ ModeIdentification identify_free_response_modes(const UniformSeries& response, c
   }
   ModeIdentification out = finish(kept, covariance, {}, y, response.sample_time_s, options);
   out.fitted.start_s = response.start_s;  // on the record's grid: a window keeps its own start time
-  out.decimation = q;
+  out.decimation = start.decimation;
   out.method = method;
+  out.order = start.order;
+  out.order_source = start.order_source;
+  out.stabilisation = std::move(diagram);
   return out;
 }
+
+namespace {
+
+// Per persistent mode, the fitted mode nearest in frequency (within 5 tolerances: the output-error
+// fit moves a subspace pole a little); the others are the spurious poles of the order.
+std::vector<ModeEstimate> persistent_estimates(const std::vector<ModeEstimate>& all, const StabilisationDiagram& d) {
+  std::vector<ModeEstimate> out;
+  for (const PersistentMode& m : d.modes) {
+    const ModeEstimate* best = nullptr;
+    for (const ModeEstimate& e : all)
+      if (matches(m, e.natural_frequency_rad_s, 5.0 * d.options.frequency_tolerance) &&
+          (best == nullptr || std::abs(e.natural_frequency_rad_s - m.natural_frequency_rad_s) <
+                                  std::abs(best->natural_frequency_rad_s - m.natural_frequency_rad_s)))
+        best = &e;
+    if (best != nullptr) out.push_back(*best);
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const ModeEstimate& a, const ModeEstimate& b) { return a.rms_contribution > b.rms_contribution; });
+  return out;
+}
+
+}  // namespace
 
 ModeIdentification identify_modes(const Experiment& experiment, const ModeOptions& options) {
   check_options(options);
   validate(experiment, 50);
-  const std::size_t order = options.order > 0 ? options.order : 2 * options.modes;
+  ModeIdentification out;
+  if (options.order == 0 && options.use_stabilisation) out.stabilisation = input_output_stabilisation(experiment, diagram_options(options));
+  const bool from_diagram = !out.stabilisation.modes.empty();
+  const std::size_t order = options.order > 0 ? options.order : from_diagram ? out.stabilisation.chosen_order : 2 * options.modes;
+  out.order = order;
+  out.order_source = options.order > 0 ? "option" : from_diagram ? "stabilisation" : "modes";
   StateSpaceFitOptions so;
   so.refine = options.refine;
   so.initial_state = InitialState::estimate;
   so.max_iterations = options.max_iterations;
   const StateSpaceEstimate est = estimate_state_space(experiment, order, so);
-  ModeIdentification out;
   out.sample_time_s = experiment.sample_time_s;
   out.fit_percent = est.fit_percent;
   out.rmse = est.rmse;
   out.fitted = est.simulated;
   out.method = est.refined ? "n4sid+oe" : "n4sid";
-  for (const ModeEstimate& m : est.modes)
+  for (const ModeEstimate& m : from_diagram ? persistent_estimates(est.modes, out.stabilisation) : est.modes)
     if (m.damping_ratio < options.max_damping_ratio) out.modes.push_back(m);
   if (out.modes.empty()) {
     throw RuntimeError("no oscillatory mode with damping ratio below " + std::to_string(options.max_damping_ratio) +

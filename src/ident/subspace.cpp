@@ -142,12 +142,12 @@ InputTerms input_terms(const Eigen::MatrixXd& a, const Eigen::RowVectorXd& c, co
 
 }  // namespace
 
-SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const SubspaceOptions& options) {
-  validate(experiment);
-  if (order < 1) throw_invalid("n4sid order", 0.0, ">= 1");
-  const std::size_t i = horizon(experiment, order, options);
-  const ScaledData s = scaled(experiment);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(observability_basis(s, i, options.method), Eigen::ComputeThinU);
+namespace {
+
+// The order-n model from the SVD of the observability basis (Γ = U₁ S₁^½; A, C by shift
+// invariance; B, D, x0 by least squares). Throws RuntimeError when singular value n is zero.
+SubspaceModel subspace_model(const Eigen::JacobiSVD<Eigen::MatrixXd>& svd, const ScaledData& s, std::size_t order,
+                             const Experiment& experiment, const SubspaceOptions& options) {
   SubspaceModel out;
   for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
   const auto n = static_cast<Eigen::Index>(order);
@@ -170,7 +170,54 @@ SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const Subsp
   return out;
 }
 
-FreeResponseModel era(std::span<const double> response, std::size_t order, std::size_t rows) {
+// ERA's balanced factors truncated at `order` (capped at the numerical rank, > 1e-10·σ₁).
+FreeResponseModel era_model(const Eigen::BDCSVD<Eigen::MatrixXd>& svd, std::size_t order) {
+  FreeResponseModel out;
+  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
+  Eigen::Index n = 0;
+  while (n < static_cast<Eigen::Index>(order) && svd.singularValues()(n) > 1e-10 * svd.singularValues()(0)) ++n;
+  if (n == 0) throw RuntimeError("era: the response is identically zero; there is nothing to identify.");
+  const Eigen::VectorXd s_half = svd.singularValues().head(n).cwiseSqrt();
+  const Eigen::MatrixXd gamma = svd.matrixU().leftCols(n) * s_half.asDiagonal();  // balanced factors
+  const Eigen::MatrixXd x = s_half.asDiagonal() * svd.matrixV().leftCols(n).transpose();
+  shift_invariance(gamma, out.a, out.c);
+  out.x0 = x.col(0);
+  return out;
+}
+
+}  // namespace
+
+SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const SubspaceOptions& options) {
+  validate(experiment);
+  if (order < 1) throw_invalid("n4sid order", 0.0, ">= 1");
+  const std::size_t i = horizon(experiment, order, options);
+  const ScaledData s = scaled(experiment);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(observability_basis(s, i, options.method), Eigen::ComputeThinU);
+  return subspace_model(svd, s, order, experiment, options);
+}
+
+std::vector<SubspaceModel> n4sid_orders(const Experiment& experiment, std::size_t min_order, std::size_t max_order,
+                                        const SubspaceOptions& options) {
+  validate(experiment);
+  if (min_order < 1 || max_order < min_order) throw_invalid("n4sid min_order", static_cast<double>(min_order), ">= 1 and <= max_order");
+  const std::size_t i = horizon(experiment, max_order, options);
+  const ScaledData s = scaled(experiment);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(observability_basis(s, i, options.method), Eigen::ComputeThinU);
+  std::vector<SubspaceModel> out;
+  for (std::size_t n = min_order; n <= max_order; ++n) {
+    try {
+      out.push_back(subspace_model(svd, s, n, experiment, options));
+    } catch (const RuntimeError&) {  // the data do not support this order: an empty model
+      out.emplace_back();
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// era's checks; returns the Hankel rows.
+std::size_t era_rows(std::span<const double> response, std::size_t order, std::size_t rows) {
   const std::size_t n_samples = response.size();
   if (order < 1) throw_invalid("era order", 0.0, ">= 1");
   const std::size_t r = rows > 0 ? rows : std::min(n_samples / 3, std::max<std::size_t>(4 * order, 40));
@@ -184,21 +231,30 @@ FreeResponseModel era(std::span<const double> response, std::size_t order, std::
       throw InvalidArgument("era: sample " + std::to_string(k) + " of the response is not finite; repair the record.");
     }
   }
+  return r;
+}
+
+}  // namespace
+
+FreeResponseModel era(std::span<const double> response, std::size_t order, std::size_t rows) {
+  const std::size_t r = era_rows(response, order, rows);
+  const std::size_t n_samples = response.size();
   const std::size_t cols = n_samples - r + 1;
   const Eigen::MatrixXd h = hankel(response, 0, r, cols);  // H(a, b) = y[a + b] = C A^(a+b) x0
   Eigen::BDCSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  FreeResponseModel out;
-  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
   // The order is capped at the numerical rank of the Hankel matrix (an exact response of fewer
   // modes than asked for).
-  Eigen::Index n = 0;
-  while (n < static_cast<Eigen::Index>(order) && svd.singularValues()(n) > 1e-10 * svd.singularValues()(0)) ++n;
-  if (n == 0) throw RuntimeError("era: the response is identically zero; there is nothing to identify.");
-  const Eigen::VectorXd s_half = svd.singularValues().head(n).cwiseSqrt();
-  const Eigen::MatrixXd gamma = svd.matrixU().leftCols(n) * s_half.asDiagonal();  // balanced factors
-  const Eigen::MatrixXd x = s_half.asDiagonal() * svd.matrixV().leftCols(n).transpose();
-  shift_invariance(gamma, out.a, out.c);
-  out.x0 = x.col(0);
+  return era_model(svd, order);
+}
+
+std::vector<FreeResponseModel> era_orders(std::span<const double> response, std::size_t min_order, std::size_t max_order,
+                                          std::size_t rows) {
+  if (min_order < 1 || max_order < min_order) throw_invalid("era min_order", static_cast<double>(min_order), ">= 1 and <= max_order");
+  const std::size_t r = era_rows(response, max_order, rows);
+  const Eigen::MatrixXd h = hankel(response, 0, r, response.size() - r + 1);
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  std::vector<FreeResponseModel> out;
+  for (std::size_t n = min_order; n <= max_order; ++n) out.push_back(era_model(svd, n));
   return out;
 }
 

@@ -12,35 +12,16 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/ident/modes.hpp"
 #include "clearshape/lti/discretize.hpp"
+#include "free_decay.hpp"
 
 namespace ident = clearshape::ident;
 using clearshape::UniformSeries;
 
 namespace {
 
+using clearshape::testing::free_decay;
+using clearshape::testing::TrueMode;
 constexpr double kPi = std::numbers::pi;
-
-struct TrueMode {
-  double fn_hz, zeta, amplitude, phase;
-};
-
-// y(t) = Σ A e^(−ζωn t) cos(ωd t + φ) + drift e^(−t/τ) + offset + noise (gyro rate after a move).
-UniformSeries free_decay(const std::vector<TrueMode>& modes, double dt, std::size_t n, double noise,
-                         std::uint64_t seed, double offset = 0.3, double drift = 0.5, double tau = 0.4) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> nd;
-  UniformSeries y{0.0, dt, std::vector<double>(n)};
-  for (std::size_t k = 0; k < n; ++k) {
-    const double t = static_cast<double>(k) * dt;
-    double v = offset + drift * std::exp(-t / tau);
-    for (const auto& m : modes) {
-      const double wn = 2 * kPi * m.fn_hz, wd = wn * std::sqrt(1 - m.zeta * m.zeta);
-      v += m.amplitude * std::exp(-m.zeta * wn * t) * std::cos(wd * t + m.phase);
-    }
-    y.values[k] = v + noise * nd(rng);
-  }
-  return y;
-}
 
 const std::vector<TrueMode> kModes = {{6.2, 0.03, 40.0, 0.4}, {17.5, 0.012, 15.0, -1.0}};
 
@@ -111,23 +92,8 @@ TEST(Modes, PerSampleFrequenciesWithoutSampleTime) {
 
 TEST(Modes, InputOutputRecord) {
   // Two resonances excited by a random input (ZOH discretization of a continuous model).
-  clearshape::lti::StateSpace c;
   const double w1 = 2 * kPi * 4.0, z1 = 0.02, w2 = 2 * kPi * 11.0, z2 = 0.05;
-  c.a = Eigen::MatrixXd::Zero(4, 4);
-  c.a(0, 1) = 1;
-  c.a(1, 0) = -w1 * w1;
-  c.a(1, 1) = -2 * z1 * w1;
-  c.a(2, 3) = 1;
-  c.a(3, 2) = -w2 * w2;
-  c.a(3, 3) = -2 * z2 * w2;
-  c.b = Eigen::MatrixXd::Zero(4, 1);
-  c.b(1, 0) = 1;
-  c.b(3, 0) = 1;
-  c.c = Eigen::MatrixXd::Zero(1, 4);
-  c.c(0, 0) = 100;
-  c.c(0, 2) = 300;
-  c.d = Eigen::MatrixXd::Zero(1, 1);
-  const auto d = clearshape::lti::discretize(c, 0.005);
+  const auto d = clearshape::testing::two_resonances(w1, z1, w2, z2, 0.005);
   std::mt19937_64 rng(3);
   std::normal_distribution<double> nd;
   std::vector<double> u(2000);

@@ -15,6 +15,7 @@
 
 #include "clearshape/core/series.hpp"
 #include "clearshape/ident/experiment.hpp"
+#include "clearshape/ident/stabilisation.hpp"
 
 namespace clearshape::ident {
 
@@ -37,7 +38,9 @@ struct ModeEstimate {
 
 struct ModeOptions {
   std::size_t modes = 1;           ///< how many dominant modes to report
-  std::size_t order = 0;           ///< subspace model order; 0 = 2·modes + 2 (free) or 2·modes (I/O)
+  std::size_t order = 0;           ///< subspace model order; 0 = chosen by the stabilisation diagram
+  bool use_stabilisation = true;   ///< order 0: false = 2·modes + 2 (free) or 2·modes (I/O), as before
+  StabilisationOptions stabilisation;  ///< its max_damping_ratio follows max_damping_ratio
   bool refine = true;              ///< least-squares refinement (Ceres) after the subspace step
   bool estimate_offset = true;     ///< free response: constant output offset (sensor bias)
   double max_damping_ratio = 0.7;  ///< report only modes with ζ below this ("lightly damped")
@@ -52,6 +55,11 @@ struct ModeIdentification {
   UniformSeries fitted;             ///< the model's output on the record's grid (same start_s)
   std::size_t decimation = 1;       ///< block-averaging factor used for the subspace step
   std::string method;               ///< "era+ls", "era", "n4sid+oe", "n4sid"
+  std::size_t order = 0;            ///< model order of the fit
+  /// "stabilisation" (the diagram chose it), "option" (ModeOptions::order), "modes" (2·modes(+2):
+  /// the diagram was off or found no persistent mode)
+  std::string order_source;
+  StabilisationDiagram stabilisation;  ///< empty orders when not computed
 };
 
 /// Modes of a free response (no input). sample_time_s of the series sets the frequency unit

@@ -43,6 +43,12 @@ struct SubspaceModel {
 /// short for the horizon (needs N ≥ 2i + 2·order + 10), RuntimeError on a rank-deficient result.
 SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const SubspaceOptions& options = {});
 
+/// n4sid at every order in [min_order, max_order] from one projection (horizon set by max_order
+/// or options.block_rows): the models of a stabilisation diagram. An order the data do not support
+/// gives an empty model (a of size 0).
+std::vector<SubspaceModel> n4sid_orders(const Experiment& experiment, std::size_t min_order, std::size_t max_order,
+                                        const SubspaceOptions& options = {});
+
 struct FreeResponseModel {
   Eigen::MatrixXd a;     ///< order × order
   Eigen::RowVectorXd c;  ///< 1 × order
@@ -55,5 +61,10 @@ struct FreeResponseModel {
 /// an exact response of fewer modes gives a smaller model. Throws InvalidArgument if the record
 /// is shorter than 2·rows or order ≥ rows, RuntimeError if the response is zero.
 FreeResponseModel era(std::span<const double> response, std::size_t order, std::size_t rows = 0);
+
+/// era at every order in [min_order, max_order] from one SVD of the Hankel matrix (rows as era's for
+/// max_order): the models of a stabilisation diagram. Same errors as era(max_order).
+std::vector<FreeResponseModel> era_orders(std::span<const double> response, std::size_t min_order, std::size_t max_order,
+                                          std::size_t rows = 0);
 
 }  // namespace clearshape::ident
