@@ -18,6 +18,10 @@ pids=()
 trap 'for p in "${pids[@]}"; do kill "$p" 2> /dev/null || true; done' EXIT  # a study failed
 for s in "${studies[@]}"; do
   "$exe" study "studies/$s.toml" --out "out/$s" > /dev/null
+  # README's figure is this study's rig-B.1, redrawn on every run (python/readme_figure.py).
+  if [[ $s == thesis-position && ${#render[@]} -gt 0 ]]; then
+    /usr/bin/python3 python/readme_figure.py "out/$s" docs/figures/step20-zvdd.png
+  fi
   if (( ${#render[@]} > 0 )); then
     "${render[@]}" "out/$s" > /dev/null &
     pids+=($!)

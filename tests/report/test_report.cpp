@@ -361,8 +361,10 @@ INSTANTIATE_TEST_SUITE_P(WhatIf, ReportOtherRig,
                          });
 
 // Issue 22.13: the numbers docs/cli.md quotes for Table B.6 are the full position study's output (to
-// one decimal), so the page fails when the study drifts from what the documentation says.
-TEST(ReportDocs, CliQuotesTheStudysB6) {
+// one decimal), so the page fails when the study drifts from what the documentation says. Issue
+// 22.9: README's figure is that study's rig-B.1 as python/readme_figure.py draws it (make run
+// redraws it): its record (title, legend with Eq. 5.1's numbers) must match a fresh drawing.
+TEST(ReportDocs, CliAndReadmeShowTheFullStudy) {
   const fs::path protocol = repo_root() / "studies" / "thesis-position.toml";
   if (clearshape::testing::run_cli("study --help").exit_code != 0) GTEST_SKIP() << "clearshape study is not available";
   const std::string doc = read_file(repo_root() / "docs" / "cli.md");
@@ -382,6 +384,13 @@ TEST(ReportDocs, CliQuotesTheStudysB6) {
     }
   }
   EXPECT_EQ(m[1].str(), ours) << "docs/cli.md quotes B.6 as " << m[1].str() << ", the study gives " << ours;
+  const fs::path png = dir / "readme" / "step20-zvdd.png";
+  const Shell f = run("/usr/bin/python3 " + quote(python_dir() / "readme_figure.py") + " " + quote(dir) + " " + quote(png));
+  ASSERT_EQ(f.exit_code, 0) << f.out;
+  const fs::path committed = repo_root() / "docs" / "figures" / "step20-zvdd.json";
+  EXPECT_EQ(nlohmann::json::parse(read_file(png.parent_path() / "step20-zvdd.json")),
+            nlohmann::json::parse(read_file(committed)))
+      << "README's figure is stale: `make run` redraws docs/figures/step20-zvdd.png and .json; commit them";
   fs::remove_all(dir);
 }
 
