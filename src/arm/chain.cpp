@@ -1,25 +1,19 @@
 #include "clearshape/arm/chain.hpp"
 
+#include "chain_data.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include <console_bridge/console.h>
 #include <fmt/format.h>
-#include <kdl/chain.hpp>
 #include <urdf_parser/urdf_parser.h>
 
 #include "clearshape/core/error.hpp"
 
 namespace clearshape::arm {
 
-struct RigidChain::Data {
-  KDL::Chain chain;
-  std::vector<ChainJoint> joints;
-  std::string robot_name;
-  std::string tip_link;
-  Eigen::Vector3d gravity{0.0, 0.0, -9.80665};
-};
 
 namespace {
 
@@ -82,13 +76,13 @@ std::string_view type_name(int type) {
   }
 }
 
-// One URDF joint → one KDL joint (rotation about the axis through the joint frame's origin).
-KDL::Joint to_kdl_joint(const urdf::Joint& j, const std::string& file) {
+// A URDF joint whose frame is `frame` in the previous moving segment's tip frame → a KDL joint
+// turning about the axis through that frame's origin. Only revolute, continuous and fixed joints.
+KDL::Joint to_kdl_joint(const urdf::Joint& j, const KDL::Frame& frame, const std::string& file) {
   const std::string field = fmt::format("joint '{}'", j.name);
   if (j.mimic) {
     throw InputError(file, 0, field, "a mimic joint couples two joints; allowed: independent revolute joints");
   }
-  const KDL::Frame origin = to_kdl(j.parent_to_joint_origin_transform);
   if (j.type == urdf::Joint::FIXED) return KDL::Joint(j.name, KDL::Joint::Fixed);
   if (j.type != urdf::Joint::REVOLUTE && j.type != urdf::Joint::CONTINUOUS) {
     throw InputError(file, 0, field,
@@ -100,7 +94,7 @@ KDL::Joint to_kdl_joint(const urdf::Joint& j, const std::string& file) {
   if (!(axis.Norm() > 0.0) || !std::isfinite(axis.Norm())) {
     throw InputError(file, 0, field, "axis must be a non-zero finite vector");
   }
-  return KDL::Joint(j.name, origin.p, origin.M * (axis / axis.Norm()), KDL::Joint::RotAxis);
+  return KDL::Joint(j.name, frame.p, frame.M * (axis / axis.Norm()), KDL::Joint::RotAxis);
 }
 
 ChainJoint describe_joint(const urdf::Joint& j) {
@@ -115,8 +109,13 @@ ChainJoint describe_joint(const urdf::Joint& j) {
   return c;
 }
 
+// One KDL segment per moving joint. A fixed joint's link is folded into the segment before it
+// (its inertia moved into that segment's frame, I = F·I_child), and its frame into the next
+// moving joint, so KDL's passes run over the moving joints only; what follows the last moving
+// joint becomes the tip offset. Links fixed to the base do not move and carry no dynamics.
 void append_segments(const urdf::ModelInterface& model, RigidChain::Data& d, const std::string& file) {
   urdf::LinkConstSharedPtr link = model.getRoot();
+  KDL::Frame fixed = KDL::Frame::Identity();  // from the last moving segment's tip
   while (!link->child_joints.empty()) {
     if (link->child_joints.size() > 1) {
       throw InputError(file, 0, fmt::format("link '{}'", link->name),
@@ -127,13 +126,24 @@ void append_segments(const urdf::ModelInterface& model, RigidChain::Data& d, con
     }
     const urdf::Joint& j = *link->child_joints.front();
     urdf::LinkConstSharedPtr child = model.getLink(j.child_link_name);
-    const KDL::Joint kj = to_kdl_joint(j, file);
-    d.chain.addSegment(KDL::Segment(child->name, kj, to_kdl(j.parent_to_joint_origin_transform),
-                                    to_kdl(child->inertial.get())));
-    if (kj.getType() != KDL::Joint::Fixed) d.joints.push_back(describe_joint(j));
+    const KDL::Frame frame = fixed * to_kdl(j.parent_to_joint_origin_transform);
+    const KDL::Joint kj = to_kdl_joint(j, frame, file);
+    const KDL::RigidBodyInertia inertia = to_kdl(child->inertial.get());
+    if (kj.getType() == KDL::Joint::Fixed) {
+      fixed = frame;
+      if (!d.chain.segments.empty()) {
+        KDL::Segment& last = d.chain.segments.back();
+        last.setInertia(last.getInertia() + fixed * inertia);
+      }
+    } else {
+      d.chain.addSegment(KDL::Segment(child->name, kj, frame, inertia));
+      d.joints.push_back(describe_joint(j));
+      fixed = KDL::Frame::Identity();
+    }
     link = child;
   }
   d.tip_link = link->name;
+  d.tip_offset = fixed;
 }
 
 // Every moving joint must carry mass after it, else M(q) is singular.
@@ -143,7 +153,6 @@ void require_mass(const RigidChain::Data& d, const std::string& file) {
   for (int s = static_cast<int>(d.chain.getNrOfSegments()) - 1; s >= 0; --s) {
     const KDL::Segment& seg = d.chain.getSegment(static_cast<unsigned>(s));
     mass_after += seg.getInertia().getMass();
-    if (seg.getJoint().getType() == KDL::Joint::Fixed) continue;
     --joint;
     if (!(mass_after > 0.0)) {
       throw InputError(file, 0, fmt::format("joint '{}'", d.joints[static_cast<std::size_t>(joint)].name),
@@ -180,7 +189,7 @@ const std::vector<ChainJoint>& RigidChain::joints() const noexcept { return data
 const std::string& RigidChain::robot_name() const noexcept { return data_->robot_name; }
 const std::string& RigidChain::tip_link() const noexcept { return data_->tip_link; }
 const Eigen::Vector3d& RigidChain::gravity_m_s2() const noexcept { return data_->gravity; }
-const void* RigidChain::kdl_chain() const noexcept { return &data_->chain; }
+const RigidChain::Data& RigidChain::data() const noexcept { return *data_; }
 
 RigidChain RigidChain::with_gravity(const Eigen::Vector3d& gravity_m_s2) const {
   if (!gravity_m_s2.allFinite()) throw InvalidArgument("arm gravity_m_s2 must hold 3 finite values");

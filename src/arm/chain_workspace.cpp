@@ -4,6 +4,7 @@
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
 #include <kdl/jntarray.hpp>
 
+#include "chain_data.hpp"
 #include "clearshape/arm/chain.hpp"
 
 namespace clearshape::arm {
@@ -11,7 +12,8 @@ namespace clearshape::arm {
 struct ChainWorkspace::Impl {
   explicit Impl(const RigidChain& c)
       : owner(c),
-        chain(*static_cast<const KDL::Chain*>(c.kdl_chain())),
+        chain(c.data().chain),
+        tip_offset(c.data().tip_offset),
         gravity(c.gravity_m_s2().x(), c.gravity_m_s2().y(), c.gravity_m_s2().z()),
         dynamics(chain, gravity),
         inverse(chain, gravity),
@@ -24,6 +26,7 @@ struct ChainWorkspace::Impl {
         wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero()) {}
   RigidChain owner;  // keeps the shared KDL chain alive
   const KDL::Chain& chain;
+  KDL::Frame tip_offset;
   KDL::Vector gravity;
   KDL::ChainDynParam dynamics;
   KDL::ChainIdSolver_RNE inverse;
@@ -62,18 +65,17 @@ Eigen::Vector3d ChainWorkspace::tip_position_m(const Eigen::VectorXd& q) {
   impl_->q.data = q;
   KDL::Frame tip;
   impl_->forward.JntToCart(impl_->q, tip);
-  return {tip.p.x(), tip.p.y(), tip.p.z()};
+  const KDL::Vector p = tip * impl_->tip_offset.p;
+  return {p.x(), p.y(), p.z()};
 }
 
 double ChainWorkspace::potential_energy_j(const Eigen::VectorXd& q) {
   // V = −Σ m_i gᵀ c_i: the frames are chained segment by segment (F_i = F_{i−1} · pose_i(q_j))
   KDL::Frame frame = KDL::Frame::Identity();
   double v = 0.0;
-  unsigned j = 0;
-  for (const KDL::Segment& seg : impl_->chain.segments) {
-    const bool moves = seg.getJoint().getType() != KDL::Joint::Fixed;
-    frame = frame * seg.pose(moves ? q(j) : 0.0);
-    if (moves) ++j;
+  Eigen::Index j = 0;
+  for (const KDL::Segment& seg : impl_->chain.segments) {  // every segment moves (chain_data.hpp)
+    frame = frame * seg.pose(q(j++));
     const KDL::Vector com = frame * seg.getInertia().getCOG();
     v -= seg.getInertia().getMass() * KDL::dot(impl_->gravity, com);
   }

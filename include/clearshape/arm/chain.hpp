@@ -44,15 +44,12 @@ class RigidChain {
   const Eigen::Vector3d& gravity_m_s2() const noexcept;
   /// A copy with another gravity vector (finite entries, else InvalidArgument).
   RigidChain with_gravity(const Eigen::Vector3d& gravity_m_s2) const;
-  /// The KDL chain (kdl/chain.hpp) behind an opaque pointer, for the workspace.
-  const void* kdl_chain() const noexcept;
-
-  struct Data;  ///< opaque: the KDL chain and the joints (src/arm/chain.cpp)
+  struct Data;  ///< opaque: the KDL chain and the joints (src/arm/chain_data.hpp)
+  const Data& data() const noexcept;
 
  private:
   explicit RigidChain(std::shared_ptr<const Data> data) : data_(std::move(data)) {}
   std::shared_ptr<const Data> data_;
-  friend class ChainWorkspace;
 };
 
 /// KDL's solvers for one chain with preallocated joint arrays (a state: not thread-safe).
