@@ -14,7 +14,7 @@
 
 namespace clearshape::arm {
 
-/// The defaults keep the link angles of bench_arm's 10 s run within 0.007° of a run at
+/// The defaults keep the link angles of bench_arm's 10 s run within 0.023° of a run at
 /// rtol 1e-11 (docs/arm.md, "Accuracy and speed").
 struct ArmSolverOptions {
   double relative_tolerance = 1e-7;
