@@ -28,6 +28,7 @@
 #include "clearshape/study/recordings.hpp"
 #include "clearshape/study/run_source.hpp"
 #include "clearshape/study/runner.hpp"
+#include "clearshape/study/study_setup.hpp"
 #include "command.hpp"
 #include "rig_serial_options.hpp"
 
@@ -48,32 +49,6 @@ struct StudyCliOptions {
   bool print_manifest = false;
 };
 
-std::string file_hash(const std::filesystem::path& path) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a 64
-  for (const unsigned char c : io::read_text_file(path)) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  return fmt::format("{:016x}", h);
-}
-
-// A simulated rig with the truth of a `clearshape simulate` configuration file (what-if studies).
-study::RigFactory configured_sim_rig(const std::filesystem::path& path) {
-  auto truth = std::make_shared<rig::RigTruth>(rig::configured_truth(rig::load_rig_config(path)));
-  study::RigFactory f;
-  f.description = fmt::format("sim (rig::SimRig, truth from {} {})", path.filename().string(), file_hash(path));
-  f.kind = "simulated-config";
-  f.parallel_runs = 64;
-  f.make = [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
-    rig::SimRigOptions o;
-    o.mode = mode;
-    o.sample_rate_hz = rate_hz;
-    o.seed = seed;
-    return rig::make_sim_rig_with_truth(o, *truth);
-  };
-  return f;
-}
-
 // The physical rig over a serial port (`--rig serial:PORT[?baud=N]`), one run at a time. A run
 // that loses a sample fails (LostSamples::fail) instead of entering the study with a hole.
 study::RigFactory serial_rig_factory(const std::string& spec) {
@@ -92,29 +67,6 @@ study::RigFactory serial_rig_factory(const std::string& spec) {
     return std::make_unique<rig::SerialRig>(o);
   };
   return f;
-}
-
-// A protocol's size is known before it runs: one record holds 8 columns of doubles per sample and
-// a stage keeps its records while it computes (~3 copies: the record, filtered and integrated
-// signals). A protocol of 9·10⁸-sample records passed validation and ended in std::bad_alloc
-// after the output folder was made; it is refused here, with its numbers, before anything exists.
-constexpr double kStudyBytesPerSample = 8.0 * 8.0 * 3.0;
-
-void check_study_size(const study::Protocol& p, int threads, double max_memory_gb) {
-  const double record_s = std::max(p.record_s, p.simulation.record_s);
-  const double samples = std::floor(record_s * p.sample_rate_hz) + 1.0;
-  std::size_t largest_stage = 0;
-  for (const auto& stage : study::plan_runs(p)) largest_stage = std::max(largest_stage, stage.runs.size());
-  const unsigned parallel = threads > 0 ? static_cast<unsigned>(threads) : std::max(1u, std::thread::hardware_concurrency());
-  const double held = static_cast<double>(std::max<std::size_t>(largest_stage, parallel));
-  const double gb = samples * kStudyBytesPerSample * held / 1e9;
-  if (gb > max_memory_gb) {
-    throw InvalidArgument(fmt::format(
-        "study {}: too large for memory: records of {:.3g} samples ({:g} s at {:g} Hz), up to {:g} held at once "
-        "(the largest stage, or the parallel runs) need about {:.3g} GB; the limit is {:g} GB — shorten record_s, "
-        "lower sample_rate_hz, or allow it with --max-memory-gb {:.0f}",
-        p.name, samples, record_s, p.sample_rate_hz, held, gb, max_memory_gb, std::ceil(gb)));
-  }
 }
 
 void run(const StudyCliOptions& o) {
@@ -138,7 +90,7 @@ void run(const StudyCliOptions& o) {
     throw InvalidArgument("study: give one of --recordings, --rig-config and --rig, not several");
   }
   if (!(o.max_memory_gb > 0.0)) throw_invalid("--max-memory-gb", o.max_memory_gb, "> 0 GB");
-  check_study_size(protocol, o.threads, o.max_memory_gb);
+  study::check_study_size(protocol, o.threads, o.max_memory_gb);
   study::StudyOptions options;
   options.out_dir = o.out_dir.empty() ? std::filesystem::path("out") / (protocol.name + (o.quick ? "-quick" : ""))
                                       : std::filesystem::path(o.out_dir);
@@ -147,7 +99,7 @@ void run(const StudyCliOptions& o) {
   options.progress = &std::cerr;
   // The simulated rig: --rig NAME, else the protocol's [study] rig (default: thesis).
   if (o.rig_config.empty() && !serial) options.rig = study::sim_rig_factory(builtin ? o.rig : protocol.rig);
-  if (!o.rig_config.empty()) options.rig = configured_sim_rig(o.rig_config);
+  if (!o.rig_config.empty()) options.rig = study::configured_sim_rig_factory(o.rig_config);
   if (serial) {
     options.rig = *serial;
     options.threads = 1;

@@ -169,3 +169,23 @@ def test_fit_clearance_errors_name_the_input(tmp_path):
         clearshape.fit_clearance([str(tmp_path / "none.csv")])
     with pytest.raises(ValueError, match="none.csv"):
         clearshape.fit_clearance([str(tmp_path / "none.csv")], drive_model="P3UZ", drive_parameters=THESIS_DRIVE)
+
+
+STUDIES = os.path.join(os.path.dirname(__file__), "..", "..", "studies")
+
+
+def test_study_writes_the_clis_files_and_summary(cli, tmp_path):
+    protocol = os.path.join(STUDIES, "thesis-position.toml")
+    ref = json.loads(cli("study", protocol, "--quick", "--json", "--threads", 2, "--out", tmp_path / "cli"))
+    got = clearshape.study(protocol, str(tmp_path / "py"), quick=True, threads=2)
+    for doc in (ref, got):  # wall-clock seconds and the folder are the only differences
+        doc.pop("timing"), doc.pop("out_dir")
+    assert got == ref
+    assert got["study"]["quick"] and got["study"]["name"] == "thesis-position"
+    for name in ("results.json", "tables.md", "figures.json"):
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    with pytest.raises(ValueError, match="large-play"):
+        clearshape.study(protocol, str(tmp_path / "bad"), quick=True, rig="nope")
+    with pytest.raises(ValueError, match="not several"):
+        clearshape.study(protocol, str(tmp_path / "bad"), rig="thesis", rig_config="x.toml")
+    assert not (tmp_path / "bad").exists()

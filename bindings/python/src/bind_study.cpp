@@ -15,6 +15,9 @@
 #include "clearshape/study/clearance_model_json.hpp"
 #include "clearshape/study/fit_clearance.hpp"
 #include "clearshape/study/recommend_report.hpp"
+#include "clearshape/study/recordings.hpp"
+#include "clearshape/study/runner.hpp"
+#include "clearshape/study/study_setup.hpp"
 
 namespace clearshape::python {
 namespace {
@@ -202,9 +205,60 @@ py::object fit_clearance(const std::vector<std::string>& data, const std::option
   return json_to_python(doc);
 }
 
+struct StudyArgs {
+  std::string protocol, out_dir;
+  bool quick = false, fresh = false;
+  int threads = 0;
+  std::optional<std::string> rig, rig_config, recordings;
+  double max_memory_gb = 4.0;
+};
+
+// As `clearshape study` sets it up (apps/clearshape/cmd_study.cpp), the serial rig aside.
+py::object run_study(const StudyArgs& a) {
+  if (static_cast<int>(a.rig.has_value()) + static_cast<int>(a.rig_config.has_value()) + static_cast<int>(a.recordings.has_value()) > 1) {
+    throw InvalidArgument("study: give one of recordings, rig_config and rig, not several");
+  }
+  study::Protocol protocol = study::load_protocol(a.protocol);
+  if (a.quick) protocol = study::quick_variant(protocol);
+  require_positive("max_memory_gb", a.max_memory_gb);
+  study::check_study_size(protocol, a.threads, a.max_memory_gb);
+  study::StudyOptions options;
+  options.out_dir = a.out_dir;
+  options.fresh = a.fresh;
+  options.threads = a.threads;
+  options.rig = a.rig_config ? study::configured_sim_rig_factory(*a.rig_config) : study::sim_rig_factory(a.rig.value_or(protocol.rig));
+  if (a.recordings) {
+    options.source = study::recordings_run_source(study::load_recordings_manifest(*a.recordings, protocol), protocol);
+  }
+  nlohmann::ordered_json summary;
+  {
+    py::gil_scoped_release release;  // seconds to minutes
+    summary = study::run_study(protocol, options).summary();
+  }
+  summary["out_dir"] = options.out_dir.string();
+  return json_to_python(summary);
+}
+
 }  // namespace
 
 void bind_study(py::module_& m) {
+  m.def("study",
+        [](const std::string& protocol, const std::string& out_dir, bool quick, bool fresh, int threads, std::optional<std::string> rig,
+           std::optional<std::string> rig_config, std::optional<std::string> recordings, double max_memory_gb) {
+          return run_study({protocol, out_dir, quick, fresh, threads, std::move(rig), std::move(rig_config), std::move(recordings),
+                            max_memory_gb});
+        },
+        py::arg("protocol"), py::arg("out_dir"), py::kw_only(), py::arg("quick") = false, py::arg("fresh") = false,
+        py::arg("threads") = 0, py::arg("rig") = py::none(), py::arg("rig_config") = py::none(), py::arg("recordings") = py::none(),
+        py::arg("max_memory_gb") = 4.0,
+        R"doc(Runs a study protocol (studies/*.toml: the thesis's programme) as `clearshape study --json`
+and returns its summary (tables, stages, rig, out_dir); results.json, tables.md, figures.json,
+data/ and runs/ are written under out_dir (docs/study-outputs.md), byte for byte as the CLI's.
+
+quick: the protocol's quick variant; fresh: discard finished runs first; threads: parallel runs
+(0: all cores); the rig: a built-in simulated truth by name (rig='large-play'; default the
+protocol's), a rig configuration file (rig_config=), or recorded runs (recordings= a folder with
+its manifest). Raises ValueError for a bad protocol or option, RuntimeError when a run fails.)doc");
   m.def("load_rig_config", &rig_config_dict, py::arg("path"),
         R"doc(Reads a rig configuration file (TOML; the schema of `clearshape simulate --config`,
 docs/cli.md) over the calibrated thesis rig. Returns a dict: truth (a RigTruth with both modes'
