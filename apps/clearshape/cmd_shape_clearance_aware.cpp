@@ -103,6 +103,9 @@ void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, do
   request.moves = o.moves;
   request.max_evaluations = o.max_evaluations;
   request.threads = o.threads;
+  // A study's results.json carries the fit's 1σ and the flank damping's run spread: the same set
+  // the study's own design uses (study::design_uncertainty).
+  if (identified.sigma) request.uncertainty = study::design_uncertainty(*identified.sigma);
   std::string bound_source;
   request.max_duration_s = design_duration_bound(o, identified, frequency_hz, zeta, "clearance-aware", bound_source);
   const auto begin = std::chrono::steady_clock::now();
@@ -134,6 +137,7 @@ void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, do
                        {"play_factor", c.point.play_factor},
                        {"stiffness_factor", c.point.stiffness_factor},
                        {"coulomb_factor", c.point.coulomb_factor},
+                       {"damping_factor", c.point.damping_factor},
                        {"initial_play_fraction", c.point.initial_play_fraction},
                        {"md_unshaped_deg", c.md_unshaped_deg},
                        {"md_shaped_deg", c.md_shaped_deg}});
@@ -156,11 +160,12 @@ void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, do
   fmt::print("bound       {:.6g} s ({})\n\n  #        t_s                a\n", request.max_duration_s, bound_source);
   std::size_t i = 0;
   for (const auto& p : r.shaper.impulses()) fmt::print("{:3d}  {:>14.9f}  {:>15.12f}\n", ++i, p.time_s, p.amplitude);
-  fmt::print("\nduration_s  {:.9g}\n\n  move_deg  play×  K×  c×  phi0/beta  MD unshaped (deg)  MD shaped (deg)\n",
+  fmt::print("\nduration_s  {:.9g}\n\n  move_deg  play×  K×  c×  D×  phi0/beta  MD unshaped (deg)  MD shaped (deg)\n",
              r.shaper.duration_s());
   for (const auto& c : r.cases) {
-    fmt::print("  {:>8.4g}  {:>5.3g}  {:>3.3g}  {:>3.3g}  {:>9.3g}  {:>17.5g}  {:>15.5g}{}\n", c.move, c.point.play_factor,
-               c.point.stiffness_factor, c.point.coulomb_factor, c.point.initial_play_fraction, c.md_unshaped_deg,
+    fmt::print("  {:>8.4g}  {:>5.3g}  {:>3.3g}  {:>3.3g}  {:>4.3g}  {:>9.3g}  {:>17.5g}  {:>15.5g}{}\n", c.move,
+               c.point.play_factor, c.point.stiffness_factor, c.point.coulomb_factor, c.point.damping_factor,
+               c.point.initial_play_fraction, c.md_unshaped_deg,
                c.md_shaped_deg, c.md_shaped_deg > c.md_unshaped_deg ? "  WORSE than unshaped" : "");
   }
   fmt::print("\nworst MD    {:.5g} deg (unshaped {:.5g} deg); worst case keeps {:.3g} % of its unshaped MD\n",

@@ -49,6 +49,14 @@ std::vector<UncertaintyPoint> uncertainty_set(double play_rel_sigma, double stif
 
 std::vector<UncertaintyPoint> default_uncertainty() { return uncertainty_set(); }
 
+std::vector<UncertaintyPoint> design_uncertainty(const ClearanceModelSigma& sigma) {
+  const auto cap = [](double v, double hi) { return std::isfinite(v) ? std::clamp(v, 0.0, hi) : hi; };
+  double sp = cap(sigma.play_rel_sigma, 0.5), sk = cap(sigma.stiffness_rel_sigma, 0.5), sc = cap(sigma.coulomb_rel_sigma, 0.5);
+  if (std::max({sp, sk, sc}) < 0.02) sp = sk = sc = 0.0;
+  const double sd = std::isfinite(sigma.damping_spread) ? std::clamp(sigma.damping_spread, 0.0, 1.0) : 0.0;
+  return uncertainty_set(sp, sk, sc, default_start_fractions(), sd);
+}
+
 void ClearanceAwareRequest::validate() const {
   if (moves.empty() && profiles.empty()) throw InvalidArgument("moves: give at least one step amplitude");
   for (const auto& p : profiles) {

@@ -81,19 +81,9 @@ void ensure_clearance_aware(Context& c) {
                                                                        : std::min(5.0, shaping::design(zvdd).duration_s());
   if (c.p.shaping.grid_hz > 0.0) r.grid_s = 1.0 / c.p.shaping.grid_hz;
   r.sample_time_s = c.p.sample_time_s();
-  // Every start place at the fitted model and, when the fit gave its 1σ, at its ±1σ corners of
-  // play, K and Coulomb torque (each σ capped at 50 %: beyond that the corner is another joint).
-  // Corners whose σ are all under 2 % are the nominal joint within the design model's own accuracy
-  // (docs/worn-coupling.md): they would triple the cost for nothing, and are left out. The flank
-  // damping's run-to-run spread (per-run fit) is a variation the rig has: its ±1σ are always in.
-  if (c.model_sigma) {
-    const auto cap = [](double v) { return std::isfinite(v) ? std::clamp(v, 0.0, 0.5) : 0.5; };
-    double sp = cap(c.model_sigma->play_rel_sigma), sk = cap(c.model_sigma->stiffness_rel_sigma),
-           sc = cap(c.model_sigma->coulomb_rel_sigma);
-    if (std::max({sp, sk, sc}) < 0.02) sp = sk = sc = 0.0;
-    const double sd = std::isfinite(c.model_sigma->damping_spread) ? std::clamp(c.model_sigma->damping_spread, 0.0, 1.0) : 0.0;
-    r.uncertainty = uncertainty_set(sp, sk, sc, default_start_fractions(), sd);
-  }
+  // Every start place at the fitted model, its ±1σ corners and the flank damping's run spread
+  // (design_uncertainty; docs/worn-coupling.md).
+  if (c.model_sigma) r.uncertainty = design_uncertainty(*c.model_sigma);
   r.max_evaluations = c.p.quick ? std::min(40, c.p.shaping.clearance_aware_max_evaluations)
                                 : c.p.shaping.clearance_aware_max_evaluations;
   r.threads = c.threads;

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -49,5 +50,22 @@ TEST(WornCouplingCli, QuickStudyDesignsFromEveryStartPlace) {
   EXPECT_EQ(inputs.size(), 5u);  // every input of the rig tables, each its own profile
   EXPECT_LE(ca["duration_s"].get<double>(), ca["max_duration_s"].get<double>() + 1e-12);
   EXPECT_EQ(ca["worse_than_unshaped"].get<bool>(), ca["worst_ratio"].get<double>() > 1.0);
+  // `shape --model results.json` designs on the same uncertainty set as the study's stage: the
+  // same model points (play, K, Coulomb and damping factors) from the same start places.
+  const auto shape = run_cli("shape --method clearance-aware --model " + (out / "results.json").string() +
+                             " --moves 10 --max-evaluations 10 --json");
+  ASSERT_EQ(shape.exit_code, 0) << shape.err;
+  const auto design = nlohmann::json::parse(shape.out);
+  const auto points = [](const nlohmann::json& cases, const nlohmann::json& move) {
+    std::set<std::vector<double>> p;
+    for (const auto& c : cases) {
+      if (!move.is_null() && c.at("input") != move) continue;
+      p.insert({c["play_factor"].get<double>(), c["stiffness_factor"].get<double>(), c["coulomb_factor"].get<double>(),
+                c["damping_factor"].get<double>(), c["initial_play_fraction"].get<double>()});
+    }
+    return p;
+  };
+  EXPECT_EQ(points(design["cases"], nullptr), points(ca["cases"], "step-10"));
+  EXPECT_GT(points(design["cases"], nullptr).size(), 5u);  // the quick fit's Coulomb 1σ is over 2 %: corners
   std::filesystem::remove_all(out);
 }

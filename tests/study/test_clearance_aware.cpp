@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "clearshape/core/error.hpp"
@@ -164,4 +165,25 @@ TEST(ClearanceAware, SpreadUpperBoundIsTheChiSquareBound) {
   EXPECT_EQ(st::spread_upper_bound({0.5, 0.7}), 0.0);
   EXPECT_EQ(st::spread_upper_bound({0.3, 0.3, 0.3}), 0.0);
   EXPECT_THROW(st::spread_upper_bound(three, 1.0), cs::InvalidArgument);
+}
+
+// The set a design from a fitted model uses: corners only when some σ reaches 2 % (a non-finite σ
+// is read as 50 %), the damping spread whenever it is known.
+TEST(ClearanceAware, DesignUncertaintyFollowsTheFitsSigma) {
+  const std::size_t n = st::default_start_fractions().size();
+  st::ClearanceModelSigma s;
+  s.play_rel_sigma = 0.01;
+  s.stiffness_rel_sigma = 0.01;
+  s.coulomb_rel_sigma = 0.019;
+  EXPECT_EQ(st::design_uncertainty(s).size(), n);
+  s.damping_spread = 0.19;
+  const auto with_spread = st::design_uncertainty(s);
+  ASSERT_EQ(with_spread.size(), 3 * n);
+  EXPECT_DOUBLE_EQ(with_spread.back().damping_factor, std::exp(0.19));
+  s.coulomb_rel_sigma = 0.07;
+  const auto corners = st::design_uncertainty(s);
+  ASSERT_EQ(corners.size(), 5 * n);
+  EXPECT_DOUBLE_EQ(corners[n].coulomb_factor, 1.07);
+  s.play_rel_sigma = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_DOUBLE_EQ(st::design_uncertainty(s)[n].play_factor, 0.5);
 }

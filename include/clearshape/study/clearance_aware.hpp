@@ -63,6 +63,12 @@ std::vector<UncertaintyPoint> uncertainty_set(double play_rel_sigma = 0.0, doubl
 /// The nominal model from every default start place (uncertainty_set()).
 std::vector<UncertaintyPoint> default_uncertainty();
 
+/// The set a design from a fitted model uses (the study's stage and `shape --model`): the fit's
+/// ±1σ corners (each σ capped at 50 %, a non-finite one read as 50 %) unless every σ is under 2 %
+/// (then they are the nominal joint within the design model's accuracy), and the flank damping's
+/// run spread (capped at 1) whenever it is known.
+std::vector<UncertaintyPoint> design_uncertainty(const ClearanceModelSigma& sigma);
+
 /// One move of the design: the requested command (command units, from t = 0 on the design's
 /// sample grid), where its motion ends, and where its last move starts (Eq. 5.1's steady state
 /// is searched from there, as the study does).

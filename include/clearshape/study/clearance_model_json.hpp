@@ -22,6 +22,9 @@ struct IdentifiedClearanceModel {
   /// The link's identified residual mode, when the file has one (a study's link-mode stage).
   std::optional<double> link_frequency_hz;
   std::optional<double> link_damping_ratio;
+  /// The fit's relative 1σ and the flank damping's run spread, when the file has them (a study's
+  /// sections.clearance.model_sigma; a null σ reads as not finite): the design's uncertainty set.
+  std::optional<ClearanceModelSigma> sigma;
 };
 
 IdentifiedClearanceModel read_clearance_model_json(const std::filesystem::path& path);
