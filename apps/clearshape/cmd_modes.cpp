@@ -2,6 +2,7 @@
 // sensor after a move (ERA + damped-sinusoid least squares), or input/output data (subspace +
 // output-error fit) — with frequency, damping ratio, amplitude and their 1σ, ready for shaper
 // design (docs/design.md §2: the link's residual mode, not the drive's ζ ≈ 1 position model).
+// The model order comes from a stabilisation diagram (ident/stabilisation.hpp; docs/cli.md).
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -15,6 +16,8 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/ident/modes.hpp"
+#include "clearshape/ident/stabilisation.hpp"
+#include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
 #include "clearshape/io/time_column.hpp"
@@ -41,6 +44,9 @@ struct ModesState {
   bool no_offset = false;
   bool json = false;
   bool allow_unstable = false;  // --allow-unstable: report unstable or aliased poles with exit 0
+  bool no_stabilisation = false;  // --no-stabilisation: order 2·modes(+2) as before the diagram
+  ident::StabilisationOptions stabilisation;
+  std::string diagram_csv;        // --diagram-csv: the stabilisation diagram for plotting
 };
 
 std::size_t column_index(const io::Table& t, const std::string& spec) {
@@ -109,6 +115,13 @@ std::vector<std::string> modes_warnings(const ident::ModeIdentification& r, cons
     }
   }
   if (!(r.fit_percent >= 80.0)) w.push_back(fmt::format("poor fit: {:.1f} % (below 80 %)", r.fit_percent));
+  if (r.order_source == "modes" && !r.stabilisation.orders.empty()) {
+    w.push_back(fmt::format("no pole persists across the stabilisation diagram's orders {}–{} (|Δf| < {} %, |Δζ| < {} %): the "
+                            "model order {} follows --modes, and the frequencies may move with it",
+                            r.stabilisation.orders.front().order, r.stabilisation.orders.back().order,
+                            100.0 * st.stabilisation.frequency_tolerance, 100.0 * st.stabilisation.damping_tolerance,
+                            r.order));
+  }
   return w;
 }
 
@@ -159,6 +172,8 @@ ModesPlan plan(const ModesState& st, const io::Table& t) {
   p.options.refine = !st.no_refine;
   p.options.estimate_offset = !st.no_offset;
   p.options.max_damping_ratio = st.max_damping;
+  p.options.use_stabilisation = !st.no_stabilisation;
+  p.options.stabilisation = st.stabilisation;
   return p;
 }
 
@@ -214,6 +229,55 @@ nlohmann::ordered_json mode_json(const ident::ModeEstimate& m, double dt, bool p
   return j;
 }
 
+// The stabilisation diagram: tolerances, every order's poles with their flags, the persistent modes
+// and the chosen order (null when it was not computed: --order or --no-stabilisation).
+nlohmann::ordered_json diagram_json(const ident::StabilisationDiagram& d, bool per_sample) {
+  if (d.orders.empty()) return nullptr;
+  const char* f_key = per_sample ? "frequency_cycles_per_sample" : "frequency_hz";
+  nlohmann::ordered_json j;
+  j["method"] = "stabilisation diagram (Peeters & De Roeck 2001)";
+  j["tolerances"] = {{"frequency_relative", d.options.frequency_tolerance},
+                     {"damping_relative", d.options.damping_tolerance},
+                     {"amplitude_relative", d.options.amplitude_tolerance},
+                     {"min_stable_orders", d.options.min_stable_orders},
+                     {"min_stable_fraction", d.options.min_stable_fraction}};
+  j["decimation"] = d.decimation;
+  j["chosen_order"] = d.chosen_order;
+  nlohmann::ordered_json modes = nlohmann::ordered_json::array();
+  for (const auto& m : d.modes) {
+    modes.push_back({{f_key, m.frequency_hz()}, {"damping_ratio", m.damping_ratio}, {"stable_orders", m.stable_orders}});
+  }
+  j["persistent_modes"] = modes;
+  nlohmann::ordered_json orders = nlohmann::ordered_json::array();
+  for (const auto& o : d.orders) {
+    nlohmann::ordered_json poles = nlohmann::ordered_json::array();
+    for (const auto& p : o.poles) {
+      poles.push_back({{f_key, p.frequency_hz()}, {"damping_ratio", p.damping_ratio}, {"amplitude", p.amplitude},
+                       {"stable_frequency", p.stable_frequency}, {"stable_damping", p.stable_damping},
+                       {"stable", p.stable}});
+    }
+    orders.push_back({{"order", o.order}, {"poles", poles}});
+  }
+  j["orders"] = orders;
+  return j;
+}
+
+// The diagram as a long CSV for plotting (one row per pole: order against frequency, marked by flags).
+void write_diagram_csv(const std::string& path, const ident::StabilisationDiagram& d, bool per_sample) {
+  if (d.orders.empty()) {
+    throw InvalidArgument("modes: --diagram-csv needs the stabilisation diagram; drop --order / --no-stabilisation");
+  }
+  std::string out = fmt::format("order,{},damping_ratio,amplitude,stable_frequency,stable_damping,stable\n",
+                                per_sample ? "frequency_cycles_per_sample" : "frequency_hz");
+  for (const auto& o : d.orders) {
+    for (const auto& p : o.poles) {
+      out += fmt::format("{},{:.10g},{:.8g},{:.8g},{:d},{:d},{:d}\n", o.order, p.frequency_hz(), p.damping_ratio, p.amplitude,
+                         p.stable_frequency, p.stable_damping, p.stable);
+    }
+  }
+  io::write_text_atomic(path, out);
+}
+
 void print_modes_json(const ModesState& st, const ModesPlan& p, const ModesResult& res,
                       const std::vector<std::string>& warnings) {
   const ident::ModeIdentification& r = res.identification;
@@ -237,11 +301,24 @@ void print_modes_json(const ModesState& st, const ModesPlan& p, const ModesResul
   nlohmann::ordered_json modes = nlohmann::ordered_json::array();
   for (const auto& m : r.modes) modes.push_back(mode_json(m, p.timing.dt, per_sample, !st.input_column.empty()));
   doc["modes"] = modes;
+  doc["order"] = r.order;
+  doc["order_source"] = r.order_source;
+  doc["stabilisation"] = diagram_json(r.stabilisation, per_sample);
   const std::string shape = shape_command(r, per_sample);
   doc["shape_command"] = shape.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(shape);
   doc["trusted"] = warnings.empty();
   doc["warnings"] = warnings;
   print_json(doc);
+}
+
+void print_order_line(const ident::ModeIdentification& r) {
+  const auto& d = r.stabilisation;
+  if (r.order_source == "stabilisation") {
+    fmt::print("model order {} from the stabilisation diagram (orders {}–{}, {} persistent mode{})\n", r.order,
+               d.orders.front().order, d.orders.back().order, d.modes.size(), d.modes.size() == 1 ? "" : "s");
+  } else {
+    fmt::print("model order {} ({})\n", r.order, r.order_source == "option" ? "--order" : "from --modes");
+  }
 }
 
 void print_modes_table(const ModesState& st, const ModesPlan& p, const ModesResult& res) {
@@ -250,6 +327,7 @@ void print_modes_table(const ModesState& st, const ModesPlan& p, const ModesResu
   fmt::print("{} modes of {} ({} samples, {}), fit {:.3f} %\n", res.kind, st.data, p.y.size(), r.method,
              r.fit_percent);
   if (per_sample) fmt::print("no sample time: frequencies are per sample (cycles/sample); give --sample-time for Hz\n");
+  print_order_line(r);
   fmt::print("\n  #  {:>16} {:>12} {:>12} {:>12} {:>12} {:>12}\n",
              std::string("frequency ") + (per_sample ? "cycles/sample" : "Hz"), "std", "zeta", "std", "amplitude",
              "std");
@@ -268,6 +346,7 @@ void run_modes(const ModesState& st) {
   const io::Table t = io::read_table(st.data);
   const ModesPlan p = plan(st, t);
   const ModesResult res = identify(st, t, p);
+  if (!st.diagram_csv.empty()) write_diagram_csv(st.diagram_csv, res.identification.stabilisation, p.timing.per_sample);
   const auto warnings = modes_warnings(res.identification, st, p.timing.dt);
   for (const auto& w : warnings) fmt::print(stderr, "clearshape modes: warning: {}\n", w);
   if (!warnings.empty()) fmt::print(stderr, "clearshape modes: the result is NOT to be trusted (\"trusted\": false)\n");
@@ -297,8 +376,25 @@ void setup(CLI::App& sub) {
   st->sample_time_option = sub.add_option("--sample-time", st->sample_time_s,
                                           "Sample time in s when there is no time column (else: cycles/sample)");
   sub.add_option("--modes", st->modes, "Number of dominant modes to report")->capture_default_str();
-  sub.add_option("--order", st->order, "Subspace model order (0: 2·modes + 2 free response, 2·modes input/output)")
+  sub.add_option("--order", st->order,
+                 "Subspace model order (0: chosen by the stabilisation diagram; with --no-stabilisation 2·modes + 2 free "
+                 "response, 2·modes input/output)")
       ->capture_default_str();
+  sub.add_flag("--no-stabilisation", st->no_stabilisation, "Order 2·modes(+2) as before, without the stabilisation diagram");
+  sub.add_option("--max-order", st->stabilisation.max_order, "Stabilisation diagram: highest model order")
+      ->check(CLI::Range(3, 200))
+      ->capture_default_str();
+  sub.add_option("--frequency-tolerance", st->stabilisation.frequency_tolerance,
+                 "Stabilisation diagram: a pole is stable when its frequency moves less than this (relative) from the "
+                 "previous order")
+      ->check(CLI::Range(1e-6, 0.5))
+      ->capture_default_str();
+  sub.add_option("--damping-tolerance", st->stabilisation.damping_tolerance,
+                 "Stabilisation diagram: and its damping ratio less than this (relative)")
+      ->check(CLI::Range(1e-6, 10.0))
+      ->capture_default_str();
+  sub.add_option("--diagram-csv", st->diagram_csv,
+                 "Write the stabilisation diagram (order, frequency, ζ, amplitude, stable flags; one row per pole) to this CSV");
   sub.add_option("--from-sample", st->from_sample, "First sample of the window (0-based), e.g. the end of the move")
       ->capture_default_str();
   sub.add_option("--to-sample", st->to_sample, "End of the window (exclusive; 0 = end of the record)")->capture_default_str();

@@ -12,7 +12,7 @@ ERA (Ho & Kalman 1966; Juang & Pappa 1985): Hankel matrix of 96 rows, SVD, Γ = 
 squares on Γ's shift invariance, x0 = S₁^½V₁ᵀe₁, at every order 2…24. A pole pair z gives
 s = ln z / T, ωn = |s|, ζ = −Re s/|s|. Stability against the previous order's nearest pole:
 |Δf|/f < 1 %, |Δζ|/ζ < 5 % and 0 < ζ < 0.7 (Peeters & De Roeck 2001). A persistent mode is a
-chain of stable poles closer than 1 % holding ≥ 5 orders and ≥ 80 % of the orders from its first
+chain of stable poles closer than 1 % holding ≥ 5 orders and ≥ 70 % of the orders from its first
 one up; the chosen order is the lowest holding every persistent mode as a stable pole.
 """
 import json
@@ -24,7 +24,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 DT = 1e-3
 ROWS = 96
 ORDERS = range(2, 25)
-F_TOL, Z_TOL, MAX_ZETA, MIN_ORDERS, MIN_FRACTION = 0.01, 0.05, 0.7, 5, 0.8
+F_TOL, Z_TOL, MAX_ZETA, MIN_ORDERS, MIN_FRACTION = 0.01, 0.05, 0.7, 5, 0.7
 MODES = [(30.0, 0.02, 10.0, 0.3), (75.0, 0.01, 5.0, -0.7), (160.0, 0.005, 3.0, 1.1)]
 
 

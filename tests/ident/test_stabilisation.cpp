@@ -54,7 +54,7 @@ double relative_spread(const std::vector<double>& v) {
 }  // namespace
 
 // A pole that moves 0.5 % in f and 2 % in ζ per order is stable; one that moves 3 % in f, or
-// 10 % in ζ, is not; a persistent mode needs 5 stable orders, 80 % of those from its first on.
+// 10 % in ζ, is not; a persistent mode needs 5 stable orders, 70 % of those from its first on.
 TEST(Stabilisation, RulesOnHandMadePoles) {
   std::vector<ident::DiagramOrder> orders;
   for (std::size_t n = 2; n <= 9; ++n) {
