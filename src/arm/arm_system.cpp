@@ -61,13 +61,19 @@ JointTerms ArmSystem::terms(int i, double t, const double* y) const noexcept {
   r.delta = s * r.phi - j.half_play_rad;  // δ = |φ| − β (thesis §2.3, docs/design.md §1)
   const double delta_rate = s * r.phi_rate;
   plant::ContactForce f{};
-  if (side_[k] == 0) {  // free: a continuous law acts already until the onset event is located
-    if (r.delta > 0.0 && !j.law.jumps_at_onset()) {
-      f = j.law.evaluate(r.delta, delta_rate, plant::ContactMemory{j.law.latch_approach_rate(delta_rate), false});
+  if (side_[k] == 0) {  // free: a continuous law acts already until the onset event is located;
+    // without play the flanks meet at φ = 0 and the law acts on either side with no events
+    if (r.delta > 0.0 && (!j.law.jumps_at_onset() || j.half_play_rad == 0.0)) {
+      // zero play: no impact to latch (χ = 0, a hysteresis law is its spring; else its force
+      // would jump with the sign of δ̇ on every tiny oscillation about φ = 0)
+      const double latched = j.half_play_rad == 0.0 ? 0.0 : j.law.latch_approach_rate(delta_rate);
+      f = j.law.evaluate(r.delta, delta_rate, plant::ContactMemory{latched, false});
+      if (j.law.uses_approach_rate()) f.d_rate = 0.0;  // δ̇/δ̇⁻ is 1 (or χ is 0) while δ̇⁻ follows δ̇
     }
   } else {
     f = r.delta <= 0.0 ? j.law.evaluate_continued(r.delta, delta_rate) : j.law.evaluate(r.delta, delta_rate, memory_[k]);
   }
+  r.force = f;
   r.contact_torque = -s * f.force;
   r.contact_energy = r.delta > 0.0 ? j.law.potential(r.delta) : 0.0;
   return r;
@@ -120,16 +126,7 @@ int ArmSystem::jacobian(double t, const double* y, double* jac) noexcept {
     }
     at(iq_ + i, iv_ + i) = 1.0;
     // τ_i = −s F(δ, δ̇) + τ_f(q̇): ∂τ/∂φ = −F_δ, ∂τ/∂φ̇ = −F_δ̇ (s² = 1)
-    const JointTerms jt = terms(i, t, y);
-    const int s = side_[k] != 0 ? side_[k] : (jt.phi >= 0.0 ? 1 : -1);
-    plant::ContactForce f{};
-    if (side_[k] != 0) {
-      f = jt.delta <= 0.0 ? j.law.evaluate_continued(jt.delta, s * jt.phi_rate)
-                          : j.law.evaluate(jt.delta, s * jt.phi_rate, memory_[k]);
-    } else if (jt.delta > 0.0 && !j.law.jumps_at_onset()) {
-      f = j.law.evaluate(jt.delta, s * jt.phi_rate, plant::ContactMemory{j.law.latch_approach_rate(s * jt.phi_rate), false});
-      if (j.law.uses_approach_rate()) f.d_rate = 0.0;  // δ̇/δ̇⁻ = 1 while δ̇⁻ follows δ̇
-    }
+    const plant::ContactForce f = terms(i, t, y).force;
     d_tau_q_(i) = -f.d_penetration;
     d_tau_phi_rate_(i) = -f.d_rate;
     d_tau_v_(i) = -f.d_rate + j.friction.evaluate(v_(i)).d_rate;
@@ -175,8 +172,9 @@ void ArmSystem::roots(double t, const double* y, double* g) noexcept {
     const ArmJoint& j = model_.joints[k];
     const JointTerms jt = terms(i, t, y);
     double* gi = g + 4 * i;
-    gi[0] = jt.phi - j.half_play_rad;   // the + flank
-    gi[1] = -jt.phi - j.half_play_rad;  // the − flank
+    const bool play = j.half_play_rad > 0.0;  // zero play: no flank to cross, no events
+    gi[0] = play ? jt.phi - j.half_play_rad : 1.0;   // the + flank
+    gi[1] = play ? -jt.phi - j.half_play_rad : 1.0;  // the − flank
     gi[2] = 1.0;
     gi[3] = 1.0;
     if (side_[k] != 0) j.law.kink_functions(jt.delta, side_[k] * jt.phi_rate, memory_[k], gi + 2);
@@ -232,6 +230,7 @@ bool ArmSystem::check_consistency(double t, const double* y, std::vector<ArmEven
     const auto k = static_cast<std::size_t>(i);
     const JointTerms jt = terms(i, t, y);
     const double beta = model_.joints[k].half_play_rad;
+    if (beta == 0.0) continue;  // zero play: the law acts on either side without events
     if (side_[k] == 0) {
       const int s = jt.phi >= 0.0 ? 1 : -1;
       if (s * jt.phi - beta > 0.0) {
@@ -262,8 +261,7 @@ void ArmSystem::initial_state(const ArmInitialState& init, double* y, std::vecto
     memory_[k] = {};
     const int s = phi >= 0.0 ? 1 : -1;
     const double delta = s * phi - j.half_play_rad;
-    // in contact at the start: penetrating, or on the flank with zero play (no gap to cross)
-    if (delta > 0.0 || (delta == 0.0 && j.half_play_rad == 0.0)) onset(i, 0.0, s, s * terms(i, 0.0, y).phi_rate, events);
+    if (delta > 0.0 && j.half_play_rad > 0.0) onset(i, 0.0, s, s * terms(i, 0.0, y).phi_rate, events);
   }
 }
 

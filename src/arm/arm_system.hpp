@@ -1,7 +1,9 @@
 #pragma once
 // Internal: the arm's ODE with a discrete contact state per joint (docs/arm.md).
 // State: [x_1 … x_n (drive blocks) | q (n) | q̇ (n)]; four roots per joint: the two flanks
-// (φ − β, −φ − β) and the two kinks of the contact law (plant/contact_law.hpp).
+// (φ − β, −φ − β) and the two kinks of the contact law (plant/contact_law.hpp). A joint without
+// play has no events: its flanks meet at φ = 0 and the law acts on either side (a hysteresis
+// law as its spring alone: there is no impact whose approach rate it could latch).
 #include <span>
 #include <vector>
 
@@ -14,6 +16,7 @@ namespace clearshape::arm::detail {
 struct JointTerms {
   double u = 0.0, theta_out = 0.0, omega_out = 0.0, phi = 0.0, phi_rate = 0.0;
   double delta = 0.0, contact_torque = 0.0, contact_energy = 0.0;
+  plant::ContactForce force{};  ///< F(δ, δ̇) and its derivatives as the right-hand side uses them
 };
 
 class ArmSystem {

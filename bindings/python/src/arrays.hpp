@@ -50,5 +50,6 @@ void bind_ident(py::module_& m);
 void bind_metrics(py::module_& m);
 void bind_study(py::module_& m);
 void bind_export(py::module_& m);
+void bind_arm(py::module_& m);
 
 }  // namespace clearshape::python

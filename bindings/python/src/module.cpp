@@ -46,4 +46,5 @@ PYBIND11_MODULE(_core, m) {
   clearshape::python::bind_metrics(m);
   clearshape::python::bind_study(m);
   clearshape::python::bind_export(m);
+  clearshape::python::bind_arm(m);
 }

@@ -1,0 +1,124 @@
+// Python: the arm as a plant (docs/arm.md) — the built-in arms' texts and a simulation of a
+// built-in arm or of one's own URDF + TOML under one command per joint.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "arrays.hpp"
+#include "clearshape/arm/simulation.hpp"
+
+namespace clearshape::python {
+namespace {
+
+// A samples × columns copy of an Eigen matrix.
+py::array_t<double> to_array2(const Eigen::MatrixXd& m) {
+  py::array_t<double> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+  auto view = out.mutable_unchecked<2>();
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    for (Eigen::Index c = 0; c < m.cols(); ++c) view(r, c) = m(r, c);
+  }
+  return out;
+}
+
+arm::ArmModel model_of(const std::string& name, const std::optional<std::string>& urdf,
+                       const std::optional<std::string>& toml) {
+  if (urdf.has_value() != toml.has_value()) {
+    throw InvalidArgument("urdf and toml go together: give both texts (one's own arm) or neither (a built-in arm)");
+  }
+  if (urdf) return arm::arm_from_text(*urdf, "<urdf argument>", *toml, "<toml argument>");
+  return arm::builtin_arm(name);
+}
+
+std::vector<plant::Command> commands_of(const DoubleArray& commands, double sample_time_s, int dof,
+                                        const std::string& interpolation) {
+  if (commands.ndim() != 2 || commands.shape(0) != dof) {
+    throw InvalidArgument("commands must be a 2-D array with one row per joint (" + std::to_string(dof) + " rows)");
+  }
+  if (interpolation != "linear" && interpolation != "zero_order_hold") {
+    throw InvalidArgument("interpolation = '" + interpolation + "'; allowed: linear, zero_order_hold");
+  }
+  std::vector<plant::Command> out;
+  auto view = commands.unchecked<2>();
+  for (int j = 0; j < dof; ++j) {
+    UniformSeries s{0.0, sample_time_s, {}};
+    for (py::ssize_t k = 0; k < commands.shape(1); ++k) s.values.push_back(view(j, k));
+    out.emplace_back(std::move(s), interpolation == "linear" ? plant::Interpolation::linear
+                                                               : plant::Interpolation::zero_order_hold);
+  }
+  return out;
+}
+
+py::dict simulate_arm(const DoubleArray& commands, double sample_time_s, const std::string& name,
+                      const std::optional<std::string>& urdf, const std::optional<std::string>& toml,
+                      double duration_s, double output_rate_hz, const std::string& interpolation,
+                      double relative_tolerance) {
+  require_positive("sample_time_s", sample_time_s);
+  const arm::ArmModel model = model_of(name, urdf, toml);
+  const std::vector<plant::Command> cmd = commands_of(commands, sample_time_s, model.dof(), interpolation);
+  arm::ArmSimulationOptions o;
+  o.duration_s = duration_s;
+  o.output_rate_hz = output_rate_hz;
+  o.solver.relative_tolerance = relative_tolerance;
+  arm::ArmTrace tr;
+  {
+    py::gil_scoped_release release;
+    tr = arm::simulate_arm(model, cmd, o);
+  }
+  py::dict d;
+  d["time_s"] = to_array(tr.time_s);
+  d["motor_angle_rad"] = to_array2(tr.motor_angle_rad);
+  d["encoder_angle_rad"] = to_array2(tr.encoder_angle_rad);
+  d["output_angle_rad"] = to_array2(tr.output_angle_rad);
+  d["link_angle_rad"] = to_array2(tr.link_angle_rad);
+  d["link_rate_rad_s"] = to_array2(tr.link_rate_rad_s);
+  d["contact_torque_n_m"] = to_array2(tr.contact_torque_n_m);
+  d["tool_position_m"] = to_array2(tr.tool_position_m);
+  d["kinetic_j"] = to_array(tr.kinetic_j);
+  d["potential_j"] = to_array(tr.potential_j);
+  d["contact_energy_j"] = to_array(tr.contact_energy_j);
+  py::list events;
+  for (const arm::ArmEvent& e : tr.events) {
+    events.append(py::dict(py::arg("time_s") = e.time_s, py::arg("joint") = e.joint, py::arg("side") = e.side,
+                           py::arg("onset") = e.onset, py::arg("rate_rad_s") = e.rate_rad_s));
+  }
+  d["events"] = events;
+  std::vector<std::string> joints;
+  for (const arm::ArmJoint& j : model.joints) joints.push_back(j.name);
+  d["joints"] = joints;
+  d["gear_ratio"] = [&] {
+    std::vector<double> g;
+    for (const arm::ArmJoint& j : model.joints) g.push_back(j.gear_ratio);
+    return to_array(g);
+  }();
+  d["steps"] = tr.steps;
+  return d;
+}
+
+}  // namespace
+
+void bind_arm(py::module_& m) {
+  m.def("arm_names", &arm::builtin_arm_names, "The built-in arms (docs/arm.md): scara-2, vertical-2.");
+  m.def(
+      "arm_text",
+      [](const std::string& name) {
+        const arm::ArmText t = arm::builtin_arm_text(name);
+        return py::make_tuple(t.urdf, t.toml);
+      },
+      py::arg("name"), "(urdf, toml): the texts of a built-in arm, e.g. to start one's own.");
+  m.def("simulate_arm", &simulate_arm, py::arg("commands"), py::arg("sample_time_s"), py::arg("arm") = "scara-2",
+        py::arg("urdf") = py::none(), py::arg("toml") = py::none(), py::arg("duration_s") = 1.0,
+        py::arg("output_rate_hz") = 1000.0, py::arg("interpolation") = "linear",
+        py::arg("relative_tolerance") = 1e-7,
+        R"doc(Simulates an arm (docs/arm.md): a built-in one by name, or one's own from urdf and toml
+texts. commands: one row per joint, samples every sample_time_s in the drive's units (motor
+degrees for a Kp = 1 position drive: a link move of A degrees is N·A), interpolated 'linear' or
+held ('zero_order_hold'), the last value held after the end. Returns a dict: time_s, per joint
+(samples × joints) motor_angle_rad, encoder_angle_rad, output_angle_rad (θ_m/N),
+link_angle_rad, link_rate_rad_s, contact_torque_n_m; tool_position_m (samples × 3); the
+energies kinetic_j, potential_j, contact_energy_j; events (onsets and separations); joints,
+gear_ratio, steps.)doc");
+}
+
+}  // namespace clearshape::python
