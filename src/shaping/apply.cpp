@@ -138,7 +138,10 @@ std::vector<DiscreteTap> discretize(const Shaper& shaper, double sample_time_s,
   raw.reserve(2 * shaper.size());
   for (const Impulse& impulse : shaper.impulses()) split(raw, impulse, sample_time_s, method, mode);
 
-  // Impulse times increase, so delays are already sorted; merge equal delays.
+  // An impulse's second tap (m+1) can precede the next impulse's first (m) when several impulses
+  // fall within one sample (a shaper shorter than Ts): sort by delay, then merge equal delays.
+  std::stable_sort(raw.begin(), raw.end(),
+                   [](const DiscreteTap& a, const DiscreteTap& b) { return a.delay_samples < b.delay_samples; });
   std::vector<DiscreteTap> taps;
   taps.reserve(raw.size());
   for (const DiscreteTap& tap : raw) {

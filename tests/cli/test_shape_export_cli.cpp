@@ -2,8 +2,10 @@
 // option → exit 2 with a message naming the option and its allowed values.
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -157,4 +159,30 @@ TEST(ShapeExportCli, NeverWithAnInputAndFailedWritesExitOne) {
   EXPECT_TRUE(contains(w.err, "is a folder, not a regular file")) << w.err;
   EXPECT_TRUE(fs::is_empty(dir));
   fs::remove_all(dir);
+}
+
+// Issue 21: a valid shaper shorter than the sample time (ZVD at 100 kHz, Ts = 1 ms) was refused
+// with an internal message ("shaper 'taps': impulse times must increase strictly"): the linear
+// split put an impulse's tap at m+1 before the next impulse's tap at m. Reference: the ZVD
+// impulses (Singer & Seering 1990: 1, 2K, K² over (1+K)² at 0, Td/2, Td) split linearly (Vaughan's
+// digseq: A·(1−f) at 0, A·f at 1 with f = t/Ts), computed here independently of the library.
+TEST(ShapeExportCli, AShaperShorterThanTheSampleTimeIsExported) {
+  const double f_hz = 1e5, zeta = 0.1, ts = 0.001;
+  const double root = std::sqrt(1.0 - zeta * zeta);
+  const double k = std::exp(-zeta * std::numbers::pi / root);
+  const double td = 1.0 / (f_hz * root);
+  const double norm = (1.0 + k) * (1.0 + k);
+  const double tap1 = (2.0 * k * (td / 2.0) / ts + k * k * td / ts) / norm;
+  const auto r = run_cli("shape -m zvd -f 1e5 -z 0.1 --export json --sample-time 0.001");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto taps = nlohmann::json::parse(r.out)["discrete"]["taps"];
+  ASSERT_EQ(taps.size(), 2u) << taps;
+  EXPECT_EQ(taps[0]["delay_samples"], 0);
+  EXPECT_EQ(taps[1]["delay_samples"], 1);
+  EXPECT_NEAR(double(taps[0]["weight"]), 1.0 - tap1, 1e-12);
+  EXPECT_NEAR(double(taps[1]["weight"]), tap1, 1e-12);
+  const auto header = run_cli("shape -m zvd -f 1e5 -z 0.1 --export c-header --sample-time 0.001");
+  EXPECT_EQ(header.exit_code, 0) << header.err;
+  EXPECT_TRUE(contains(header.out, "#define CS_SHAPER_TAPS 2u")) << header.out;
+  EXPECT_FALSE(contains(header.err, "taps")) << header.err;
 }

@@ -147,6 +147,18 @@ TEST(Discretize, EqualDelaysAreMergedAndSumKept) {
   EXPECT_NEAR(taps[1].weight, 0.25, 1e-15);
 }
 
+TEST(Discretize, ThreeImpulsesInOneSampleGiveSortedMergedTaps) {
+  // A shaper shorter than Ts (issue 21): 0.25 at 0, 0.5 at 0.2·Ts, 0.25 at 0.4·Ts. First-order
+  // hold: sample 1 gets 0.5·0.2 + 0.25·0.4 = 0.2, sample 0 the rest, 0.8 (was 4 unsorted taps).
+  const sh::Shaper s("custom", {{0.0, 0.25}, {0.0002, 0.5}, {0.0004, 0.25}});
+  const auto taps = sh::discretize(s, 1e-3);
+  ASSERT_EQ(taps.size(), 2u);
+  EXPECT_EQ(taps[0].delay_samples, 0u);
+  EXPECT_EQ(taps[1].delay_samples, 1u);
+  EXPECT_NEAR(taps[0].weight, 0.8, 1e-15);
+  EXPECT_NEAR(taps[1].weight, 0.2, 1e-15);
+}
+
 TEST(Discretize, GoldenExactSplitMatchesNumpyLinearSolve) {
   // apply_exact_taps.csv: Murphy–Watanabe weights solved as a 2×2 system with numpy.linalg.solve.
   const auto golden = cs::io::read_table(cs::testing::golden_path("apply_exact_taps.csv"));
