@@ -20,6 +20,7 @@
 #include "clearshape/study/protocol.hpp"
 #include "clearshape/study/rig_calibration.hpp"
 #include "command.hpp"
+#include "option_checks.hpp"
 
 namespace clearshape::cli {
 namespace {
@@ -159,7 +160,7 @@ const bool registered = register_command(
        auto o = std::make_shared<CalibrateOptions>();
        sub.add_option("--position", o->position, "Position-mode protocol (targets B.1–B.5)")->capture_default_str();
        sub.add_option("--speed", o->speed, "Speed-mode protocol (Eq. 4.2 speed model, Table 5.1)")->capture_default_str();
-       sub.add_option("--out", o->out_dir, "Output folder")->capture_default_str();
+       sub.add_option("--out", o->out_dir, "Output folder")->capture_default_str()->check(output_folder());
        sub.add_option("--trials", o->trials, "Unshaped trials per table and evaluation")
            ->capture_default_str()->check(CLI::Range(2, 100));
        sub.add_option("--max-evaluations", o->max_evaluations, "Evaluations of the search")

@@ -16,6 +16,7 @@
 #include "clearshape/shaping/apply.hpp"
 #include "clearshape/shaping/design.hpp"
 #include "command.hpp"
+#include "option_checks.hpp"
 
 namespace clearshape::cli {
 namespace {
@@ -98,7 +99,7 @@ const bool registered = register_command(
      [](CLI::App& sub) {
        auto options = std::make_shared<DemoOptions>();
        sub.add_option("--out", options->out_dir, "Output folder for demo.csv and demo.json")
-           ->capture_default_str();
+           ->capture_default_str()->check(output_folder());
        sub.add_option("--rate", options->rate_hz, "Sample rate in Hz")
            ->capture_default_str()->check(CLI::Range(10.0, 1e6));
        sub.add_option("--duration", options->duration_s, "Duration in s")

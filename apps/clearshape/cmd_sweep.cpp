@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/io/atomic_file.hpp"
 #include "command.hpp"
 
 #ifndef CLEARSHAPE_PYTHON_EXECUTABLE
@@ -67,9 +68,8 @@ void run(const State& st) {
   if (st.max_points < 1) {
     throw cs::InvalidArgument("--max-points = " + std::to_string(st.max_points) + " is out of range; allowed: >= 1");
   }
-  std::error_code ec;
-  if (fs::exists(st.out, ec) && !fs::is_directory(st.out, ec)) {
-    throw cs::InvalidArgument("--out " + st.out + " is a file, not a folder; give a folder (created if missing) for "
+  if (const std::string problem = cs::io::folder_problem(st.out); !problem.empty()) {
+    throw cs::InvalidArgument("--out " + problem + "; give a folder (created if missing) for "
                               "results.h5, results.csv and results.json");
   }
   const std::string path = python_path();

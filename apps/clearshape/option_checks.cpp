@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "clearshape/io/atomic_file.hpp"
+
 namespace clearshape::cli {
 
 namespace {
@@ -74,6 +76,15 @@ CLI::Validator positive_at_most(double max, const std::string& unit, const std::
         return {};
       },
       "", "POSITIVE");
+}
+
+CLI::Validator output_folder() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const std::string problem = io::folder_problem(text);
+        return problem.empty() ? problem : problem + "; give a folder (created if missing)";
+      },
+      "", "FOLDER");
 }
 
 void add_common_option_checks(CLI::App& app) {

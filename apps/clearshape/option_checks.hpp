@@ -19,4 +19,9 @@ void add_common_option_checks(CLI::App& app);
 /// "--grid-hz: 0 is out of range; allowed: (0, 1e+06] Hz (omit --grid-hz for none)".
 CLI::Validator positive_at_most(double max, const std::string& unit, const std::string& option);
 
+/// For an output-folder option (--out): the folder, or its nearest existing parent, must be a
+/// folder — "--out: out is a file, not a folder; give a folder (created if missing)" — checked
+/// while parsing, before any work (it was a raw "Not a directory" after the work, exit 1).
+CLI::Validator output_folder();
+
 }  // namespace clearshape::cli

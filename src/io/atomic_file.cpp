@@ -54,10 +54,7 @@ fs::path temporary_for(const fs::path& path) {
 
 void create_parent(const fs::path& path) {
   const fs::path parent = path.parent_path();
-  if (parent.empty()) return;
-  std::error_code ec;
-  fs::create_directories(parent, ec);
-  if (ec) throw RuntimeError(fmt::format("{}: cannot create folder: {}", parent.string(), ec.message()));
+  if (!parent.empty()) create_folder(parent);
 }
 
 // Writes `content` to `tmp` and flushes it to the disk; throws RuntimeError naming `target`.
@@ -126,6 +123,31 @@ const char* file_kind(const fs::file_status& st) {
 }
 
 }  // namespace
+
+std::string folder_problem(const fs::path& folder) {
+  for (fs::path p = folder; !p.empty(); p = p.parent_path()) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(p, ec);
+    if (fs::is_directory(st)) return "";
+    if (fs::exists(st)) {
+      const std::string kind = fs::is_regular_file(st) ? "a file" : file_kind(st);
+      return p == folder ? fmt::format("{} is {}, not a folder", p.string(), kind)
+                         : fmt::format("{} is {}, not a folder, so {} cannot be made in it", p.string(), kind,
+                                       folder.string());
+    }
+    if (p == p.parent_path()) break;
+  }
+  return "";
+}
+
+void create_folder(const fs::path& folder) {
+  if (const std::string problem = folder_problem(folder); !problem.empty()) {
+    throw InvalidArgument(problem + "; give a folder (created if missing)");
+  }
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if (ec) throw RuntimeError(fmt::format("{}: cannot create the folder: {}", folder.string(), ec.message()));
+}
 
 std::string regular_file_problem(const fs::path& path) {
   std::error_code ec;

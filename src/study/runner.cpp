@@ -163,7 +163,7 @@ namespace {
 // writing each run's record as it finishes; the first error stops the rest and is rethrown.
 void obtain_pending(Context& c, const std::vector<RunRequest>& requests, const std::vector<std::size_t>& pending,
                     std::vector<std::optional<Record>>& found, const std::string& stage) {
-  std::filesystem::create_directories(c.runs_dir);
+  io::create_folder(c.runs_dir);
   std::atomic<std::size_t> next{0};
   std::atomic<std::size_t> done{0};
   std::mutex error_mutex;
@@ -382,7 +382,7 @@ StudyResult run_study(const Protocol& protocol, const StudyOptions& options) {
   }
   detail::Context c(protocol, options);
   detail::prepare_output_folder(c.out, options.fresh, [&c](const std::string& line) { c.log(line); });
-  std::filesystem::create_directories(c.data_dir);
+  io::create_folder(c.data_dir);
   c.log(fmt::format("study '{}' ({} mode{}), protocol hash {}, rig {}, {} parallel run(s), out {}",
                     protocol.name, rig::to_string(protocol.mode), protocol.quick ? ", quick" : "",
                     c.hash, c.source->description(), c.threads, c.out.string()));

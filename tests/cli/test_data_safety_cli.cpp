@@ -157,6 +157,26 @@ TEST(DataSafetyCli, AProtocolValueNoRunAcceptsIsRefusedBeforeAnythingIsWritten) 
   EXPECT_FALSE(fs::exists(d / "out")) << "the study created its folder before refusing the protocol";
 }
 
+// Issue 21: an output folder that is a file (or lies under one) ended in a raw errno text
+// ("cannot create directories: Not a directory", exit 1). Now exit 2 naming the file.
+TEST(DataSafetyCli, AnOutputFolderThatIsAFileIsNamedAndExitsTwo) {
+  const fs::path d = temp_dir("outfile");
+  std::ofstream(d / "file") << "keep\n";
+  const std::string file = (d / "file").string();
+  const auto study = run_cli("study " + (studies() / "thesis-position.toml").string() + " --quick --out " + file);
+  EXPECT_EQ(study.exit_code, 2) << study.err;
+  EXPECT_NE(study.err.find(file + " is a file, not a folder, so " + file + "/data cannot be made in it"), std::string::npos)
+      << study.err;
+  const auto sweep = run_cli("sweep " + (studies() / "sweep-play.toml").string() + " --out " + file + "/sub");
+  EXPECT_EQ(sweep.exit_code, 2) << sweep.err;
+  EXPECT_NE(sweep.err.find("--out " + file + " is a file, not a folder"), std::string::npos) << sweep.err;
+  const auto calibrate = run_cli("calibrate-rig --out " + file);
+  EXPECT_EQ(calibrate.exit_code, 2) << calibrate.err;
+  EXPECT_NE(calibrate.err.find("--out: " + file + " is a file, not a folder"), std::string::npos) << calibrate.err;
+  for (const auto* r : {&study, &sweep, &calibrate}) EXPECT_EQ(r->err.find("Not a directory"), std::string::npos) << r->err;
+  EXPECT_EQ(read(d / "file"), "keep\n");
+}
+
 TEST(DataSafetyCli, CeresLoggingIsQuietUnlessVerbose) {
   const fs::path d = temp_dir("glog");
   ASSERT_EQ(run_cli("simulate --duration 1 -o " + (d / "run.csv").string()).exit_code, 0);

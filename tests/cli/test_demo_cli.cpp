@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -43,4 +45,25 @@ TEST(DemoCli, ShapingRemovesTheDriveModelsOvershoot) {
 TEST(DemoCli, RejectsABadRate) {
   const auto r = run_cli("demo --rate 0 --out /tmp/clearshape_demo_bad");
   EXPECT_EQ(r.exit_code, 2);
+}
+
+// Issue 21: `demo --out FILE` ran, printed its table, then exited 1 with a raw errno text
+// ("cannot create folder: Not a directory"). Now --out is checked while parsing: exit 2 naming
+// the option and the file, before any work, the file left as it was.
+TEST(DemoCli, AnOutputFolderThatIsAFileIsRefusedByNameBeforeAnyWork) {
+  const fs::path file = fs::temp_directory_path() / ("clearshape_demo_cli_file_" + std::to_string(::getpid()));
+  { std::ofstream(file) << "keep\n"; }
+  for (const fs::path& out : {file, file / "sub"}) {
+    const auto r = run_cli("demo --out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--out: " + file.string() + " is a file, not a folder"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("give a folder (created if missing)"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("Not a directory"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  std::ifstream in(file);
+  std::string kept;
+  std::getline(in, kept);
+  EXPECT_EQ(kept, "keep");
+  fs::remove(file);
 }

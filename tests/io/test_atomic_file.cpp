@@ -64,11 +64,34 @@ TEST(AtomicFile, BatchThatFailsLeavesTheOldFilesAndNoTemporaries) {
   io::AtomicBatch batch;
   batch.add(dir / "a.csv", "new a");            // its temporary is written first …
   batch.add(dir / "blocker" / "b.csv", "new b");  // … then b's folder cannot be made
-  EXPECT_THROW(batch.commit(), clearshape::RuntimeError);
+  // A file where a folder must go is bad usage (exit 2), named — not a raw "Not a directory".
+  try {
+    batch.commit();
+    ADD_FAILURE() << "commit() wrote under a file";
+  } catch (const clearshape::InvalidArgument& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "blocker").string() + " is a file, not a folder; give a folder (created if missing)");
+  }
   EXPECT_EQ(read(dir / "a.csv"), "old a");  // renamed only after every write succeeded
   for (const auto& e : fs::directory_iterator(dir)) {
     EXPECT_FALSE(io::is_temporary_name(e.path().filename().string())) << e.path();
   }
+}
+
+// The nearest existing parent decides: a folder (any depth to create below it) or not.
+TEST(AtomicFile, FolderProblemNamesTheParentThatIsNoFolder) {
+  const fs::path dir = temp_dir("folders");
+  write(dir / "file", "x");
+  EXPECT_EQ(io::folder_problem(dir), "");
+  EXPECT_EQ(io::folder_problem(dir / "new" / "deeper"), "");
+  EXPECT_EQ(io::folder_problem(dir / "file"), (dir / "file").string() + " is a file, not a folder");
+  EXPECT_EQ(io::folder_problem(dir / "file" / "a" / "b"),
+            (dir / "file").string() + " is a file, not a folder, so " + (dir / "file" / "a" / "b").string() +
+                " cannot be made in it");
+  EXPECT_EQ(io::folder_problem("/dev/null/out"), "/dev/null is a character device, not a folder, so /dev/null/out "
+                                                 "cannot be made in it");
+  EXPECT_THROW(io::create_folder(dir / "file" / "a"), clearshape::InvalidArgument);
+  io::create_folder(dir / "new" / "deeper");
+  EXPECT_TRUE(fs::is_directory(dir / "new" / "deeper"));
 }
 
 TEST(AtomicFile, TemporaryNamesAreRecognisedAndOnlyThey) {

@@ -47,11 +47,18 @@ std::filesystem::path resolve_output(const std::filesystem::path& path);
 /// not a file", "is a FIFO (named pipe), not a regular file", "cannot be opened: Too many levels
 /// of symbolic links", … — or "" when it is one.
 std::string regular_file_problem(const std::filesystem::path& path);
+/// Why `folder` cannot be an output folder — "out is a file, not a folder", "a is a file, not a
+/// folder, so a/b cannot be made in it" (the nearest existing parent, links followed) — or "".
+std::string folder_problem(const std::filesystem::path& folder);
+/// Creates `folder` and its missing parents. Throws InvalidArgument naming the path when it or a
+/// parent is not a folder (folder_problem), RuntimeError naming it for any other failure.
+void create_folder(const std::filesystem::path& folder);
 /// Forgets every registered input (tests; a long-lived process between jobs).
 void clear_inputs();
 
 /// Writes `content` to `path` atomically (through resolve_output: a symbolic link's target is
-/// replaced, a non-regular file refused). Creates missing parent folders. Refuses an input.
+/// replaced, a non-regular file refused). Creates missing parent folders (create_folder: a
+/// parent that is a file is InvalidArgument, named). Refuses an input.
 /// Throws clearshape::RuntimeError naming the path on failure (the old file is then untouched).
 void write_text_atomic(const std::filesystem::path& path, std::string_view content);
 
@@ -65,7 +72,8 @@ class AtomicBatch {
   ~AtomicBatch();
   /// Throws InvalidArgument when `path` is an input or was already added (two outputs, one file).
   void add(const std::filesystem::path& path, std::string content);
-  /// Writes and renames; on failure removes every temporary and throws RuntimeError.
+  /// Writes and renames; on failure removes every temporary and throws RuntimeError
+  /// (InvalidArgument when a target's folder lies under a file: folder_problem).
   void commit();
 
  private:
