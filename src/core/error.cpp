@@ -1,6 +1,8 @@
 #include "clearshape/core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -72,6 +74,18 @@ void require_in_open(std::string_view parameter, double value, double lo, double
   if (!(std::isfinite(value) && value > lo && value < hi)) {
     throw_invalid(parameter, value, fmt::format("({}, {})", lo, hi), remedy);
   }
+}
+
+double largest_squarable(std::size_t samples) noexcept {
+  return std::sqrt(std::numeric_limits<double>::max()) / static_cast<double>(std::max<std::size_t>(samples, 1));
+}
+
+std::size_t first_unsquarable(std::span<const double> values) noexcept {
+  const double limit = largest_squarable(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!(std::abs(values[i]) <= limit)) return i;
+  }
+  return values.size();
 }
 
 }  // namespace clearshape

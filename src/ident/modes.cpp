@@ -6,6 +6,8 @@
 #include <numbers>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "clearshape/core/error.hpp"
 #include "clearshape/dsp/peaks.hpp"
 #include "clearshape/dsp/welch.hpp"
@@ -111,6 +113,13 @@ void check_free_response(const UniformSeries& response) {
     if (!std::isfinite(response.values[k])) {
       throw InvalidArgument("free response sample " + std::to_string(k) + " is not finite; repair the record.");
     }
+  }
+  // The Hankel matrix and the decimation's spectrum sum products of samples (error.hpp).
+  if (const std::size_t k = first_unsquarable(response.values); k < n) {
+    throw InvalidArgument(fmt::format("free response sample {} (t = {:g} s) = {:g} is too large: its spectrum would "
+                                      "overflow; allowed: |value| <= {:.3g} for a record of {} samples. Rescale the "
+                                      "record (other units)", k, response.time_s(k), response.values[k],
+                                      largest_squarable(n), n));
   }
 }
 

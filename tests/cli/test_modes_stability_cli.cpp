@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include <fmt/format.h>
@@ -70,4 +71,18 @@ TEST(ModesStabilityCli, APoleNearNyquistIsNotStable) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_FALSE(j["modes"][0]["stable"].get<bool>());
   std::filesystem::remove(path);
+}
+
+// Issue 21: a record whose values overflow its spectrum (a growth to e^400 here) ended as
+// "find_peaks: value 0 is not finite (inf)", an internal name. Now exit 2 naming the sample and
+// the bound: √DBL_MAX / n, the largest |y| for which no sum of n products of samples overflows.
+TEST(ModesStabilityCli, ValuesTooLargeForASpectrumAreRefusedWithTheBound) {
+  const std::string path = write_oscillation("huge", 12.0, 200.0);
+  const auto r = run_cli("modes --data " + path + " --output-column rate_deg_s");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("is too large: its spectrum would overflow"), std::string::npos) << r.err;
+  const std::string bound = fmt::format("allowed: |value| <= {:.3g} for a record of 2000 samples",
+                                        std::sqrt(std::numeric_limits<double>::max()) / 2000.0);
+  EXPECT_NE(r.err.find(bound), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("find_peaks"), std::string::npos) << r.err;
 }

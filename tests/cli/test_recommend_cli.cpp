@@ -170,3 +170,26 @@ TEST(RecommendCli, ErrorsNameWhatIsWrong) {
   EXPECT_EQ(read_bytes(copy), read_bytes(golden("recommend_one_mode.csv")));
   std::filesystem::remove(copy);
 }
+
+// Issue 21: a record whose values overflow the power spectrum (here 1e200, a wrong unit) ended
+// as "find_peaks: value 0 is not finite (inf)", an internal name; `--max-delay-s ""` was read as
+// 0. Both now exit 2 naming the file and column, or the option.
+TEST(RecommendCli, ValuesTooLargeForASpectrumAndAnEmptyOptionAreNamed) {
+  const auto csv = temp("huge.csv");
+  {
+    std::ofstream f(csv);
+    f << "time_s,gyro_deg_s\n";
+    for (int k = 0; k < 2000; ++k) f << k * 1e-3 << "," << (k % 50 < 25 ? 1e200 : -1e200) << "\n";
+  }
+  const auto r = run_cli("recommend --data " + csv.string() + " --column gyro_deg_s");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(csv.string() + ": field 'gyro_deg_s': value 1e+200 at t = 0 s is too large for a power spectrum"),
+            std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("allowed: |value| <= "), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("find_peaks"), std::string::npos) << r.err;
+  std::filesystem::remove(csv);
+
+  const auto empty = run_cli("recommend --data " + golden("recommend_one_mode.csv") + " --column gyro_deg_s --max-delay-s \"\"");
+  EXPECT_EQ(empty.exit_code, 2) << empty.err;
+  EXPECT_NE(empty.err.find("--max-delay-s: an empty value is not a number"), std::string::npos) << empty.err;
+}

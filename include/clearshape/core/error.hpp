@@ -5,6 +5,7 @@
 //   InputError       bad data in an input file (file, line, field) -> CLI exit code 2
 //   RuntimeError     a failure while computing (divergence, I/O)  -> CLI exit code 1
 #include <cstddef>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -54,5 +55,12 @@ void require_in_half_open(std::string_view parameter, double value, double lo, d
 /// Requires lo < value < hi (open interval).
 void require_in_open(std::string_view parameter, double value, double lo, double hi,
                      std::string_view remedy = {});
+
+/// The largest |value| a record of `samples` samples may hold so that no sum of products of its
+/// samples (a power spectrum, a covariance, a Hankel matrix's norm) overflows: √DBL_MAX / samples
+/// (|Σ x_i y_i| ≤ n·max², so n·max ≤ √DBL_MAX keeps every such sum finite, even squared).
+double largest_squarable(std::size_t samples) noexcept;
+/// Index of the first sample beyond largest_squarable(values.size()), or values.size() if none.
+std::size_t first_unsquarable(std::span<const double> values) noexcept;
 
 }  // namespace clearshape
