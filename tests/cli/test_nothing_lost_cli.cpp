@@ -107,7 +107,8 @@ TEST(NothingLostCli, ARecordingsManifestNamesWhatIsWrongWithAFile) {
   ASSERT_EQ(::mkfifo((d / "fifo.csv").c_str(), 0600), 0);
   fs::create_directories(d / "folder.csv");
   for (const auto& [file, says] : {std::pair<std::string, std::string>{"fifo.csv", "is a FIFO (named pipe)"},
-                                   {"folder.csv", "is a folder"}}) {
+                                   {"folder.csv", "is a folder"},
+                                   {"/dev/null", "is a character device"}}) {
     std::ofstream(d / "manifest.toml") << head << "\n[[run]]\nid = \"" << id << "\"\nfile = \"" << file << "\"\n";
     const auto r = run_cli("study " + protocol + " --quick --recordings " + d.string() + " --out " +
                            (d / "out").string());
