@@ -44,6 +44,9 @@ void check(const StabilisationOptions& o) {
   require_in_open("stabilisation max_damping_ratio", o.max_damping_ratio, 0.0, 1.0 + 1e-12);
   if (o.min_stable_orders < 1) throw_invalid("stabilisation min_stable_orders", 0.0, ">= 1");
   require_in_open("stabilisation min_stable_fraction", o.min_stable_fraction, 0.0, 1.0 + 1e-12);
+  if (!(o.min_relative_amplitude >= 0.0 && o.min_relative_amplitude < 1.0)) {
+    throw_invalid("stabilisation min_relative_amplitude", o.min_relative_amplitude, "[0, 1)");
+  }
 }
 
 // Complex pole pairs of x[k+1] = A x[k], y = c x with input/initial-state vector v: residue of
@@ -110,9 +113,13 @@ struct StablePole {
 // a physical one at every order once the model is large enough to hold it.
 std::vector<PersistentMode> persistent_modes(const std::vector<DiagramOrder>& orders, const StabilisationOptions& o) {
   std::vector<StablePole> stable;
-  for (const DiagramOrder& d : orders)
+  for (const DiagramOrder& d : orders) {
+    double largest = 0.0;
+    for (const DiagramPole& p : d.poles) largest = std::max(largest, p.amplitude);
     for (const DiagramPole& p : d.poles)
-      if (persistent_pole(p, o)) stable.push_back({p.natural_frequency_rad_s, p.damping_ratio, d.order});
+      if (persistent_pole(p, o) && p.amplitude >= o.min_relative_amplitude * largest)
+        stable.push_back({p.natural_frequency_rad_s, p.damping_ratio, d.order});
+  }
   std::sort(stable.begin(), stable.end(), [](const StablePole& x, const StablePole& y) { return x.wn < y.wn; });
   std::vector<PersistentMode> modes;
   std::size_t first = 0;

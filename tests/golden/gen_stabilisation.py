@@ -12,8 +12,9 @@ ERA (Ho & Kalman 1966; Juang & Pappa 1985): Hankel matrix of 96 rows, SVD, Γ = 
 squares on Γ's shift invariance, x0 = S₁^½V₁ᵀe₁, at every order 2…24. A pole pair z gives
 s = ln z / T, ωn = |s|, ζ = −Re s/|s|. Stability against the previous order's nearest pole:
 |Δf|/f < 1 %, |Δζ|/ζ < 5 % and 0 < ζ < 0.7 (Peeters & De Roeck 2001). A persistent mode is a
-chain of stable poles closer than 1 % holding ≥ 5 orders and ≥ 70 % of the orders from its first
-one up; the chosen order is the lowest holding every persistent mode as a stable pole.
+chain of stable poles (each with a residue ≥ 5 % of its order's largest) closer than 1 % holding
+≥ 5 orders and ≥ 70 % of the orders from its first one up; the chosen order is the lowest holding
+every persistent mode as a stable pole.
 """
 import json
 import os
@@ -24,7 +25,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 DT = 1e-3
 ROWS = 96
 ORDERS = range(2, 25)
-F_TOL, Z_TOL, MAX_ZETA, MIN_ORDERS, MIN_FRACTION = 0.01, 0.05, 0.7, 5, 0.7
+F_TOL, Z_TOL, MAX_ZETA, MIN_ORDERS, MIN_FRACTION, MIN_AMPLITUDE = 0.01, 0.05, 0.7, 5, 0.7, 0.05
 MODES = [(30.0, 0.02, 10.0, 0.3), (75.0, 0.01, 5.0, -0.7), (160.0, 0.005, 3.0, 1.1)]
 
 
@@ -66,7 +67,11 @@ def flag(orders):
 
 
 def persistent(orders):
-    stable = sorted([(p["wn"], p["zeta"], o["order"]) for o in orders for p in o["poles"] if p["stable"]])
+    stable = []
+    for o in orders:
+        largest = max((p["amplitude"] for p in o["poles"]), default=0.0)
+        stable += [(p["wn"], p["zeta"], o["order"]) for p in o["poles"] if p["stable"] and p["amplitude"] >= MIN_AMPLITUDE * largest]
+    stable.sort()
     chains, cur = [], []
     for s in stable:
         if cur and abs(s[0] - cur[-1][0]) / cur[-1][0] >= F_TOL:
@@ -107,7 +112,8 @@ def main():
         "generator": "tests/golden/gen_stabilisation.py (numpy %s)" % np.__version__,
         "truth": [{"frequency_hz": f, "damping_ratio": z, "amplitude": a} for f, z, a, _ in MODES],
         "tolerances": {"frequency": F_TOL, "damping": Z_TOL, "min_stable_orders": MIN_ORDERS,
-                       "min_stable_fraction": MIN_FRACTION, "hankel_rows": ROWS},
+                       "min_stable_fraction": MIN_FRACTION, "min_relative_amplitude": MIN_AMPLITUDE,
+                       "hankel_rows": ROWS},
         "orders": [{"order": o["order"], "poles": [{"frequency_hz": p["wn"] / (2 * np.pi), "damping_ratio": p["zeta"],
                                                     "stable": p["stable"]} for p in o["poles"]]} for o in orders],
         "persistent_modes": [{"frequency_hz": m["wn"] / (2 * np.pi), "damping_ratio": m["zeta"],

@@ -26,6 +26,9 @@ struct StabilisationOptions {
   /// and in this fraction of the orders from its first stable pole up: a noise pole is stable in at
   /// most about half (seeded records: ≤ 54 %); the DaISy robot arm's ζ 0.003 mode in 15 of 20
   double min_stable_fraction = 0.7;
+  /// A pole counts towards persistence only when its residue is at least this fraction of the largest
+  /// at its order: a weak persistent line (a harmonic of a nonlinear decay) must not set the order.
+  double min_relative_amplitude = 0.05;
   /// Persistence counts fully stable poles (true) or poles stable in frequency and physical (false:
   /// looser; noise poles of ζ ≈ 0 then persist too).
   bool persistence_needs_damping = true;
