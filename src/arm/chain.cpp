@@ -2,6 +2,7 @@
 
 #include "chain_data.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -76,23 +77,44 @@ std::string_view type_name(int type) {
   }
 }
 
+// The document and its name, for errors that point at an element.
+struct Source {
+  std::string_view xml;
+  const std::string& file;
+};
+
+// The 1-based line of <tag … name="name" …> in the document (0 if not found).
+std::size_t line_of(const Source& src, std::string_view tag, std::string_view name) {
+  const std::string open = "<" + std::string(tag);
+  for (std::size_t at = src.xml.find(open); at != std::string_view::npos; at = src.xml.find(open, at + 1)) {
+    const std::string_view element = src.xml.substr(at, src.xml.find('>', at) - at);
+    for (const char quote : {'"', '\''}) {
+      if (element.find("name=" + std::string(1, quote) + std::string(name) + quote) != std::string_view::npos) {
+        return 1 + static_cast<std::size_t>(std::count(src.xml.begin(), src.xml.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+      }
+    }
+  }
+  return 0;
+}
+
+[[noreturn]] void refuse(const Source& src, std::string_view tag, std::string_view name, const std::string& problem) {
+  throw InputError(src.file, line_of(src, tag, name), fmt::format("{} {}", tag, name), problem);
+}
+
 // A URDF joint whose frame is `frame` in the previous moving segment's tip frame → a KDL joint
 // turning about the axis through that frame's origin. Only revolute, continuous and fixed joints.
-KDL::Joint to_kdl_joint(const urdf::Joint& j, const KDL::Frame& frame, const std::string& file) {
-  const std::string field = fmt::format("joint '{}'", j.name);
-  if (j.mimic) {
-    throw InputError(file, 0, field, "a mimic joint couples two joints; allowed: independent revolute joints");
-  }
+KDL::Joint to_kdl_joint(const urdf::Joint& j, const KDL::Frame& frame, const Source& src) {
+  if (j.mimic) refuse(src, "joint", j.name, "a mimic joint couples two joints; allowed: independent revolute joints");
   if (j.type == urdf::Joint::FIXED) return KDL::Joint(j.name, KDL::Joint::Fixed);
   if (j.type != urdf::Joint::REVOLUTE && j.type != urdf::Joint::CONTINUOUS) {
-    throw InputError(file, 0, field,
+    refuse(src, "joint", j.name,
                      fmt::format("type '{}' is not supported: every joint of the arm is a thesis joint "
                                  "(a drive turning a link through play); allowed: revolute, continuous, fixed",
                                  type_name(j.type)));
   }
   const KDL::Vector axis(j.axis.x, j.axis.y, j.axis.z);
   if (!(axis.Norm() > 0.0) || !std::isfinite(axis.Norm())) {
-    throw InputError(file, 0, field, "axis must be a non-zero finite vector");
+    refuse(src, "joint", j.name, "axis must be a non-zero finite vector");
   }
   return KDL::Joint(j.name, frame.p, frame.M * (axis / axis.Norm()), KDL::Joint::RotAxis);
 }
@@ -113,12 +135,12 @@ ChainJoint describe_joint(const urdf::Joint& j) {
 // (its inertia moved into that segment's frame, I = F·I_child), and its frame into the next
 // moving joint, so KDL's passes run over the moving joints only; what follows the last moving
 // joint becomes the tip offset. Links fixed to the base do not move and carry no dynamics.
-void append_segments(const urdf::ModelInterface& model, RigidChain::Data& d, const std::string& file) {
+void append_segments(const urdf::ModelInterface& model, RigidChain::Data& d, const Source& src) {
   urdf::LinkConstSharedPtr link = model.getRoot();
   KDL::Frame fixed = KDL::Frame::Identity();  // from the last moving segment's tip
   while (!link->child_joints.empty()) {
     if (link->child_joints.size() > 1) {
-      throw InputError(file, 0, fmt::format("link '{}'", link->name),
+      refuse(src, "link", link->name,
                        fmt::format("has {} child joints ('{}', '{}', …): a branching tree is not a serial "
                                    "chain; allowed: one child joint per link",
                                    link->child_joints.size(), link->child_joints[0]->name,
@@ -127,7 +149,7 @@ void append_segments(const urdf::ModelInterface& model, RigidChain::Data& d, con
     const urdf::Joint& j = *link->child_joints.front();
     urdf::LinkConstSharedPtr child = model.getLink(j.child_link_name);
     const KDL::Frame frame = fixed * to_kdl(j.parent_to_joint_origin_transform);
-    const KDL::Joint kj = to_kdl_joint(j, frame, file);
+    const KDL::Joint kj = to_kdl_joint(j, frame, src);
     const KDL::RigidBodyInertia inertia = to_kdl(child->inertial.get());
     if (kj.getType() == KDL::Joint::Fixed) {
       fixed = frame;
@@ -147,7 +169,7 @@ void append_segments(const urdf::ModelInterface& model, RigidChain::Data& d, con
 }
 
 // Every moving joint must carry mass after it, else M(q) is singular.
-void require_mass(const RigidChain::Data& d, const std::string& file) {
+void require_mass(const RigidChain::Data& d, const Source& src) {
   double mass_after = 0.0;
   int joint = static_cast<int>(d.joints.size());
   for (int s = static_cast<int>(d.chain.getNrOfSegments()) - 1; s >= 0; --s) {
@@ -155,7 +177,7 @@ void require_mass(const RigidChain::Data& d, const std::string& file) {
     mass_after += seg.getInertia().getMass();
     --joint;
     if (!(mass_after > 0.0)) {
-      throw InputError(file, 0, fmt::format("joint '{}'", d.joints[static_cast<std::size_t>(joint)].name),
+      refuse(src, "joint", d.joints[static_cast<std::size_t>(joint)].name,
                        "moves no mass (no <inertial> with mass > 0 after it): its inertia matrix "
                        "would be singular; allowed: links with mass > 0 and inertia");
     }
@@ -168,11 +190,12 @@ RigidChain RigidChain::from_urdf(std::string_view urdf_xml, const std::string& f
   const urdf::ModelInterfaceSharedPtr model = parse(urdf_xml, file);
   auto d = std::make_shared<Data>();
   d->robot_name = model->getName();
-  append_segments(*model, *d, file);
+  const Source src{urdf_xml, file};
+  append_segments(*model, *d, src);
   if (d->joints.empty()) {
     throw InputError(file, 0, "robot", "has no revolute or continuous joint; allowed: a chain of 1 or more");
   }
-  require_mass(*d, file);
+  require_mass(*d, src);
   return RigidChain(std::move(d));
 }
 

@@ -63,21 +63,24 @@ std::string two_link_urdf(const std::string& second_joint_type) {
 </robot>)";
 }
 
-// The message of the InputError `f` throws (empty if it throws none).
+// The message of the InputError `f` throws (empty if it throws none); its line in `line`.
 template <class F>
-std::string refusal(F&& f) {
+std::string refusal(F&& f, std::size_t* line = nullptr) {
   try {
     f();
   } catch (const InputError& e) {
+    if (line) *line = e.line();
     return e.what();
   }
   return {};
 }
 
 TEST(ArmChain, RefusesAPrismaticJointNamingTheFileJointAndReason) {
-  const std::string msg = refusal([] { RigidChain::from_urdf(two_link_urdf("prismatic"), "arm.urdf"); });
+  std::size_t line = 0;
+  const std::string msg = refusal([] { RigidChain::from_urdf(two_link_urdf("prismatic"), "arm.urdf"); }, &line);
+  EXPECT_EQ(line, 5u) << msg;  // the line of <joint name="slide" …>
   EXPECT_NE(msg.find("arm.urdf"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("joint 'slide'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("field 'joint slide'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("type 'prismatic' is not supported"), std::string::npos) << msg;
   EXPECT_NE(msg.find("allowed: revolute, continuous, fixed"), std::string::npos) << msg;
   // the same chain with a revolute joint is accepted: the refusal is about the type
@@ -106,8 +109,10 @@ TEST(ArmChain, RefusesABranchingTreeNamingTheLink) {
   tree.insert(tree.find("</robot>"), R"(<joint name="j3" type="revolute"><parent link="a"/><child link="c"/>
 <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
 <link name="c"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>)");
-  const std::string msg = refusal([&] { RigidChain::from_urdf(tree, "tree.urdf"); });
-  EXPECT_NE(msg.find("link 'a'"), std::string::npos) << msg;
+  std::size_t line = 0;
+  const std::string msg = refusal([&] { RigidChain::from_urdf(tree, "tree.urdf"); }, &line);
+  EXPECT_EQ(line, 4u) << msg;  // the line of <link name="a">
+  EXPECT_NE(msg.find("field 'link a'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("branching"), std::string::npos) << msg;
 }
 
