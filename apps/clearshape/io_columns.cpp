@@ -42,6 +42,22 @@ std::string lower(std::string s) {
   return s;
 }
 
+namespace {
+
+// A spectrum or a least-squares fit sums products of samples: a value beyond √DBL_MAX / n
+// (core/error.hpp) overflows them into NaN (frf printed -nan columns and exited 0).
+void refuse_unsquarable(const io::Table& t, std::size_t column) {
+  const std::vector<double>& v = t.columns[column];
+  if (const std::size_t k = first_unsquarable(v); k < v.size()) {
+    throw InputError(t.source, t.line_of_row(k), t.names[column],
+                     fmt::format("value {:g} is too large: sums of products of the record's samples would overflow; "
+                                 "allowed: |value| <= {:.3g} for a record of {} rows. Rescale the record (other units)",
+                                 v[k], largest_squarable(v.size()), v.size()));
+  }
+}
+
+}  // namespace
+
 IoColumns choose_io_columns(const io::Table& t, const std::string& input, const std::string& output,
                             const std::string& time, bool have_sample_time, bool need_input) {
   IoColumns c;
@@ -74,6 +90,8 @@ IoColumns choose_io_columns(const io::Table& t, const std::string& input, const 
     throw InputError(t.source, 0, "", "needs an input and an output column besides the time column; found " +
                                           std::to_string(t.columns.size()) + " column(s)");
   }
+  refuse_unsquarable(t, c.output);
+  if (need_input) refuse_unsquarable(t, c.input);
   return c;
 }
 

@@ -8,10 +8,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -151,4 +154,23 @@ TEST(IdentifyResidualsCli, CompareFigureIsDrawnDeterministically) {
   EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.png"));
   std::filesystem::remove_all(dir);
+}
+
+// Issue 21 (the overflow behind "find_peaks: value 0 is not finite"): a record of 1e200 values
+// gave frf columns of -nan with exit 0. The bound is √DBL_MAX / n (core/error.hpp): no sum of n
+// products of samples can then overflow. Now exit 2 naming the file, line and column.
+TEST(FrfCli, ValuesThatWouldOverflowAreRefusedByFileLineAndColumn) {
+  const auto path = process_temp_path("frf_huge.csv");
+  {
+    std::ofstream f(path);
+    f << "time_s,u,y\n";
+    for (int k = 0; k < 2000; ++k) f << k * 1e-3 << "," << (k % 40 < 20 ? 1.0 : -1.0) << "," << (k == 7 ? 1e200 : 0.5) << "\n";
+  }
+  const auto r = run_cli("frf --in " + path.string() + " --input u --output y");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const std::string bound = fmt::format("{:.3g}", std::sqrt(std::numeric_limits<double>::max()) / 2000.0);
+  EXPECT_NE(r.err.find(path.string() + ":9: field 'y': value 1e+200 is too large"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("allowed: |value| <= " + bound + " for a record of 2000 rows"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+  std::filesystem::remove(path);
 }
