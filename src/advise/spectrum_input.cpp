@@ -57,15 +57,16 @@ std::pair<std::size_t, std::size_t> window(const SpectrumRequest& r, std::size_t
   return {from, end};
 }
 
-// The window [w.first, w.second) of `column` in `source`. A spectrum sums products of samples: a
-// value beyond largest_squarable (error.hpp) would overflow it, so it is refused by name here.
+// The window [w.first, w.second) of `column` in `source` (its file line `first_line`, 0: unknown).
+// A spectrum sums products of samples: a value beyond largest_squarable (error.hpp) would
+// overflow it, so it is refused by name here.
 UniformSeries cut(const std::vector<double>& values, double dt, std::pair<std::size_t, std::size_t> w,
-                  const std::string& source, const std::string& column) {
+                  const std::string& source, const std::string& column, std::size_t first_line) {
   const auto first = values.begin() + static_cast<std::ptrdiff_t>(w.first);
   const auto last = values.begin() + static_cast<std::ptrdiff_t>(w.second);
   UniformSeries out{dt * static_cast<double>(w.first), dt, std::vector<double>(first, last)};
   if (const std::size_t k = first_unsquarable(out.values); k < out.size()) {
-    throw InputError(source, 0, column, fmt::format("value {:g} at t = {:g} s is too large for a power spectrum (it "
+    throw InputError(source, first_line == 0 ? 0 : first_line + k, column, fmt::format("value {:g} at t = {:g} s is too large for a power spectrum (it "
                                                     "would overflow); allowed: |value| <= {:.3g} for a window of {} "
                                                     "samples. Rescale the record (other units)", out.values[k],
                                                     out.time_s(k), largest_squarable(out.size()), out.size()));
@@ -87,7 +88,7 @@ MeasuredSpectrum load_table(const SpectrumRequest& r, const std::string& text, c
   const std::vector<double>& y = t.column(r.column);
   const auto w = window(r, y.size(), dt);
   const std::string column = t.find(r.column) ? r.column : t.names[static_cast<std::size_t>(std::stoul(r.column)) - 1];
-  MeasuredSpectrum s = spectrum_of_series(cut(y, dt, w, source, column), r.segment_s);
+  MeasuredSpectrum s = spectrum_of_series(cut(y, dt, w, source, column, t.line_of_row(w.first)), r.segment_s);
   s.column = column;
   return s;
 }
@@ -100,10 +101,10 @@ MeasuredSpectrum load_klipper_raw(const SpectrumRequest& r, const std::string& t
   const auto w = window(r, raw.time_s.size(), dt);
   MeasuredSpectrum s;
   if (axis < 3) {
-    s = spectrum_of_series(cut(raw.accel[axis], dt, w, source, std::string("accel_") + "xyz"[axis]), r.segment_s);
+    s = spectrum_of_series(cut(raw.accel[axis], dt, w, source, std::string("accel_") + "xyz"[axis], 0), r.segment_s);
   } else {
     for (std::size_t a = 0; a < 3; ++a) {
-      MeasuredSpectrum part = spectrum_of_series(cut(raw.accel[a], dt, w, source, std::string("accel_") + "xyz"[a]), r.segment_s);
+      MeasuredSpectrum part = spectrum_of_series(cut(raw.accel[a], dt, w, source, std::string("accel_") + "xyz"[a], 0), r.segment_s);
       if (a == 0) {
         s = std::move(part);
       } else {

@@ -183,7 +183,7 @@ TEST(RecommendCli, ValuesTooLargeForASpectrumAndAnEmptyOptionAreNamed) {
   }
   const auto r = run_cli("recommend --data " + csv.string() + " --column gyro_deg_s");
   EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_NE(r.err.find(csv.string() + ": field 'gyro_deg_s': value 1e+200 at t = 0 s is too large for a power spectrum"),
+  EXPECT_NE(r.err.find(csv.string() + ":2: field 'gyro_deg_s': value 1e+200 at t = 0 s is too large for a power spectrum"),
             std::string::npos) << r.err;
   EXPECT_NE(r.err.find("allowed: |value| <= "), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("find_peaks"), std::string::npos) << r.err;
