@@ -145,3 +145,29 @@ TEST(ArmPlay, AStiffJointWithoutPlayMakesTheLinkFollowTheMotor) {
 
 }  // namespace
 }  // namespace clearshape::arm
+
+namespace clearshape::arm {
+namespace {
+
+TEST(ArmPlay, GravityDeflectsAJointWithoutPlayByTorqueOverStiffness) {
+  ArmModel arm = builtin_arm("vertical-2");  // links horizontal at q = 0: gravity loads both
+  for (ArmJoint& j : arm.joints) j.half_play_rad = 0.0;
+  ArmSimulationOptions o;
+  o.duration_s = 3.0;
+  const std::vector<plant::Command> still(2, plant::Command::constant(0.0));
+  const ArmTrace tr = simulate_arm(arm, still, o);
+  EXPECT_TRUE(tr.events.empty());  // zero play: no flank to cross
+  // Hooke: the links hang on the flanks at φ = −K⁻¹ g(q) (the oscillation about it averages out)
+  ChainWorkspace ws(arm.chain);
+  Eigen::VectorXd g;
+  ws.gravity_torque(Eigen::Vector2d::Zero(), g);
+  const auto rows = tr.link_angle_rad.rows();
+  for (int i = 0; i < 2; ++i) {
+    const double mean = (tr.link_angle_rad.col(i) - tr.output_angle_rad.col(i)).tail(rows / 3).mean();
+    const double hooke = -g(i) / arm.joints[static_cast<std::size_t>(i)].law.stiffness();
+    EXPECT_NEAR(mean, hooke, 1e-3 * std::abs(hooke)) << "joint " << i;
+  }
+}
+
+}  // namespace
+}  // namespace clearshape::arm
