@@ -308,6 +308,23 @@ std::vector<ModeEstimate> persistent_estimates(const std::vector<ModeEstimate>& 
   return out;
 }
 
+// The output-error fit at the diagram's order; where it diverges, the next two orders up (they hold
+// the persistent modes too), then the order from --modes (out.order and order_source say which).
+StateSpaceEstimate diagram_fit(const Experiment& experiment, const StateSpaceFitOptions& so, std::size_t modes,
+                               ModeIdentification& out) {
+  for (std::size_t order = out.order; order <= out.order + 2 && order <= out.stabilisation.options.max_order; ++order) {
+    try {
+      StateSpaceEstimate est = estimate_state_space(experiment, order, so);
+      out.order = order;
+      return est;
+    } catch (const RuntimeError&) {  // diverged at this order: try the next
+    }
+  }
+  out.order = 2 * modes;
+  out.order_source = "modes";
+  return estimate_state_space(experiment, out.order, so);
+}
+
 }  // namespace
 
 ModeIdentification identify_modes(const Experiment& experiment, const ModeOptions& options) {
@@ -316,20 +333,21 @@ ModeIdentification identify_modes(const Experiment& experiment, const ModeOption
   ModeIdentification out;
   if (options.order == 0 && options.use_stabilisation) out.stabilisation = input_output_stabilisation(experiment, diagram_options(options));
   const bool from_diagram = !out.stabilisation.modes.empty();
-  const std::size_t order = options.order > 0 ? options.order : from_diagram ? out.stabilisation.chosen_order : 2 * options.modes;
-  out.order = order;
+  out.order = options.order > 0 ? options.order : from_diagram ? out.stabilisation.chosen_order : 2 * options.modes;
   out.order_source = options.order > 0 ? "option" : from_diagram ? "stabilisation" : "modes";
   StateSpaceFitOptions so;
   so.refine = options.refine;
   so.initial_state = InitialState::estimate;
   so.max_iterations = options.max_iterations;
-  const StateSpaceEstimate est = estimate_state_space(experiment, order, so);
+  const StateSpaceEstimate est = out.order_source == "stabilisation" ? diagram_fit(experiment, so, options.modes, out)
+                                                                     : estimate_state_space(experiment, out.order, so);
+  const std::size_t order = out.order;
   out.sample_time_s = experiment.sample_time_s;
   out.fit_percent = est.fit_percent;
   out.rmse = est.rmse;
   out.fitted = est.simulated;
   out.method = est.refined ? "n4sid+oe" : "n4sid";
-  for (const ModeEstimate& m : from_diagram ? persistent_estimates(est.modes, out.stabilisation) : est.modes)
+  for (const ModeEstimate& m : out.order_source == "stabilisation" ? persistent_estimates(est.modes, out.stabilisation) : est.modes)
     if (m.damping_ratio < options.max_damping_ratio) out.modes.push_back(m);
   if (out.modes.empty()) {
     throw RuntimeError("no oscillatory mode with damping ratio below " + std::to_string(options.max_damping_ratio) +
