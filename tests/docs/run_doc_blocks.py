@@ -1,0 +1,200 @@
+#!/usr/bin/env python3
+"""Run every ```sh code block of README.md and docs/*.md as written (issue 20, item 6).
+
+Each document runs in its own fresh temporary directory, its blocks in order (a later block may use
+what an earlier block of the same document made, as a reader following the page would). The
+directory holds copies of the repository's studies/, python/, scripts/, examples/ and tests/golden/
+(so nothing a command writes can reach the repository), build/bin/clearshape (the CLI under test)
+and build/python (the Python module, when built); build/bin is first on PATH, so `clearshape` and
+`build/bin/clearshape` are both the CLI under test.
+
+Annotations the docs carry, visible to readers, recognised here:
+  - a comment line `# not run by the doc test: REASON` inside a block: the whole block is not run;
+  - a trailing `# not run by the doc test: REASON` on a command: that command is not run;
+  - a trailing `# exits N` on a command: it must exit with N (default 0).
+Every other command must exit 0. The script prints each block and command it ran or skipped with
+the reason, and the totals; it exits 1 when a command exits otherwise than expected.
+
+usage: run_doc_blocks.py --repo DIR --cli PATH [--python-build-dir DIR] [--timeout-s 120] [DOC.md ...]
+"""
+import argparse
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+SKIP_MARK = re.compile(r"not run by the doc test:\s*(.+?)\s*$")
+EXIT_MARK = re.compile(r"#\s*exits\s+(\d+)\b")
+FENCE = re.compile(r"^(\s*)```(\S*)\s*$")
+HEREDOC = re.compile(r"<<-?\s*(['\"]?)(\w+)\1")
+COPIED_DIRS = ("studies", "python", "scripts", "examples", os.path.join("tests", "golden"))
+
+
+def sh_blocks(path):
+    """The ```sh blocks of a Markdown file: (first line number, [lines]) with the fence's indent removed."""
+    blocks, lines = [], open(path, encoding="utf-8").read().split("\n")
+    i = 0
+    while i < len(lines):
+        fence = FENCE.match(lines[i])
+        if not fence:
+            i += 1
+            continue
+        indent, lang, start, body = fence.group(1), fence.group(2), i + 1, []
+        i += 1
+        while i < len(lines) and not re.match(r"^\s*```\s*$", lines[i]):
+            body.append(lines[i][len(indent):] if lines[i].startswith(indent) else lines[i])
+            i += 1
+        if i == len(lines):
+            raise SystemExit(f"{path}:{start}: code block never closed")
+        if lang in ("sh", "bash", "shell"):
+            blocks.append((start + 1, body))
+        i += 1
+    return blocks
+
+
+def trailing_comment(line):
+    """The text after an unquoted ` #` (the shell's comment), or ''."""
+    quote = None
+    for k, ch in enumerate(line):
+        if quote:
+            if ch == quote:
+                quote = None
+            elif ch == "\\" and quote == '"':
+                continue
+        elif ch in "'\"":
+            quote = ch
+        elif ch == "#" and (k == 0 or line[k - 1].isspace()):
+            return line[k:]
+    return ""
+
+
+def commands(body):
+    """Logical commands of a block: (first index, last index, comment) with continuations and heredocs joined."""
+    out, i = [], 0
+    while i < len(body):
+        line = body[i]
+        if not line.strip() or line.lstrip().startswith("#"):
+            i += 1
+            continue
+        first = i
+        while body[i].rstrip().endswith("\\") and i + 1 < len(body):
+            i += 1
+        comment = trailing_comment(body[i])
+        heredoc = HEREDOC.search("\n".join(body[first:i + 1]).split("#")[0])
+        if heredoc:
+            while i + 1 < len(body) and body[i + 1].strip() != heredoc.group(2):
+                i += 1
+            i += 1
+        out.append((first, i, comment))
+        i += 1
+    return out
+
+
+def block_skip_reason(body):
+    for line in body:
+        if line.lstrip().startswith("#"):
+            mark = SKIP_MARK.search(line)
+            if mark:
+                return mark.group(1)
+    return None
+
+
+def block_script(body, doc, first_line, report):
+    """A bash script running the block's commands, each checked against its expected exit status."""
+    script, ran = ["set -u"], 0
+    for first, last, comment in commands(body):
+        where = f"{doc}:{first_line + first}"
+        skip = SKIP_MARK.search(comment)
+        if skip:
+            report["skipped_lines"].append((where, skip.group(1)))
+            print(f"  skip  {where}: {skip.group(1)}")
+            continue
+        expected = int(EXIT_MARK.search(comment).group(1)) if EXIT_MARK.search(comment) else 0
+        script.append(f"echo '+ {where}' >&2")
+        script.extend(body[first:last + 1])
+        script.append(f"rc=$?; if [ $rc -ne {expected} ]; then echo 'doc-test: {where} exited '$rc', "
+                      f"expected {expected}' >&2; exit 97; fi")
+        ran += 1
+    return "\n".join(script) + "\n", ran
+
+
+def fresh_workdir(repo, cli, python_build_dir, parent):
+    work = tempfile.mkdtemp(prefix="doc-", dir=parent)
+    for sub in COPIED_DIRS:
+        shutil.copytree(os.path.join(repo, sub), os.path.join(work, sub),
+                        ignore=shutil.ignore_patterns("__pycache__"))
+    os.makedirs(os.path.join(work, "build", "bin"))
+    os.symlink(os.path.abspath(cli), os.path.join(work, "build", "bin", "clearshape"))
+    if python_build_dir:
+        os.symlink(os.path.abspath(python_build_dir), os.path.join(work, "build", "python"))
+    return work
+
+
+def run_doc(doc_path, args, parent, report):
+    doc = os.path.relpath(doc_path, args.repo)
+    blocks = sh_blocks(doc_path)
+    if not blocks:
+        return
+    work = None
+    for first_line, body in blocks:
+        where = f"{doc}:{first_line}"
+        reason = block_skip_reason(body)
+        if reason:
+            report["skipped_blocks"].append((where, reason))
+            print(f"SKIP  {where} (block): {reason}")
+            continue
+        if "build/python" in "\n".join(body) and not args.python_build_dir:
+            report["skipped_blocks"].append((where, "the Python module is not built here"))
+            print(f"SKIP  {where} (block): the Python module is not built here")
+            continue
+        work = work or fresh_workdir(args.repo, args.cli, args.python_build_dir, parent)
+        script, ran = block_script(body, doc, first_line, report)
+        if ran == 0:
+            continue
+        env = dict(os.environ, PATH=os.path.join(work, "build", "bin") + os.pathsep + os.environ["PATH"])
+        start = time.monotonic()
+        try:
+            proc = subprocess.run(["bash", "-c", script], cwd=work, env=env, capture_output=True,
+                                  text=True, timeout=args.timeout_s)
+            status, log = proc.returncode, proc.stdout[-3000:] + proc.stderr[-3000:]
+        except subprocess.TimeoutExpired:
+            status, log = "timeout", f"more than {args.timeout_s} s"
+        elapsed = time.monotonic() - start
+        report["ran_blocks"] += 1
+        report["ran_lines"] += ran
+        if status == 0:
+            print(f"ok    {where}: {ran} command(s), {elapsed:.1f} s")
+        else:
+            report["failures"].append(where)
+            print(f"FAIL  {where}: {ran} command(s), {elapsed:.1f} s, status {status}\n{log}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--repo", required=True)
+    parser.add_argument("--cli", required=True)
+    parser.add_argument("--python-build-dir", default="")
+    parser.add_argument("--timeout-s", type=float, default=120)
+    parser.add_argument("docs", nargs="*")
+    args = parser.parse_args()
+    docs = args.docs or [os.path.join(args.repo, "README.md")] + sorted(glob.glob(os.path.join(args.repo, "docs", "*.md")))
+    report = {"ran_blocks": 0, "ran_lines": 0, "skipped_blocks": [], "skipped_lines": [], "failures": []}
+    start = time.monotonic()
+    with tempfile.TemporaryDirectory(prefix="clearshape-doc-test-") as parent:
+        for doc in docs:
+            run_doc(doc, args, parent, report)
+    print(f"\n{report['ran_blocks']} block(s) run ({report['ran_lines']} command(s)), "
+          f"{len(report['skipped_blocks'])} block(s) and {len(report['skipped_lines'])} command(s) not run "
+          f"(reasons above), {len(report['failures'])} failed, {time.monotonic() - start:.1f} s")
+    if report["ran_blocks"] == 0:
+        print("no block ran: nothing was checked")
+        return 1
+    return 1 if report["failures"] else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
