@@ -34,8 +34,11 @@ HEREDOC = re.compile(r"<<-?\s*(['\"]?)(\w+)\1")
 COPIED_DIRS = ("studies", "python", "scripts", "examples", os.path.join("tests", "golden"))
 
 
-def sh_blocks(path):
-    """The ```sh blocks of a Markdown file: (first line number, [lines]) with the fence's indent removed."""
+def sh_blocks(path, report, name):
+    """The ```sh blocks of a Markdown file: (first line number, [lines]) with the fence's indent removed.
+
+    Other blocks are counted by language; a shell transcript (`$ command`) outside a sh block is an
+    error, so a command cannot escape the test by its fence."""
     blocks, lines = [], open(path, encoding="utf-8").read().split("\n")
     i = 0
     while i < len(lines):
@@ -49,9 +52,14 @@ def sh_blocks(path):
             body.append(lines[i][len(indent):] if lines[i].startswith(indent) else lines[i])
             i += 1
         if i == len(lines):
-            raise SystemExit(f"{path}:{start}: code block never closed")
+            raise SystemExit(f"{name}:{start}: code block never closed")
         if lang in ("sh", "bash", "shell"):
             blocks.append((start + 1, body))
+        else:
+            report["other_blocks"][lang or "no language"] = report["other_blocks"].get(lang or "no language", 0) + 1
+            if any(line.lstrip().startswith("$ ") for line in body):
+                report["failures"].append(f"{name}:{start}")
+                print(f"FAIL  {name}:{start}: a shell transcript (`$ …`) in a ```{lang} block; make it a ```sh block")
         i += 1
     return blocks
 
@@ -136,7 +144,7 @@ def fresh_workdir(repo, cli, python_build_dir, parent):
 
 def run_doc(doc_path, args, parent, report):
     doc = os.path.relpath(doc_path, args.repo)
-    blocks = sh_blocks(doc_path)
+    blocks = sh_blocks(doc_path, report, doc)
     if not blocks:
         return
     work = None
@@ -182,7 +190,8 @@ def main():
     parser.add_argument("docs", nargs="*")
     args = parser.parse_args()
     docs = args.docs or [os.path.join(args.repo, "README.md")] + sorted(glob.glob(os.path.join(args.repo, "docs", "*.md")))
-    report = {"ran_blocks": 0, "ran_lines": 0, "skipped_blocks": [], "skipped_lines": [], "failures": []}
+    report = {"ran_blocks": 0, "ran_lines": 0, "skipped_blocks": [], "skipped_lines": [], "failures": [],
+              "other_blocks": {}}
     start = time.monotonic()
     with tempfile.TemporaryDirectory(prefix="clearshape-doc-test-") as parent:
         for doc in docs:
@@ -190,6 +199,8 @@ def main():
     print(f"\n{report['ran_blocks']} block(s) run ({report['ran_lines']} command(s)), "
           f"{len(report['skipped_blocks'])} block(s) and {len(report['skipped_lines'])} command(s) not run "
           f"(reasons above), {len(report['failures'])} failed, {time.monotonic() - start:.1f} s")
+    others = ", ".join(f"{n} {lang}" for lang, n in sorted(report["other_blocks"].items()))
+    print(f"not commands (not run): {others or 'none'} block(s)")
     if report["ran_blocks"] == 0:
         print("no block ran: nothing was checked")
         return 1
