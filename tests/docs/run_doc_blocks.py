@@ -31,6 +31,7 @@ SKIP_MARK = re.compile(r"not run by the doc test:\s*(.+?)\s*$")
 EXIT_MARK = re.compile(r"#\s*exits\s+(\d+)\b")
 FENCE = re.compile(r"^(\s*)```(\S*)\s*$")
 HEREDOC = re.compile(r"<<-?\s*(['\"]?)(\w+)\1")
+NEEDS_PYTHON_MODULE = ("build/python", "clearshape sweep ")  # docs/python.md; sweeps run clearshape.sweep
 COPIED_DIRS = ("studies", "python", "scripts", "examples", os.path.join("tests", "golden"))
 
 
@@ -155,7 +156,7 @@ def run_doc(doc_path, args, parent, report):
             report["skipped_blocks"].append((where, reason))
             print(f"SKIP  {where} (block): {reason}")
             continue
-        if "build/python" in "\n".join(body) and not args.python_build_dir:
+        if any(needle in "\n".join(body) for needle in NEEDS_PYTHON_MODULE) and not args.python_build_dir:
             report["skipped_blocks"].append((where, "the Python module is not built here"))
             print(f"SKIP  {where} (block): the Python module is not built here")
             continue
@@ -163,7 +164,8 @@ def run_doc(doc_path, args, parent, report):
         script, ran = block_script(body, doc, first_line, report)
         if ran == 0:
             continue
-        env = dict(os.environ, PATH=os.path.join(work, "build", "bin") + os.pathsep + os.environ["PATH"])
+        env = dict(os.environ, PATH=os.path.join(work, "build", "bin") + os.pathsep + os.environ["PATH"],
+                   PYTHONDONTWRITEBYTECODE="1")
         start = time.monotonic()
         try:
             proc = subprocess.run(["bash", "-c", script], cwd=work, env=env, capture_output=True,
