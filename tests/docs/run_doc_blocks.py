@@ -11,7 +11,8 @@ and build/python (the Python module, when built); build/bin is first on PATH, so
 Annotations the docs carry, visible to readers, recognised here:
   - a comment line `# not run by the doc test: REASON` inside a block: the whole block is not run;
   - a trailing `# not run by the doc test: REASON` on a command: that command is not run;
-  - a trailing `# exits N` on a command: it must exit with N (default 0).
+  - a trailing `# exits N` on a command: it must exit with N (default 0); a comment line right under
+    it that starts with `# clearshape` is the message it must print on stderr.
 Every other command must exit 0. The script prints each block and command it ran or skipped with
 the reason, and the totals; it exits 1 when a command exits otherwise than expected.
 
@@ -21,6 +22,7 @@ import argparse
 import glob
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -114,7 +116,7 @@ def block_skip_reason(body):
 
 def block_script(body, doc, first_line, report):
     """A bash script running the block's commands, each checked against its expected exit status."""
-    script, ran = ["set -u"], 0
+    script, ran = ["set -u", 'doc_test_stderr=$(mktemp -p "$PWD" .doc-test-stderr.XXXXXX)'], 0
     for first, last, comment in commands(body):
         where = f"{doc}:{first_line + first}"
         skip = SKIP_MARK.search(comment)
@@ -124,11 +126,28 @@ def block_script(body, doc, first_line, report):
             continue
         expected = int(EXIT_MARK.search(comment).group(1)) if EXIT_MARK.search(comment) else 0
         script.append(f"echo '+ {where}' >&2")
-        script.extend(body[first:last + 1])
-        script.append(f"rc=$?; if [ $rc -ne {expected} ]; then echo 'doc-test: {where} exited '$rc', "
+        message = expected_message(body, last) if expected else None
+        if message:  # the refusal the doc prints under the command must be the one the CLI gives
+            script.extend(["{"] + body[first:last + 1] + ['} 2> "$doc_test_stderr"'])
+            script.append(f"rc=$?; cat \"$doc_test_stderr\" >&2; grep -qF -- {shlex.quote(message)} "
+                          f"\"$doc_test_stderr\" || {{ echo 'doc-test: {where} did not print the message the doc "
+                          f"shows' >&2; exit 97; }}")
+        else:
+            script.extend(body[first:last + 1])
+            script.append("rc=$?")
+        script.append(f"if [ $rc -ne {expected} ]; then echo 'doc-test: {where} exited '$rc', "
                       f"expected {expected}' >&2; exit 97; fi")
         ran += 1
     return "\n".join(script) + "\n", ran
+
+
+def expected_message(body, last):
+    """The comment line right under a command that declares its exit status, when it shows the CLI's message."""
+    if last + 1 < len(body):
+        shown = body[last + 1].strip()
+        if shown.startswith("# clearshape"):
+            return shown[2:]
+    return None
 
 
 def fresh_workdir(repo, cli, python_build_dir, parent):
