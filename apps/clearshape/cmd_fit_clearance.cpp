@@ -44,6 +44,8 @@ struct FitClearanceOptions {
   double restitution = 0.6;
   int max_evaluations = 150;
   bool json = false;
+  bool per_run = false;  // each record its own run (study::fit_clearance_runs), never averaged
+  double rest_s = 0.4;   // per-run: the gyro's rest window before the move, its mean removed
 };
 
 // The drive: `identify --json` (a fit, or cross-validation's best model) or --model + --param.
@@ -110,8 +112,73 @@ void print_text(const json& doc) {
   fmt::print("  trusted: {}\n", doc["trusted"].get<bool>() ? "yes" : "no (see the warnings on stderr)");
 }
 
+void print_runs_text(const json& doc) {
+  fmt::print("clearance fit, per run ({})\n\n", doc["method"].get<std::string>());
+  fmt::print("  {:<10} {:>14} {:<10} {:>10} {:>13}\n", "parameter", "value", "unit", "1σ", "identifiable");
+  for (const auto& [name, p] : doc["parameters"].items()) {
+    const std::string sigma = !p["free"].get<bool>() ? "fixed"
+                              : p["std"].is_null()  ? "n/a"
+                                                    : fmt::format("{:.2g} %", 100.0 * p["std"].get<double>());
+    fmt::print("  {:<10} {:>14.6g} {:<10} {:>10} {:>13}\n", name, p["value"].get<double>(), p["unit"].get<std::string>(),
+               sigma, p["identifiable"].get<bool>() ? "yes" : "no");
+  }
+  fmt::print("\n  {:<28} {:>12} {:>10} {:>14}\n", "run", "φ(0)/β", "D", "RMS (deg/s)");
+  for (const auto& r : doc["runs"]) {
+    fmt::print("  {:<28} {:>12.4g} {:>10.4g} {:>14.4g}\n", r["id"].get<std::string>(), r["start_fraction"].get<double>(),
+               r["damping_n_m_s_per_rad"].get<double>(), r["rms_error_deg_s"].get<double>());
+  }
+  const auto& spread = doc["model_sigma"]["damping_spread"];
+  fmt::print("\n  flank damping's run spread (1σ of ln D, 90 % upper bound): {}\n",
+             spread.is_null() ? std::string("n/a") : fmt::format("{:.3g}", spread.get<double>()));
+  fmt::print("  RMS {:.4g} deg/s (CVODE check {:.4g}), sensor low-pass {:.4g} Hz, {}: {}\n",
+             doc["rms_error_deg_s"].get<double>(), doc["cvode_check_rms_error_deg_s"].get<double>(),
+             doc["sensor_low_pass_hz"].get<double>(), doc["termination"].get<std::string>(),
+             doc["converged"].get<bool>() ? "converged" : "NOT converged");
+  fmt::print("  trusted: {}\n", doc["trusted"].get<bool>() ? "yes" : "no (see the warnings on stderr)");
+}
+
+// --per-run: the per-run fit (study::fit_clearance_runs), position mode and the dashpot law with
+// n held at 1, as the study's per-run fit.
+json run_per_run(const FitClearanceOptions& o, rig::CommandMode mode) {
+  if (mode != rig::CommandMode::position) throw InvalidArgument("--per-run: fits position-mode records (--mode position)");
+  if (o.contact_law != "dashpot") throw InvalidArgument("--per-run: fits the dashpot law (--contact-law dashpot)");
+  if (o.envelope_window_s > 0.0) throw InvalidArgument("--per-run: --envelope-window-s is for the averaged fit; leave it out");
+  if (!(o.rest_s > 0.0 && o.rest_s < o.window_s)) throw_invalid("--rest-s", o.rest_s, "(0, --window-s)");
+  study::ClearanceRunsFitProblem rp;
+  rp.start.mode = mode;
+  rp.start.drive = read_drive(o);
+  rp.start.link_inertia_kg_m2 = o.link_inertia_kg_m2;
+  rp.start.play_rad = deg_to_rad(o.play_deg);
+  rp.start.stiffness = o.stiffness;
+  rp.start.exponent = 1.0;  // a linear flank held; n free is the checked alternative
+  rp.start.damping = o.damping;
+  rp.free.clear();
+  for (const auto& f : o.fit) {
+    if (f != "exponent") rp.free.push_back(f);
+  }
+  rp.runs = study::read_link_runs(records_request(o), mode);
+  rp.duration_s = static_cast<double>(rp.runs.front().drive_command.values.size() - 1) * rp.runs.front().drive_command.sample_time_s;
+  rp.rest_s = o.rest_s;
+  rp.link_natural_frequency_rad_s = o.link_wn_rad_s;
+  rp.link_damping_ratio = o.link_zeta;
+  rp.sensor_low_pass_grid_hz = low_pass_grid(o.low_pass);
+  std::cerr << fmt::format("clearshape fit-clearance: per-run fit, drive {}, {} run(s), {:.3g} s, fitting {} (n held at 1)\n",
+                           rp.start.drive.code(), rp.runs.size(), rp.duration_s, fmt::join(rp.free, ", "));
+  return study::fit_clearance_runs_document(rp, study::fit_clearance_runs(rp));
+}
+
 void run(const FitClearanceOptions& o) {
   const rig::CommandMode mode = rig::command_mode_from_string(o.mode);
+  if (o.per_run) {
+    const json doc = run_per_run(o, mode);
+    for (const auto& w : doc["warnings"]) std::cerr << "clearshape fit-clearance: warning: " << w.get<std::string>() << "\n";
+    if (o.json) {
+      print_json(doc);
+    } else {
+      print_runs_text(doc);
+    }
+    return;
+  }
   study::ClearanceFitProblem fp;
   fp.start.mode = mode;
   fp.start.drive = read_drive(o);
@@ -147,7 +214,13 @@ const bool registered = register_command(
        sub.add_option("--model", o->model, "Drive model structure instead of --drive (Eq. 4.2: P3UZ)");
        sub.add_option("--param", o->params, "A drive parameter with --model, e.g. --param Kp=0.99 (repeatable)");
        sub.add_option("--mode", o->mode, "Command mode of the record: position (deg) or speed (V)")->capture_default_str();
-       sub.add_option("--data", o->data, "Link record(s) (CSV); several are averaged")->required();
+       sub.add_option("--data", o->data, "Link record(s) (CSV); several are averaged (--per-run: each its own run)")->required();
+       sub.add_flag("--per-run", o->per_run,
+                    "Fit each record as its own run (its own start place in the play and flank damping), never "
+                    "averaged: records of a joint whose link starts anywhere in the play (docs/worn-coupling.md); "
+                    "position mode, dashpot law, n held at 1");
+       sub.add_option("--rest-s", o->rest_s, "--per-run: the rest before the move, s (the gyro's mean there is removed)")
+           ->capture_default_str();
        sub.add_option("--time-column", o->time_column, "Time column in s (default: time_s, time or t)");
        sub.add_option("--command-column", o->command_column,
                       "What the drive received (default: command_applied_deg|v, else command_deg|v)");

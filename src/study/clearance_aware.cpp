@@ -262,7 +262,10 @@ std::vector<DesignMove> design_moves(const ClearanceAwareRequest& r) {
   std::vector<DesignMove> moves;
   for (const double m : r.moves) {
     moves.push_back(
-        {fmt::format("{:g}", m), step_command(r, m, r.move_start_s + r.rise_s), r.move_start_s + r.rise_s, r.move_start_s});
+        // One sample past the end of the ramp, so the command holds the move itself (a step at
+        // move_start_s would otherwise end on its last zero).
+        {fmt::format("{:g}", m), step_command(r, m, r.move_start_s + r.rise_s + r.sample_time_s), r.move_start_s + r.rise_s,
+         r.move_start_s});
   }
   return moves;
 }

@@ -70,6 +70,24 @@ lti::ProcessModel drive_of(const json& d, const std::string& file, const std::st
   return lti::ProcessModel(code.get<std::string>(), p);
 }
 
+// model_sigma (a study's sections.clearance, or fit-clearance --per-run): each σ a number ≥ 0, or
+// null (not known: read as NaN).
+ClearanceModelSigma sigma_of(const json& j, const std::string& file, const std::string& path) {
+  const auto read = [&](const char* key, double absent) {
+    if (!j.contains(key)) return absent;
+    if (j.at(key).is_null()) return std::numeric_limits<double>::quiet_NaN();
+    const double v = number(j, key, file, path);
+    if (!(v >= 0.0)) throw InputError(file, 0, path + key, "must be >= 0 or null");
+    return v;
+  };
+  ClearanceModelSigma s;
+  s.play_rel_sigma = read("play_rel_sigma", 0.0);
+  s.stiffness_rel_sigma = read("stiffness_rel_sigma", 0.0);
+  s.coulomb_rel_sigma = read("coulomb_rel_sigma", 0.0);
+  s.damping_spread = read("damping_spread", 0.0);
+  return s;
+}
+
 // `clearshape fit-clearance --json`: parameters with their uncertainty, the drive, the inertia.
 IdentifiedClearanceModel from_fit_clearance(const json& doc, const std::string& file) {
   IdentifiedClearanceModel out;
@@ -90,24 +108,8 @@ IdentifiedClearanceModel from_fit_clearance(const json& doc, const std::string& 
   m.link_inertia_kg_m2 = number(doc, "link_inertia_kg_m2", file, "");
   m.mode = rig::command_mode_from_string(at(doc, "mode", file, "").get<std::string>());
   m.drive = drive_of(at(doc, "drive", file, ""), file, "drive.");
+  if (doc.contains("model_sigma") && doc.at("model_sigma").is_object()) out.sigma = sigma_of(doc.at("model_sigma"), file, "model_sigma.");
   return out;
-}
-
-// sections.clearance.model_sigma: each σ a number ≥ 0, or null (not known: read as NaN).
-ClearanceModelSigma sigma_of(const json& j, const std::string& file) {
-  const auto read = [&](const char* key, double absent) {
-    if (!j.contains(key)) return absent;
-    if (j.at(key).is_null()) return std::numeric_limits<double>::quiet_NaN();
-    const double v = number(j, key, file, "sections.clearance.model_sigma.");
-    if (!(v >= 0.0)) throw InputError(file, 0, std::string("sections.clearance.model_sigma.") + key, "must be >= 0 or null");
-    return v;
-  };
-  ClearanceModelSigma s;
-  s.play_rel_sigma = read("play_rel_sigma", 0.0);
-  s.stiffness_rel_sigma = read("stiffness_rel_sigma", 0.0);
-  s.coulomb_rel_sigma = read("coulomb_rel_sigma", 0.0);
-  s.damping_spread = read("damping_spread", 0.0);
-  return s;
 }
 
 // A study's results.json: sections.clearance, the selected drive model, the link mode.
@@ -147,7 +149,7 @@ IdentifiedClearanceModel from_study(const json& doc, const std::string& file) {
     out.link_frequency_hz = number(s.at("link_mode"), "natural_frequency_hz", file, "sections.link_mode.");
     out.link_damping_ratio = number(s.at("link_mode"), "damping_ratio", file, "sections.link_mode.");
   }
-  if (c.contains("model_sigma") && c.at("model_sigma").is_object()) out.sigma = sigma_of(c.at("model_sigma"), file);
+  if (c.contains("model_sigma") && c.at("model_sigma").is_object()) out.sigma = sigma_of(c.at("model_sigma"), file, "sections.clearance.model_sigma.");
   return out;
 }
 

@@ -63,6 +63,24 @@ void read_link_records(const LinkRecordsRequest& o, rig::CommandMode mode, Clear
   }
 }
 
+std::vector<ClearanceRunRecord> read_link_runs(const LinkRecordsRequest& o, rig::CommandMode mode) {
+  std::vector<ClearanceRunRecord> runs;
+  for (const auto& file : o.files) {
+    LinkRecordsRequest one = o;
+    one.files = {file};
+    one.envelope_window_s = 0.0;
+    ClearanceFitProblem fp;
+    read_link_records(one, mode, fp);
+    if (!runs.empty() && (fp.drive_command.values.size() != runs.front().drive_command.values.size() ||
+                          std::abs(fp.drive_command.sample_time_s - runs.front().drive_command.sample_time_s) > 1e-9)) {
+      throw InputError(file.string(), 0, o.time_column.empty() ? "time" : o.time_column,
+                       "every --data record must have the first one's sample time and length");
+    }
+    runs.push_back({file.filename().string(), fp.drive_command, fp.measured_link_rate_deg_s});
+  }
+  return runs;
+}
+
 lti::ProcessModel read_identified_drive(const std::filesystem::path& path) {
   const std::string file = path.string();
   const std::string text = io::read_text_file(path);
@@ -138,6 +156,65 @@ json fit_clearance_document(const ClearanceFitProblem& fp, const ClearanceFitRes
   doc["mode"] = rig::to_string(fp.start.mode);
   doc["link_inertia_kg_m2"] = fp.start.link_inertia_kg_m2;
   doc["drive"] = {{"model", fp.start.drive.code()}, {"parameters", drive_parameters}};
+  return doc;
+}
+
+json fit_clearance_runs_document(const ClearanceRunsFitProblem& rp, const ClearanceRunsFitResult& fit) {
+  json doc = io::make_document();
+  doc["command"] = "fit-clearance";
+  doc["method"] = "per-run: each run its own start place φ(0)/β and flank damping (nuisances); K, play and the "
+                  "friction shared; n held at 1 (docs/worn-coupling.md)";
+  const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  json params = json::object();
+  json warnings = json::array();
+  for (const auto& q : fit.parameters) {
+    const bool angle = q.name == "play";
+    params[q.name] = {{"value", angle ? rad_to_deg(q.value) : q.value},
+                      {"unit", clearance_parameter_unit(q.name)},
+                      {"start", angle ? rad_to_deg(q.start) : q.start},
+                      {"free", q.free},
+                      {"std", q.free ? num(q.std_error) : json(nullptr)},
+                      {"std_kind", q.name == "exponent" ? "absolute" : "relative (1σ / value)"},
+                      {"identifiable", q.identifiable},
+                      {"at_bound", q.at_bound}};
+    if (q.free && !q.identifiable) warnings.push_back(fmt::format("{} is not identifiable from these runs (1σ too large or not finite)", q.name));
+  }
+  if (!fit.converged) warnings.push_back(fmt::format("the search did not converge ({})", fit.termination));
+  if (fit.exponent_free_better) {
+    warnings.push_back(fmt::format("n free fits significantly better (χ²₁ {:.3g} > 3.84, n {:.3g}): the flank is not linear",
+                                   fit.exponent_chi2, fit.exponent_free_value));
+  }
+  if (fit.run_ids.size() < 3) warnings.push_back("fewer than 3 runs: the flank damping's run spread is not known");
+  doc["parameters"] = params;
+  json runs = json::array();
+  for (std::size_t i = 0; i < fit.run_ids.size(); ++i) {
+    runs.push_back({{"id", fit.run_ids[i]}, {"start_fraction", fit.start_fraction[i]},
+                    {"start_fraction_std", num(fit.start_fraction_std[i])}, {"damping_n_m_s_per_rad", fit.run_damping[i]},
+                    {"rms_error_deg_s", fit.run_rms_error_deg_s[i]}});
+  }
+  doc["runs"] = runs;
+  const ClearanceModelSigma sg = fit.sigma();
+  doc["model_sigma"] = {{"play_rel_sigma", num(sg.play_rel_sigma)}, {"stiffness_rel_sigma", num(sg.stiffness_rel_sigma)},
+                        {"coulomb_rel_sigma", num(sg.coulomb_rel_sigma)}, {"damping_spread", num(sg.damping_spread)}};
+  doc["exponent_check"] = {{"exponent_free", fit.exponent_free_value}, {"exponent_free_std", num(fit.exponent_free_std)},
+                           {"chi2", fit.exponent_chi2}, {"significantly_better", fit.exponent_free_better}};
+  doc["rms_error_deg_s"] = fit.rms_error_deg_s;
+  doc["cvode_check_rms_error_deg_s"] = fit.check_rms_error_deg_s;
+  doc["sensor_low_pass_hz"] = fit.sensor_low_pass_hz;
+  doc["iterations"] = fit.iterations;
+  doc["simulations"] = fit.simulations;
+  doc["termination"] = fit.termination;
+  doc["converged"] = fit.converged;
+  doc["trusted"] = warnings.empty();
+  doc["warnings"] = warnings;
+  json drive_parameters = json::object();
+  const auto names = rp.start.drive.structure().parameter_names();
+  const auto values = rp.start.drive.to_vector();
+  for (std::size_t i = 0; i < names.size(); ++i) drive_parameters[std::string(names[i])] = {{"value", values[i]}};
+  doc["friction_regularization_rad_s"] = fit.model.friction_regularization_rad_s;
+  doc["mode"] = rig::to_string(rp.start.mode);
+  doc["link_inertia_kg_m2"] = rp.start.link_inertia_kg_m2;
+  doc["drive"] = {{"model", rp.start.drive.code()}, {"parameters", drive_parameters}};
   return doc;
 }
 

@@ -32,12 +32,26 @@ UniformSeries on_grid(const UniformSeries& command, std::size_t n, double ts) {
   return out;
 }
 
+// A series at time t, linear between its samples; 0 before its start, held after its end.
+double linear_at(const UniformSeries& s, double t) {
+  if (s.values.empty() || t < s.start_s) return 0.0;
+  const double r = (t - s.start_s) / s.sample_time_s;
+  const auto i = static_cast<std::size_t>(std::floor(r));
+  if (i + 1 >= s.values.size()) return s.values.back();
+  const double w = r - static_cast<double>(i);
+  return (1.0 - w) * s.values[i] + w * s.values[i + 1];
+}
+
 // The steps per sample for the fixed-step path (plant/fixed_step.hpp): ω·h ≤ 0.05 on the linear
 // flank's mode √(K/J), h·c/(v_t·J) ≤ 0.5 on the friction's tanh; at least 4.
 int fixed_substeps(const ClearanceModel& m, double ts) {
   const double flank = std::sqrt(m.stiffness / m.link_inertia_kg_m2) * ts / 0.05;
   const double friction = ts * m.coulomb_n_m / (m.friction_regularization_rad_s * m.link_inertia_kg_m2) / 0.5;
-  return static_cast<int>(std::clamp(std::ceil(std::max({4.0, flank, friction})), 4.0, 1000.0));
+  // The drive's fastest pole |p|·h ≤ 0.5 (RK4 is stable to |p|·h ≈ 2.8): an identified drive with
+  // a near-zero time constant is stiff and goes to CVODE (fixed_step_covers).
+  double drive = 0.0;
+  for (const auto& p : m.drive.poles()) drive = std::max(drive, std::abs(p) * ts / 0.5);
+  return static_cast<int>(std::clamp(std::ceil(std::max({4.0, flank, friction, drive})), 4.0, 1000.0));
 }
 
 // A design loop's fast path: the dashpot law with a linear flank (smooth but for its kinks) and
@@ -164,16 +178,16 @@ ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& com
   UniformSeries drive;
   if (m.mode == rig::CommandMode::position) {
     const signal::PulseTrainConfig pulses{};  // §3.2 published settings
-    // One update period of latency: a target written at t is programmed at the next update.
-    const auto delay = static_cast<std::size_t>(std::llround(pulses.update_period_s() / ts));
+    // One update period of latency, exactly: the request's time axis shifted by the period, so
+    // the update at t_k aims at the request at t_k — the real-time pulse path of rig/sim_rig.cpp
+    // (no start latency), which is `simulate`'s offline path one period later. (A shift by whole
+    // samples, 33 of 33.3, moved the update instants against the move.)
     UniformSeries delayed = requested;
-    for (std::size_t k = n; k-- > 0;) {
-      delayed.values[k] = k >= delay ? requested.values[k - delay] : 0.0;
-    }
+    delayed.start_s = pulses.update_period_s();
     for (double& v : delayed.values) v = deg_to_rad(v);
     const signal::PositionPathResult path = signal::apply_position_path(delayed, pulses, 0.0);
-    drive = path.commanded_rad;
-    for (double& v : drive.values) v = rad_to_deg(v);
+    drive = UniformSeries{0.0, ts, std::vector<double>(n, 0.0)};
+    for (std::size_t k = 0; k < n; ++k) drive.values[k] = rad_to_deg(linear_at(path.commanded_rad, static_cast<double>(k) * ts));
   } else {
     const signal::SpeedPathResult path = signal::apply_speed_path(requested, signal::AnalogOutputConfig{});
     drive = path.commanded;

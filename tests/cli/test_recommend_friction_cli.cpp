@@ -112,14 +112,17 @@ TEST(RecommendFrictionCli, ClearanceAwareCandidateBesideTheLinearOnes) {
     impulses += nlohmann::json(i["amplitude"].get<double>()).dump();
   }
   EXPECT_NEAR(sum, 1.0, 1e-9);
-  // Its predicted MD is the rig path's MD under the same impulses, to 0.01° — a twelfth of the
-  // pulse train's 0.12° step: the shaped moves leave MDs of a few thousandths of a degree, where
-  // which 30 Hz update carries an impulse (the two paths' latencies differ) and where friction
-  // stops the link decide the digits (measured: 0.0007 model, 0.0042 rig).
+  // Its predicted MD is the rig path's MD under the same impulses to a tenth of the unshaped MD,
+  // and on the rig's own path (another plant and pulse train) it removes most of the vibration.
+  // (The model's pulse path once lagged by 33 whole samples instead of the 33.3 ms period: its
+  // update instants sat 0.3 ms off the rig's, and a design that exploited them predicted 0.0026°
+  // where the rig gave 0.028°.)
   const double predicted = (*ca)["predicted_md"].get<double>();
   const double rig = simulated(2e-3, 1e-4, move, " --shaper custom --shaper-impulses " + impulses);
-  EXPECT_NEAR(predicted, rig, 0.01) << "model " << predicted << " rig " << rig << " impulses " << impulses;
-  EXPECT_LT(predicted, doc["model"]["unshaped_md"].get<double>());  // the design helps on its own model
+  const double rig_unshaped = simulated(2e-3, 1e-4, move);
+  EXPECT_NEAR(predicted, rig, 0.1 * rig_unshaped) << "model " << predicted << " rig " << rig << " impulses " << impulses;
+  EXPECT_LT(rig, 0.25 * rig_unshaped) << "rig shaped " << rig << " unshaped " << rig_unshaped;
+  EXPECT_LT(predicted, 0.25 * doc["model"]["unshaped_md"].get<double>());  // the design helps on its own model
 
   const auto bad = run_cli(recommend_spectrum_args() + " --clearance-aware");
   EXPECT_EQ(bad.exit_code, 2);

@@ -187,3 +187,21 @@ TEST(ClearanceAware, DesignUncertaintyFollowsTheFitsSigma) {
   s.play_rel_sigma = std::numeric_limits<double>::quiet_NaN();
   EXPECT_DOUBLE_EQ(st::design_uncertainty(s)[n].play_factor, 0.5);
 }
+
+// A step move's command ends on the move itself, whatever the rounding of its start on the
+// sample grid (it once ended on its last zero: every case then read MD 0 unshaped and shaped),
+// and the unshaped step rings on the joint with play.
+TEST(ClearanceAware, StepMovesReachTheirAmplitudeAndRing) {
+  for (const double start_s : {0.2, 0.3, 0.5, 0.7}) {
+    auto r = small_request();
+    r.move_start_s = start_s;
+    for (const auto& m : st::design_moves(r)) {
+      EXPECT_DOUBLE_EQ(m.command.values.back(), std::stod(m.name)) << "start " << start_s;
+    }
+  }
+  const auto r = small_request();
+  const cs::shaping::Shaper none("none", {{0.0, 1.0}});
+  for (const auto& m : st::design_moves(r)) {
+    EXPECT_GT(st::clearance_aware_case_md(r, r.model, m, -1.0, none), 1e-3) << m.name;
+  }
+}

@@ -35,6 +35,11 @@ struct LinkRecordsRequest {
 /// naming the file and column.
 void read_link_records(const LinkRecordsRequest& request, rig::CommandMode mode, ClearanceFitProblem& problem);
 
+/// Each record as its own run of the per-run fit (study::fit_clearance_runs; id = the file's
+/// name): never averaged, because runs that start at different places in the play do not average
+/// to any one run (docs/worn-coupling.md). Same columns and checks as read_link_records.
+std::vector<ClearanceRunRecord> read_link_runs(const LinkRecordsRequest& request, rig::CommandMode mode);
+
 /// The gyro low-pass bandwidths a fit tries when none is given: 0 (none) and the ITG-3205's
 /// DLPF settings (256 … 5 Hz).
 std::vector<double> gyro_low_pass_settings_hz();
@@ -43,5 +48,12 @@ std::vector<double> gyro_low_pass_settings_hz();
 /// identifiability and bound, the Eq. 4.1 agreement (and at the start), warnings, and the rest of
 /// the model (drive, link inertia, mode) so that the document alone describes it.
 nlohmann::ordered_json fit_clearance_document(const ClearanceFitProblem& problem, const ClearanceFitResult& fit);
+
+/// The same document for the per-run fit (`fit-clearance --per-run --json`): the shared
+/// parameters with their 1σ (relative, run-clustered), each run's start place and flank damping,
+/// `model_sigma` (with the flank damping's run spread) for the clearance-aware design, the n-free
+/// check, and the rest of the model. clearance_model_json.hpp reads it back, sigma included.
+nlohmann::ordered_json fit_clearance_runs_document(const ClearanceRunsFitProblem& problem,
+                                                   const ClearanceRunsFitResult& fit);
 
 }  // namespace clearshape::study
