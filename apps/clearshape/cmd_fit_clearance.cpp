@@ -137,6 +137,21 @@ void print_runs_text(const json& doc) {
   fmt::print("  trusted: {}\n", doc["trusted"].get<bool>() ? "yes" : "no (see the warnings on stderr)");
 }
 
+// The fit's start model from the options: the drive, the fixed inertia, the start values.
+study::ClearanceModel start_model(const FitClearanceOptions& o, rig::CommandMode mode) {
+  study::ClearanceModel m;
+  m.mode = mode;
+  m.drive = read_drive(o);
+  m.link_inertia_kg_m2 = o.link_inertia_kg_m2;
+  m.play_rad = deg_to_rad(o.play_deg);
+  m.stiffness = o.stiffness;
+  m.exponent = o.exponent;
+  m.damping = o.damping;
+  m.contact_law = study::contact_law_from_string(o.contact_law);
+  m.restitution = o.restitution;
+  return m;
+}
+
 // --per-run: the per-run fit (study::fit_clearance_runs), position mode and the dashpot law with
 // n held at 1, as the study's per-run fit.
 json run_per_run(const FitClearanceOptions& o, rig::CommandMode mode) {
@@ -145,13 +160,8 @@ json run_per_run(const FitClearanceOptions& o, rig::CommandMode mode) {
   if (o.envelope_window_s > 0.0) throw InvalidArgument("--per-run: --envelope-window-s is for the averaged fit; leave it out");
   if (!(o.rest_s > 0.0 && o.rest_s < o.window_s)) throw_invalid("--rest-s", o.rest_s, "(0, --window-s)");
   study::ClearanceRunsFitProblem rp;
-  rp.start.mode = mode;
-  rp.start.drive = read_drive(o);
-  rp.start.link_inertia_kg_m2 = o.link_inertia_kg_m2;
-  rp.start.play_rad = deg_to_rad(o.play_deg);
-  rp.start.stiffness = o.stiffness;
+  rp.start = start_model(o, mode);
   rp.start.exponent = 1.0;  // a linear flank held; n free is the checked alternative
-  rp.start.damping = o.damping;
   rp.free.clear();
   for (const auto& f : o.fit) {
     if (f != "exponent") rp.free.push_back(f);
@@ -180,15 +190,7 @@ void run(const FitClearanceOptions& o) {
     return;
   }
   study::ClearanceFitProblem fp;
-  fp.start.mode = mode;
-  fp.start.drive = read_drive(o);
-  fp.start.link_inertia_kg_m2 = o.link_inertia_kg_m2;
-  fp.start.play_rad = deg_to_rad(o.play_deg);
-  fp.start.stiffness = o.stiffness;
-  fp.start.exponent = o.exponent;
-  fp.start.damping = o.damping;
-  fp.start.contact_law = study::contact_law_from_string(o.contact_law);
-  fp.start.restitution = o.restitution;
+  fp.start = start_model(o, mode);
   fp.free = o.fit;
   fp.link_natural_frequency_rad_s = o.link_wn_rad_s;
   fp.link_damping_ratio = o.link_zeta;
