@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Run every ```sh code block of README.md and docs/*.md as written (issue 20, item 6).
 
-Each document runs in its own fresh temporary directory, its blocks in order (a later block may use
-what an earlier block of the same document made, as a reader following the page would). The
-directory holds copies of the repository's studies/, python/, scripts/, examples/ and tests/golden/
+Each block runs in its own fresh temporary directory, so a block must make (or name a shipped file
+for) every input it reads: a block that needs what another one made says so with the skip
+annotation below. The directory holds copies of the repository's studies/, python/, scripts/, examples/ and tests/golden/
 (so nothing a command writes can reach the repository), build/bin/clearshape (the CLI under test)
 and build/python (the Python module, when built); build/bin is first on PATH, so `clearshape` and
 `build/bin/clearshape` are both the CLI under test.
@@ -24,6 +24,7 @@ import os
 import re
 import shlex
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -162,12 +163,24 @@ def fresh_workdir(repo, cli, python_build_dir, parent):
     return work
 
 
+def run_script(script, work, env, timeout_s):
+    """Exit status and the output's tail of one block; on a timeout its whole process group is ended."""
+    proc = subprocess.Popen(["bash", "-c", script], cwd=work, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=timeout_s)
+        return proc.returncode, out[-3000:] + err[-3000:]
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        return "timeout", f"more than {timeout_s} s"
+
+
 def run_doc(doc_path, args, parent, report):
     doc = os.path.relpath(doc_path, args.repo)
     blocks = sh_blocks(doc_path, report, doc)
     if not blocks:
         return
-    work = None
     for first_line, body in blocks:
         where = f"{doc}:{first_line}"
         reason = block_skip_reason(body)
@@ -179,20 +192,16 @@ def run_doc(doc_path, args, parent, report):
             report["skipped_blocks"].append((where, "the Python module is not built here"))
             print(f"SKIP  {where} (block): the Python module is not built here")
             continue
-        work = work or fresh_workdir(args.repo, args.cli, args.python_build_dir, parent)
         script, ran = block_script(body, doc, first_line, report)
         if ran == 0:
             continue
+        work = fresh_workdir(args.repo, args.cli, args.python_build_dir, parent)
         env = dict(os.environ, PATH=os.path.join(work, "build", "bin") + os.pathsep + os.environ["PATH"],
                    PYTHONDONTWRITEBYTECODE="1")
         start = time.monotonic()
-        try:
-            proc = subprocess.run(["bash", "-c", script], cwd=work, env=env, capture_output=True,
-                                  text=True, timeout=args.timeout_s)
-            status, log = proc.returncode, proc.stdout[-3000:] + proc.stderr[-3000:]
-        except subprocess.TimeoutExpired:
-            status, log = "timeout", f"more than {args.timeout_s} s"
+        status, log = run_script(script, work, env, args.timeout_s)
         elapsed = time.monotonic() - start
+        shutil.rmtree(work)
         report["ran_blocks"] += 1
         report["ran_lines"] += ran
         if status == 0:
