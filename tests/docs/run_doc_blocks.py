@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Run every ```sh code block of README.md and docs/*.md as written (issue 20, item 6).
+"""Run every ```sh and ```python code block of README.md and docs/*.md as written (issue 20, item 6).
 
 Each block runs in its own fresh temporary directory, so a block must make (or name a shipped file
 for) every input it reads: a block that needs what another one made says so with the skip
@@ -7,6 +7,9 @@ annotation below. The directory holds copies of the repository's studies/, pytho
 (so nothing a command writes can reach the repository), build/bin/clearshape (the CLI under test)
 and build/python (the Python module, when built); build/bin is first on PATH, so `clearshape` and
 `build/bin/clearshape` are both the CLI under test.
+
+A ```python block runs as one script with the interpreter the Python module was built for
+(--python), build/python on PYTHONPATH; it must exit 0.
 
 Annotations the docs carry, visible to readers, recognised here:
   - a comment line `# not run by the doc test: REASON` inside a block: the whole block is not run;
@@ -16,7 +19,7 @@ Annotations the docs carry, visible to readers, recognised here:
 Every other command must exit 0. The script prints each block and command it ran or skipped with
 the reason, and the totals; it exits 1 when a command exits otherwise than expected.
 
-usage: run_doc_blocks.py --repo DIR --cli PATH [--python-build-dir DIR] [--timeout-s 120] [DOC.md ...]
+usage: run_doc_blocks.py --repo DIR --cli PATH [--python-build-dir DIR --python EXE] [--timeout-s 120] [DOC.md ...]
 """
 import argparse
 import glob
@@ -57,8 +60,8 @@ def sh_blocks(path, report, name):
             i += 1
         if i == len(lines):
             raise SystemExit(f"{name}:{start}: code block never closed")
-        if lang in ("sh", "bash", "shell"):
-            blocks.append((start + 1, body))
+        if lang in ("sh", "bash", "shell", "python"):
+            blocks.append((start + 1, lang, body))
         else:
             report["other_blocks"][lang or "no language"] = report["other_blocks"].get(lang or "no language", 0) + 1
             if any(line.lstrip().startswith("$ ") for line in body):
@@ -142,6 +145,11 @@ def block_script(body, doc, first_line, report):
     return "\n".join(script) + "\n", ran
 
 
+def python_script(body, python):
+    """A bash script running a ```python block as one program."""
+    return f"{shlex.quote(python)} - <<'DOC_TEST_PYTHON'\n" + "\n".join(body) + "\nDOC_TEST_PYTHON\n"
+
+
 def expected_message(body, last):
     """The comment line right under a command that declares its exit status, when it shows the CLI's message."""
     if last + 1 < len(body):
@@ -181,23 +189,29 @@ def run_doc(doc_path, args, parent, report):
     blocks = sh_blocks(doc_path, report, doc)
     if not blocks:
         return
-    for first_line, body in blocks:
+    for first_line, lang, body in blocks:
         where = f"{doc}:{first_line}"
         reason = block_skip_reason(body)
         if reason:
             report["skipped_blocks"].append((where, reason))
             print(f"SKIP  {where} (block): {reason}")
             continue
-        if any(needle in "\n".join(body) for needle in NEEDS_PYTHON_MODULE) and not args.python_build_dir:
+        needs_module = lang == "python" or any(needle in "\n".join(body) for needle in NEEDS_PYTHON_MODULE)
+        if needs_module and not args.python_build_dir:
             report["skipped_blocks"].append((where, "the Python module is not built here"))
             print(f"SKIP  {where} (block): the Python module is not built here")
             continue
-        script, ran = block_script(body, doc, first_line, report)
+        if lang == "python":
+            script, ran = python_script(body, args.python), 1
+        else:
+            script, ran = block_script(body, doc, first_line, report)
         if ran == 0:
             continue
         work = fresh_workdir(args.repo, args.cli, args.python_build_dir, parent)
         env = dict(os.environ, PATH=os.path.join(work, "build", "bin") + os.pathsep + os.environ["PATH"],
-                   PYTHONDONTWRITEBYTECODE="1")
+                   PYTHONDONTWRITEBYTECODE="1", MPLBACKEND="Agg")
+        if args.python_build_dir:
+            env["PYTHONPATH"] = os.path.join(work, "build", "python")
         start = time.monotonic()
         status, log = run_script(script, work, env, args.timeout_s)
         elapsed = time.monotonic() - start
@@ -216,6 +230,7 @@ def main():
     parser.add_argument("--repo", required=True)
     parser.add_argument("--cli", required=True)
     parser.add_argument("--python-build-dir", default="")
+    parser.add_argument("--python", default=sys.executable, help="the interpreter of ```python blocks")
     parser.add_argument("--timeout-s", type=float, default=120)
     parser.add_argument("docs", nargs="*")
     args = parser.parse_args()
