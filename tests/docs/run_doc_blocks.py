@@ -3,8 +3,9 @@
 
 Each block runs in its own fresh temporary directory, so a block must make (or name a shipped file
 for) every input it reads: a block that needs what another one made says so with the skip
-annotation below. The directory holds copies of the repository's studies/, python/, scripts/, examples/ and tests/golden/
-(so nothing a command writes can reach the repository), build/bin/clearshape (the CLI under test)
+annotation below. The directory holds copies of the repository's studies/, python/, scripts/,
+examples/ and tests/golden/ (so nothing a command writes can reach the repository), the symbolic
+link build/bin/clearshape to the CLI under test
 and build/python (the Python module, when built); build/bin is first on PATH, so `clearshape` and
 `build/bin/clearshape` are both the CLI under test.
 
@@ -42,7 +43,7 @@ COPIED_DIRS = ("studies", "python", "scripts", "examples", os.path.join("tests",
 
 
 def sh_blocks(path, report, name):
-    """The ```sh blocks of a Markdown file: (first line number, [lines]) with the fence's indent removed.
+    """The sh and python blocks of a Markdown file: (first body line, language, [lines]), the fence's indent removed.
 
     Other blocks are counted by language; a shell transcript (`$ command`) outside a sh block is an
     error, so a command cannot escape the test by its fence."""
@@ -73,13 +74,15 @@ def sh_blocks(path, report, name):
 
 def trailing_comment(line):
     """The text after an unquoted ` #` (the shell's comment), or ''."""
-    quote = None
+    quote, escaped = None, False
     for k, ch in enumerate(line):
-        if quote:
+        if escaped:
+            escaped = False
+        elif ch == "\\" and quote != "'":
+            escaped = True
+        elif quote:
             if ch == quote:
                 quote = None
-            elif ch == "\\" and quote == '"':
-                continue
         elif ch in "'\"":
             quote = ch
         elif ch == "#" and (k == 0 or line[k - 1].isspace()):
@@ -145,8 +148,11 @@ def block_script(body, doc, first_line, report):
     return "\n".join(script) + "\n", ran
 
 
-def python_script(body, python):
-    """A bash script running a ```python block as one program."""
+def python_script(body, python, where):
+    """A bash script running a ```python block as one program (a python block is skipped whole or not at all)."""
+    if any(SKIP_MARK.search(line) for line in body):
+        raise SystemExit(f"{where}: a python block is run whole: put `# not run by the doc test: REASON` "
+                         "on a line of its own, or run all of it")
     return f"{shlex.quote(python)} - <<'DOC_TEST_PYTHON'\n" + "\n".join(body) + "\nDOC_TEST_PYTHON\n"
 
 
@@ -202,7 +208,7 @@ def run_doc(doc_path, args, parent, report):
             print(f"SKIP  {where} (block): the Python module is not built here")
             continue
         if lang == "python":
-            script, ran = python_script(body, args.python), 1
+            script, ran = python_script(body, args.python, where), 1
         else:
             script, ran = block_script(body, doc, first_line, report)
         if ran == 0:
