@@ -32,14 +32,28 @@ UniformSeries on_grid(const UniformSeries& command, std::size_t n, double ts) {
   return out;
 }
 
-// A series at time t, linear between its samples; 0 before its start, held after its end.
-double linear_at(const UniformSeries& s, double t) {
-  if (s.values.empty() || t < s.start_s) return 0.0;
-  const double r = (t - s.start_s) / s.sample_time_s;
-  const auto i = static_cast<std::size_t>(std::floor(r));
-  if (i + 1 >= s.values.size()) return s.values.back();
-  const double w = r - static_cast<double>(i);
-  return (1.0 - w) * s.values[i] + w * s.values[i + 1];
+// The position path as the rig's real-time loop runs it (rig/sim_rig.cpp, without its drawn start
+// latency): at the first sample tick at or after each 30 Hz update instant the pulse generator
+// takes the command written at that tick as its target and reaches it by the next instant; the
+// drive sees the counts received so far, held over the tick. (`simulate`'s offline path, which
+// aims one period ahead on the known trajectory, is this path one update earlier only when the
+// update instants fall on sample ticks.)
+UniformSeries realtime_pulse_path(const UniformSeries& requested_deg, const signal::PulseTrainConfig& config) {
+  const double ts = requested_deg.sample_time_s, period_s = config.update_period_s();
+  signal::PulseTrain train(config);
+  train.reset(0.0);
+  UniformSeries drive{0.0, ts, std::vector<double>(requested_deg.values.size(), 0.0)};
+  double update_start_s = 0.0, next_update_s = 0.0;
+  for (std::size_t k = 0; k < drive.values.size(); ++k) {
+    const double t = static_cast<double>(k) * ts;
+    if (t >= next_update_s - 1e-9 * ts) {
+      update_start_s = next_update_s;
+      while (next_update_s <= t + 1e-9 * ts) next_update_s += period_s;
+      train.program(deg_to_rad(requested_deg.values[k]));  // a capped move lags, as on the rig
+    }
+    drive.values[k] = rad_to_deg(train.commanded_rad(t - update_start_s));
+  }
+  return drive;
 }
 
 // The steps per sample for the fixed-step path (plant/fixed_step.hpp): ω·h ≤ 0.05 on the linear
@@ -177,17 +191,7 @@ ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& com
   UniformSeries requested = on_grid(command, n, ts);
   UniformSeries drive;
   if (m.mode == rig::CommandMode::position) {
-    const signal::PulseTrainConfig pulses{};  // §3.2 published settings
-    // One update period of latency, exactly: the request's time axis shifted by the period, so
-    // the update at t_k aims at the request at t_k — the real-time pulse path of rig/sim_rig.cpp
-    // (no start latency), which is `simulate`'s offline path one period later. (A shift by whole
-    // samples, 33 of 33.3, moved the update instants against the move.)
-    UniformSeries delayed = requested;
-    delayed.start_s = pulses.update_period_s();
-    for (double& v : delayed.values) v = deg_to_rad(v);
-    const signal::PositionPathResult path = signal::apply_position_path(delayed, pulses, 0.0);
-    drive = UniformSeries{0.0, ts, std::vector<double>(n, 0.0)};
-    for (std::size_t k = 0; k < n; ++k) drive.values[k] = rad_to_deg(linear_at(path.commanded_rad, static_cast<double>(k) * ts));
+    drive = realtime_pulse_path(requested, signal::PulseTrainConfig{});  // §3.2 published settings
   } else {
     const signal::SpeedPathResult path = signal::apply_speed_path(requested, signal::AnalogOutputConfig{});
     drive = path.commanded;

@@ -72,7 +72,9 @@ ModelResponse simulate_drive_command(const ClearanceModel& model, const UniformS
                                      bool design_accuracy = false);
 
 /// Simulates the model under a requested command (command units), through the mode's command
-/// path (position: 30 Hz pulse train with one update of latency; speed: 12-bit D/A).
+/// path (position: the rig's real-time 30 Hz pulse path — at the first sample tick at or after
+/// each update instant the command written then becomes the target, reached by the next instant;
+/// speed: 12-bit D/A).
 ModelResponse simulate_command(const ClearanceModel& model, const UniformSeries& command,
                                double duration_s, double initial_play_fraction = 0.0,
                                bool design_accuracy = false);
