@@ -11,7 +11,7 @@ Writes OUT/sweep.csv (one row per play x design x move x start) and OUT/sweep.md
 A finished study is reused (OUT/play-<p>/study/results.json); --fresh runs it again.
 
 usage: scripts/worn-play-sweep.py [--exe build/bin/clearshape] [--out out/worn-play-sweep]
-                                  [--plays 0.5,1,2] [--jobs 2] [--fresh]
+                                  [--plays 0.5,1,2] [--jobs 2] [--fresh] [--command-path realtime]
 """
 import argparse
 import concurrent.futures
@@ -82,9 +82,9 @@ def signal_args(inp):
     return args
 
 
-def simulate_md(exe, config, inp, start, impulses, duration_s):
+def simulate_md(exe, config, inp, start, impulses, duration_s, command_path):
     """Eq. 5.1 of the link angle, noise-free, from one start place (deg)."""
-    cmd = [exe, "simulate", "--config", config, "--no-noise", "--json",
+    cmd = [exe, "simulate", "--config", config, "--no-noise", "--json", "--command-path", command_path,
            "--initial-play", repr(start), "--duration", repr(duration_s), *signal_args(inp)]
     if impulses:
         cmd += ["--shaper", "custom", "--shaper-impulses", impulses]
@@ -106,6 +106,8 @@ def main():
     ap.add_argument("--plays", default="0.5,1,2", help="total plays (deg), comma-separated, each in [0.5, 2]")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--fresh", action="store_true", help="run every study again")
+    ap.add_argument("--command-path", choices=("realtime", "offline"), default="realtime",
+                    help="the noise-free check's pulse path: realtime (the study rig's loop, default) or offline")
     a = ap.parse_args()
     try:
         plays = [float(p) for p in a.plays.split(",")]
@@ -127,11 +129,12 @@ def main():
                     for design in ("unshaped", *[d for d, _ in DESIGNS if d in shapers]):
                         imp = shapers.get(design, "")
                         jobs[(inp["name"], start, design)] = pool.submit(simulate_md, a.exe, config, inp, start, imp,
-                                                                         duration_s)
+                                                                         duration_s, a.command_path)
         md = {k: f.result() for k, f in jobs.items()}
         md_lines += [f"## {play:g}° of play", "",
                      "Improvement of Eq. 5.1 (link angle) over unshaped: the study's 10 trials through the "
-                     "sensors / noise-free on the rig truth, worst of the five start places.", "",
+                     f"sensors / noise-free on the rig truth ({a.command_path} pulse path), worst of the five "
+                     "start places.", "",
                      "| design | " + " | ".join(i["label"] for i in inputs) + " |",
                      "|---" * (len(inputs) + 1) + "|"]
         for design, table in DESIGNS:

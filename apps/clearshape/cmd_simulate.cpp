@@ -68,6 +68,7 @@ struct State {
   std::uint64_t noise_seed = 0;
   CLI::Option* noise_seed_option = nullptr;
   bool no_noise = false;
+  std::string command_path = "offline";  // offline (known trajectory) or realtime (the rig's loop)
   std::string output;
   bool json = false;
 };
@@ -191,6 +192,7 @@ rig::RunOptions run_options(const State& st, rig::RunOptions options) {
   if (st.initial_play_option->count() > 0) options.initial_play_fraction = st.initial_play;
   if (st.noise_seed_option->count() > 0) options.seed = st.noise_seed;
   if (st.no_noise) options.sensor_noise = false;
+  options.realtime_command_path = st.command_path == "realtime";
   return options;
 }
 
@@ -381,6 +383,7 @@ nlohmann::ordered_json configuration_json(const State& st, const Plan& p, const 
           {"initial_play_fraction", p.options.initial_play_fraction},
           {"noise_seed", p.options.seed},
           {"sensor_noise", p.options.sensor_noise},
+          {"command_path", p.options.realtime_command_path ? "realtime" : "offline"},
           {"rig", truth_json(p.truth, p.mode)}};
 }
 
@@ -516,6 +519,12 @@ void setup(CLI::App& sub) {
                                            "Initial link position in the play, phi(0)/beta in [-1, 1]; default 0");
   st->noise_seed_option = sub.add_option("--noise-seed", st->noise_seed, "Seed of the gyroscope noise (default 1)");
   sub.add_flag("--no-noise", st->no_noise, "Noise-free gyroscope (quantization kept)");
+  sub.add_option("--command-path", st->command_path,
+                 "Position mode: offline (the trajectory known beforehand, each 30 Hz update aims one period ahead; "
+                 "default) or realtime (the rig's loop: the command at the tick of each update, reached by the next; "
+                 "as the study's rig and the firmware)")
+      ->check(CLI::IsMember({"offline", "realtime"}))
+      ->capture_default_str();
   sub.add_option("--output,-o", st->output, "CSV of the run; a JSON sidecar (same name, .json) holds the configuration");
   sub.add_flag("--json", st->json, "Print a JSON summary on stdout");
   sub.footer(

@@ -100,10 +100,14 @@ RunRecord simulate_run(const RigTruth& truth, CommandMode mode, const UniformSer
   if (mode == CommandMode::position) {
     // The drive starts at rest at 0 (its state below is zero), so the pulse train starts from 0
     // too: a command already away from 0 at t = 0 is reached through pulses at the capped rate.
-    const signal::PositionPathResult path = signal::apply_position_path(request, truth.pulse_train, 0.0);
-    drive_command = path.commanded_rad;
+    if (options.realtime_command_path) {
+      drive_command = signal::apply_realtime_position_path(request, truth.pulse_train);
+    } else {
+      const signal::PositionPathResult path = signal::apply_position_path(request, truth.pulse_train, 0.0);
+      drive_command = path.commanded_rad;
+      run.limited_commands = path.saturated_updates;
+    }
     for (double& v : drive_command.values) v = drive_units(mode, v);
-    run.limited_commands = path.saturated_updates;
   } else {
     const signal::SpeedPathResult path = signal::apply_speed_path(request, truth.analog_output);
     drive_command = path.commanded;

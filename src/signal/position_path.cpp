@@ -165,4 +165,28 @@ PositionPathResult apply_position_path(const UniformSeries& position_rad,
   return r;
 }
 
+UniformSeries apply_realtime_position_path(const UniformSeries& position_rad, const PulseTrainConfig& config,
+                                           double latency_s) {
+  config.validate();
+  if (position_rad.values.empty()) throw InvalidArgument("apply_realtime_position_path: the position trajectory is empty");
+  require_positive("sample_time_s", position_rad.sample_time_s);
+  const double ts = position_rad.sample_time_s, period_s = config.update_period_s();
+  require_in_closed("latency_s", latency_s, 0.0, period_s);
+  PulseTrain train(config);
+  train.reset(0.0);
+  UniformSeries drive{position_rad.start_s, ts, std::vector<double>(position_rad.values.size(), 0.0)};
+  double update_start_s = latency_s, next_update_s = latency_s;
+  for (std::size_t k = 0; k < drive.values.size(); ++k) {
+    const double t = static_cast<double>(k) * ts;
+    if (!std::isfinite(position_rad.values[k])) throw_invalid(fmt::format("position sample {}", k), position_rad.values[k], "a finite number");
+    if (t >= next_update_s - 1e-9 * ts) {  // the loop's tick at or after the update instant
+      update_start_s = next_update_s;
+      while (next_update_s <= t + 1e-9 * ts) next_update_s += period_s;
+      train.program(position_rad.values[k]);  // a capped move lags, as on the rig
+    }
+    drive.values[k] = train.commanded_rad(t - update_start_s);  // elapsed clamped to [0, T]: 0 before the first
+  }
+  return drive;
+}
+
 }  // namespace clearshape::signal

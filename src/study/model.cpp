@@ -32,29 +32,6 @@ UniformSeries on_grid(const UniformSeries& command, std::size_t n, double ts) {
   return out;
 }
 
-// The position path as the rig's real-time loop runs it (rig/sim_rig.cpp, without its drawn start
-// latency): at the first sample tick at or after each 30 Hz update instant the pulse generator
-// takes the command written at that tick as its target and reaches it by the next instant; the
-// drive sees the counts received so far, held over the tick. (`simulate`'s offline path, which
-// aims one period ahead on the known trajectory, is this path one update earlier only when the
-// update instants fall on sample ticks.)
-UniformSeries realtime_pulse_path(const UniformSeries& requested_deg, const signal::PulseTrainConfig& config) {
-  const double ts = requested_deg.sample_time_s, period_s = config.update_period_s();
-  signal::PulseTrain train(config);
-  train.reset(0.0);
-  UniformSeries drive{0.0, ts, std::vector<double>(requested_deg.values.size(), 0.0)};
-  double update_start_s = 0.0, next_update_s = 0.0;
-  for (std::size_t k = 0; k < drive.values.size(); ++k) {
-    const double t = static_cast<double>(k) * ts;
-    if (t >= next_update_s - 1e-9 * ts) {
-      update_start_s = next_update_s;
-      while (next_update_s <= t + 1e-9 * ts) next_update_s += period_s;
-      train.program(deg_to_rad(requested_deg.values[k]));  // a capped move lags, as on the rig
-    }
-    drive.values[k] = rad_to_deg(train.commanded_rad(t - update_start_s));
-  }
-  return drive;
-}
 
 // The steps per sample for the fixed-step path (plant/fixed_step.hpp): ω·h ≤ 0.05 on the linear
 // flank's mode √(K/J), h·c/(v_t·J) ≤ 0.5 on the friction's tanh; at least 4.
@@ -191,7 +168,11 @@ ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& com
   UniformSeries requested = on_grid(command, n, ts);
   UniformSeries drive;
   if (m.mode == rig::CommandMode::position) {
-    drive = realtime_pulse_path(requested, signal::PulseTrainConfig{});  // §3.2 published settings
+    // The rig's real-time pulse path (§3.2 published settings; rig/sim_rig.cpp without its drawn
+    // start latency): the target taken at the first sample tick at or after each update.
+    for (double& v : requested.values) v = deg_to_rad(v);
+    drive = signal::apply_realtime_position_path(requested, signal::PulseTrainConfig{});
+    for (double& v : drive.values) v = rad_to_deg(v);
   } else {
     const signal::SpeedPathResult path = signal::apply_speed_path(requested, signal::AnalogOutputConfig{});
     drive = path.commanded;

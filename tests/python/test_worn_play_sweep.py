@@ -45,7 +45,7 @@ def test_each_start_place_is_a_direct_simulation(tmp_path, cli_json):
     assert {row["start_fraction"] for row in rows} == {"-1", "-0.5", "0", "0.5", "1"}
     config = str(tmp_path / "play-1" / "rig.toml")
     for row in rows[::2]:
-        base = ["simulate", "--config", config, "--no-noise", "--initial-play", row["start_fraction"],
+        base = ["simulate", "--config", config, "--no-noise", "--command-path", "realtime", "--initial-play", row["start_fraction"],
                 "--duration", "2", "--signal", "step", "--amplitude", "10", "--start-s", "0.5"]
         unshaped = cli_json(*base)["mean_deviation_eq_5_1"]["link_angle_deg"]["mean_deviation"]
         shaped = cli_json(*base, "--shaper", "custom", "--shaper-impulses",

@@ -237,3 +237,27 @@ TEST(Quadrature, DecoderDirectionAndInvalidEdges) {
   EXPECT_EQ(d.apply({0.0, sig::Channel::a, false}), cs::Status::out_of_range);
   EXPECT_EQ(d.count(), 0);
 }
+
+// The real-time path (the rig's loop): a step written at t = 10.5 ms is taken at the first tick at
+// or after the next update instant (33.3 ms → the 34 ms tick) and reached, to a whole count, by
+// the update after (66.7 ms → held from the 67 ms tick); nothing moves before 34 ms. With a 0.5 ms
+// latency the instants move to 0.5, 33.8, 67.2 ms: taken at 34 ms, reached from the 68 ms tick.
+TEST(RealtimePositionPath, TakesTheCommandAtTheTickOfEachUpdate) {
+  const clearshape::signal::PulseTrainConfig config;
+  clearshape::UniformSeries step{0.0, 1e-3, std::vector<double>(120, 0.0)};
+  for (std::size_t k = 11; k < step.values.size(); ++k) step.values[k] = 0.1;  // rad
+  const double reached = std::round(0.1 * config.counts_per_rad()) / config.counts_per_rad();
+  const auto d = clearshape::signal::apply_realtime_position_path(step, config);
+  EXPECT_EQ(d.values[33], 0.0);
+  EXPECT_GT(d.values[35], 0.0);
+  EXPECT_LT(d.values[66], reached);
+  EXPECT_DOUBLE_EQ(d.values[67], reached);
+  EXPECT_DOUBLE_EQ(d.values.back(), reached);
+  const auto late = clearshape::signal::apply_realtime_position_path(step, config, 0.5e-3);
+  EXPECT_EQ(late.values[33], 0.0);
+  EXPECT_LT(late.values[67], reached);
+  EXPECT_DOUBLE_EQ(late.values[68], reached);
+  EXPECT_THROW(clearshape::signal::apply_realtime_position_path(step, config, -1e-3), clearshape::InvalidArgument);
+  step.values[50] = std::nan("");
+  EXPECT_THROW(clearshape::signal::apply_realtime_position_path(step, config), clearshape::InvalidArgument);
+}

@@ -25,6 +25,10 @@ struct RunOptions {
   double initial_play_fraction = 0.0;  ///< φ(0)/β in [−1, 1]
   std::uint64_t seed = 1;           ///< gyroscope noise
   bool sensor_noise = true;         ///< false: noise-free gyroscope (quantization kept)
+  /// Position mode: the pulse path of a real-time loop (signal::apply_realtime_position_path, as
+  /// SimRig and the firmware run it) instead of the trajectory known beforehand (each update aims
+  /// one period ahead, signal::apply_position_path; the default).
+  bool realtime_command_path = false;
   void validate() const;
 };
 

@@ -98,6 +98,16 @@ struct PositionPathResult {
   double update_start_s() const noexcept { return held_velocity_rad_s.start_s; }
 };
 
+/// The position-mode path as a real-time loop runs it (the rig's firmware and rig::SimRig): at
+/// the first sample tick at or after each update instant t_k = latency + k·T the command written
+/// at that tick becomes the target, and the pulses reach it by t_{k+1}; returns, per sample, the
+/// commanded angle the drive holds over that sample (rad). Unlike apply_position_path (the
+/// trajectory known beforehand: each update aims one period ahead), nothing is looked ahead: a
+/// move reaches the drive about one update later, at the ticks the loop's clock gives it.
+/// `latency_s` in [0, T). Throws InvalidArgument for an empty or non-finite input or config.
+UniformSeries apply_realtime_position_path(const UniformSeries& position_rad, const PulseTrainConfig& config,
+                                           double latency_s = 0.0);
+
 /// Runs the position-mode path over a trajectory sampled uniformly (linear interpolation
 /// between samples, held after the end). Update instants are t_k = start + k·T for every
 /// t_k <= the last sample time. The driver starts at `initial_rad` (default: the first sample;
