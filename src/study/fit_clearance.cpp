@@ -108,6 +108,30 @@ std::vector<double> gyro_low_pass_settings_hz() {
   return g;
 }
 
+namespace {
+
+// The rest of the identified nonlinear model, so that a document alone describes it
+// (`clearshape shape --method clearance-aware --model`): the drive as `identify --json` writes it,
+// the fixed link inertia, the mode, v_t of the Coulomb term.
+void add_model_rest(json& doc, const ClearanceModel& start, double friction_regularization_rad_s) {
+  json drive_parameters = json::object();
+  const auto names = start.drive.structure().parameter_names();
+  const auto values = start.drive.to_vector();
+  for (std::size_t i = 0; i < names.size(); ++i) drive_parameters[std::string(names[i])] = {{"value", values[i]}};
+  doc["friction_regularization_rad_s"] = friction_regularization_rad_s;
+  doc["mode"] = rig::to_string(start.mode);
+  doc["link_inertia_kg_m2"] = start.link_inertia_kg_m2;
+  doc["drive"] = {{"model", start.drive.code()}, {"parameters", drive_parameters}};
+}
+
+}  // namespace
+
+nlohmann::ordered_json exponent_check_json(const ClearanceRunsFitResult& fit) {
+  const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  return {{"exponent_free", fit.exponent_free_value}, {"exponent_free_std", num(fit.exponent_free_std)},
+          {"chi2", fit.exponent_chi2}, {"significantly_better", fit.exponent_free_better}};
+}
+
 json fit_clearance_document(const ClearanceFitProblem& fp, const ClearanceFitResult& fit) {
   json doc = io::make_document();
   doc["command"] = "fit-clearance";
@@ -145,17 +169,7 @@ json fit_clearance_document(const ClearanceFitProblem& fp, const ClearanceFitRes
   doc["converged"] = fit.converged;
   doc["trusted"] = warnings.empty();
   doc["warnings"] = warnings;
-  // The rest of the identified nonlinear model, so that this document alone describes it
-  // (`clearshape shape --method clearance-aware --model`): the drive as `identify --json` writes
-  // it, the fixed link inertia, the mode.
-  json drive_parameters = json::object();
-  const auto names = fp.start.drive.structure().parameter_names();
-  const auto values = fp.start.drive.to_vector();
-  for (std::size_t i = 0; i < names.size(); ++i) drive_parameters[std::string(names[i])] = {{"value", values[i]}};
-  doc["friction_regularization_rad_s"] = fit.model.friction_regularization_rad_s;  // v_t of the Coulomb term
-  doc["mode"] = rig::to_string(fp.start.mode);
-  doc["link_inertia_kg_m2"] = fp.start.link_inertia_kg_m2;
-  doc["drive"] = {{"model", fp.start.drive.code()}, {"parameters", drive_parameters}};
+  add_model_rest(doc, fp.start, fit.model.friction_regularization_rad_s);
   return doc;
 }
 
@@ -196,8 +210,7 @@ json fit_clearance_runs_document(const ClearanceRunsFitProblem& rp, const Cleara
   const ClearanceModelSigma sg = fit.sigma();
   doc["model_sigma"] = {{"play_rel_sigma", num(sg.play_rel_sigma)}, {"stiffness_rel_sigma", num(sg.stiffness_rel_sigma)},
                         {"coulomb_rel_sigma", num(sg.coulomb_rel_sigma)}, {"damping_spread", num(sg.damping_spread)}};
-  doc["exponent_check"] = {{"exponent_free", fit.exponent_free_value}, {"exponent_free_std", num(fit.exponent_free_std)},
-                           {"chi2", fit.exponent_chi2}, {"significantly_better", fit.exponent_free_better}};
+  doc["exponent_check"] = exponent_check_json(fit);
   doc["rms_error_deg_s"] = fit.rms_error_deg_s;
   doc["cvode_check_rms_error_deg_s"] = fit.check_rms_error_deg_s;
   doc["sensor_low_pass_hz"] = fit.sensor_low_pass_hz;
@@ -207,14 +220,7 @@ json fit_clearance_runs_document(const ClearanceRunsFitProblem& rp, const Cleara
   doc["converged"] = fit.converged;
   doc["trusted"] = warnings.empty();
   doc["warnings"] = warnings;
-  json drive_parameters = json::object();
-  const auto names = rp.start.drive.structure().parameter_names();
-  const auto values = rp.start.drive.to_vector();
-  for (std::size_t i = 0; i < names.size(); ++i) drive_parameters[std::string(names[i])] = {{"value", values[i]}};
-  doc["friction_regularization_rad_s"] = fit.model.friction_regularization_rad_s;
-  doc["mode"] = rig::to_string(rp.start.mode);
-  doc["link_inertia_kg_m2"] = rp.start.link_inertia_kg_m2;
-  doc["drive"] = {{"model", rp.start.drive.code()}, {"parameters", drive_parameters}};
+  add_model_rest(doc, rp.start, fit.model.friction_regularization_rad_s);
   return doc;
 }
 

@@ -75,19 +75,23 @@ RigFactory sim_rig_factory() {
   return f;
 }
 
-RigFactory sim_rig_factory(std::string_view truth_name) {
-  if (truth_name == "thesis") return sim_rig_factory();
-  auto truth = std::make_shared<const rig::RigTruth>(rig::builtin_truth(truth_name));
-  RigFactory f;
-  f.parallel_runs = 64;
-  f.kind = "simulated-" + std::string(truth_name);
-  f.make = [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
+decltype(RigFactory::make) sim_rig_maker(std::shared_ptr<const rig::RigTruth> truth) {
+  return [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
     rig::SimRigOptions o;
     o.mode = mode;
     o.sample_rate_hz = rate_hz;
     o.seed = seed;
     return rig::make_sim_rig_with_truth(o, *truth);
   };
+}
+
+RigFactory sim_rig_factory(std::string_view truth_name) {
+  if (truth_name == "thesis") return sim_rig_factory();
+  auto truth = std::make_shared<const rig::RigTruth>(rig::builtin_truth(truth_name));
+  RigFactory f;
+  f.parallel_runs = 64;
+  f.kind = "simulated-" + std::string(truth_name);
+  f.make = sim_rig_maker(truth);
   f.description = fmt::format("sim (rig::SimRig, built-in {} truth, behaviour {})", truth_name,
                               behaviour_fingerprint(f));
   return f;

@@ -16,6 +16,7 @@
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/dsp/encoder_speed.hpp"
+#include "clearshape/study/fit_clearance.hpp"
 #include "clearshape/dsp/sosfilt.hpp"
 #include "clearshape/plant/gyroscope.hpp"
 #include "clearshape/rig/builtin_truths.hpp"
@@ -457,8 +458,7 @@ json per_run_json(const PerRunFit& pr, json& parameters, json& runs) {
   out["rms_error_deg_s"] = f.rms_error_deg_s;
   out["cvode_check_rms_error_deg_s"] = f.check_rms_error_deg_s;
   out["gyro_low_pass_hz"] = f.sensor_low_pass_hz;
-  out["exponent_check"] = {{"exponent_free", f.exponent_free_value}, {"exponent_free_std", num(f.exponent_free_std)},
-                           {"chi2", f.exponent_chi2}, {"significantly_better", f.exponent_free_better}};
+  out["exponent_check"] = exponent_check_json(f);
   out["iterations"] = f.iterations;
   out["simulations"] = f.simulations;
   out["converged"] = f.converged;

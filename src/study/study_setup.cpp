@@ -55,18 +55,12 @@ void check_study_size(const Protocol& p, int threads, double max_memory_gb) {
 
 // A simulated rig with the truth of a `clearshape simulate` configuration file (what-if studies).
 RigFactory configured_sim_rig_factory(const std::filesystem::path& path) {
-  auto truth = std::make_shared<rig::RigTruth>(rig::configured_truth(rig::load_rig_config(path)));
+  auto truth = std::make_shared<const rig::RigTruth>(rig::configured_truth(rig::load_rig_config(path)));
   RigFactory f;
   f.description = fmt::format("sim (rig::SimRig, truth from {} {})", path.filename().string(), file_hash(path));
   f.kind = "simulated-config";
   f.parallel_runs = 64;
-  f.make = [truth](rig::CommandMode mode, double rate_hz, std::uint64_t seed) -> std::unique_ptr<rig::Rig> {
-    rig::SimRigOptions o;
-    o.mode = mode;
-    o.sample_rate_hz = rate_hz;
-    o.seed = seed;
-    return rig::make_sim_rig_with_truth(o, *truth);
-  };
+  f.make = sim_rig_maker(truth);
   return f;
 }
 

@@ -36,24 +36,31 @@ std::filesystem::path protocol() {
   return cs::testing::golden_path("").parent_path().parent_path().parent_path() / "studies" / "thesis-position.toml";
 }
 
-// A run of the protocol's 20° step on the simulated thesis rig, written like a study's run.
-std::string record_step(const std::filesystem::path& dir, int repetition) {
+// A run of one of the protocol's inputs on a simulated rig with `truth`, written like a study's run.
+std::string record_run(const std::filesystem::path& dir, const std::string& id, const std::string& input,
+                       double record_s, std::uint64_t seed, const cs::rig::RigTruth& truth) {
   const auto p = cs::study::load_protocol(protocol());
   cs::study::RunRequest req;
-  req.id = "step-" + std::to_string(repetition);
-  req.command = cs::signal::sample(p.input("step-20").signal, p.sample_rate_hz, 3.0);
-  req.record_s = 3.0;
+  req.id = id;
+  req.command = cs::signal::sample(p.input(input).signal, p.sample_rate_hz, record_s);
+  req.record_s = record_s;
   cs::rig::SimRigOptions o;
   o.mode = cs::rig::CommandMode::position;
   o.sample_rate_hz = p.sample_rate_hz;
-  o.seed = static_cast<std::uint64_t>(100 + repetition);
-  cs::rig::SimRig rig(o);
-  const cs::study::Record r = cs::study::execute_run(rig, req);
+  o.seed = seed;
+  auto rig = cs::rig::make_sim_rig_with_truth(o, truth);
+  const cs::study::Record r = cs::study::execute_run(*rig, req);
   const auto path = dir / (req.id + ".csv");
   cs::io::write_csv(path, cs::study::record_columns(r.mode),
                     {&r.time_s, &r.command, &r.command_applied, &r.encoder_counts, &r.motor_angle_deg, &r.gyro_raw,
                      &r.link_rate_deg_s, &r.flags});
   return path.string();
+}
+
+// The protocol's 20° step on the simulated thesis rig (its built-in, calibrated truth).
+std::string record_step(const std::filesystem::path& dir, int repetition) {
+  return record_run(dir, "step-" + std::to_string(repetition), "step-20", 3.0, static_cast<std::uint64_t>(100 + repetition),
+                    cs::rig::thesis_rig_truth());
 }
 
 }  // namespace
@@ -108,25 +115,11 @@ TEST(FitClearanceCli, RecoversTheSimulatedRigsContactWithinTolerance) {
 
 namespace {
 
-// A run of the protocol's 5° step on the worn-coupling rig (1° of play, the link anywhere in it,
-// the flank damping drawn per run), written like a study's run.
+// The protocol's 5° step on the worn-coupling rig (1° of play, the link anywhere in it, the flank
+// damping drawn per run).
 std::string record_worn_step(const std::filesystem::path& dir, int repetition) {
-  const auto p = cs::study::load_protocol(protocol());
-  cs::study::RunRequest req;
-  req.id = "worn-" + std::to_string(repetition);
-  req.command = cs::signal::sample(p.input("step-5").signal, p.sample_rate_hz, 2.0);
-  req.record_s = 2.0;
-  cs::rig::SimRigOptions o;
-  o.mode = cs::rig::CommandMode::position;
-  o.sample_rate_hz = p.sample_rate_hz;
-  o.seed = static_cast<std::uint64_t>(200 + repetition);
-  auto rig = cs::rig::make_sim_rig_with_truth(o, cs::rig::worn_coupling_rig_truth());
-  const cs::study::Record r = cs::study::execute_run(*rig, req);
-  const auto path = dir / (req.id + ".csv");
-  cs::io::write_csv(path, cs::study::record_columns(r.mode),
-                    {&r.time_s, &r.command, &r.command_applied, &r.encoder_counts, &r.motor_angle_deg, &r.gyro_raw,
-                     &r.link_rate_deg_s, &r.flags});
-  return path.string();
+  return record_run(dir, "worn-" + std::to_string(repetition), "step-5", 2.0, static_cast<std::uint64_t>(200 + repetition),
+                    cs::rig::worn_coupling_rig_truth());
 }
 
 }  // namespace

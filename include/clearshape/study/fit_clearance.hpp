@@ -49,6 +49,10 @@ std::vector<double> gyro_low_pass_settings_hz();
 /// the model (drive, link inertia, mode) so that the document alone describes it.
 nlohmann::ordered_json fit_clearance_document(const ClearanceFitProblem& problem, const ClearanceFitResult& fit);
 
+/// The per-run fit's check of n = 1 (results.json and `fit-clearance --per-run --json`): the
+/// Gauss–Newton n with its 1σ, the χ²₁ statistic and whether n free fits significantly better.
+nlohmann::ordered_json exponent_check_json(const ClearanceRunsFitResult& fit);
+
 /// The same document for the per-run fit (`fit-clearance --per-run --json`): the shared
 /// parameters with their 1σ (relative, run-clustered), each run's start place and flank damping,
 /// `model_sigma` (with the flank damping's run spread) for the clearance-aware design, the n-free

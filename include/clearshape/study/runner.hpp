@@ -29,6 +29,7 @@
 // runs/*, timing.json — formats in docs/study-outputs.md.
 #include <filesystem>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,6 +39,10 @@
 #include "clearshape/study/protocol.hpp"
 #include "clearshape/study/record.hpp"
 #include "clearshape/study/run_source.hpp"
+
+namespace clearshape::rig {
+struct RigTruth;
+}  // namespace clearshape::rig
 
 namespace clearshape::study {
 
@@ -49,6 +54,8 @@ RigFactory sim_rig_factory();
 /// The simulated rig with a built-in truth by name (rig/builtin_truths.hpp): "thesis" is
 /// sim_rig_factory(); others have kind "simulated-<name>". Throws InvalidArgument for others.
 RigFactory sim_rig_factory(std::string_view truth_name);
+/// A RigFactory::make for a rig::SimRig with `truth` (shared by every rig it makes).
+decltype(RigFactory::make) sim_rig_maker(std::shared_ptr<const rig::RigTruth> truth);
 
 struct StudyOptions {
   std::filesystem::path out_dir = "out/study";
