@@ -99,6 +99,18 @@ std::string_view to_string(ShaperSchedule schedule) noexcept {
   return "unshaped";
 }
 
+namespace {
+
+shaping::Shaper design_at(const MoveShaping& shaping, const shaping::Mode& mode) {
+  shaping::DesignRequest request;
+  request.method = shaping.method;
+  request.mode = mode;
+  request.vtol = shaping.vtol;
+  return shaping::design(request);
+}
+
+}  // namespace
+
 std::vector<shaping::Shaper> joint_shapers(const ArmModel& arm, const Eigen::VectorXd& end_pose_rad,
                                            const MoveShaping& shaping) {
   std::vector<shaping::Shaper> out;
@@ -108,13 +120,15 @@ std::vector<shaping::Shaper> joint_shapers(const ArmModel& arm, const Eigen::Vec
   }
   const Eigen::VectorXd pose = shaping.schedule == ShaperSchedule::fixed ? workspace_centre(arm) : end_pose_rad;
   const ArmModes modes = joint_modes(arm, pose, shaping.modes);
-  for (int i = 0; i < arm.dof(); ++i) {
-    shaping::DesignRequest request;
-    request.method = shaping.method;
-    request.mode = modes.joint_mode(i);
-    request.vtol = shaping.vtol;
-    out.push_back(shaping::design(request));
+  if (shaping.every_mode) {
+    shaping::Shaper all = design_at(shaping, {modes.natural_frequency_rad_s(0), modes.damping_ratio(0)});
+    for (int k = 1; k < arm.dof(); ++k) {
+      all = shaping::convolve(all, design_at(shaping, {modes.natural_frequency_rad_s(k), modes.damping_ratio(k)}));
+    }
+    out.assign(static_cast<std::size_t>(arm.dof()), all);
+    return out;
   }
+  for (int i = 0; i < arm.dof(); ++i) out.push_back(design_at(shaping, modes.joint_mode(i)));
   return out;
 }
 

@@ -70,6 +70,17 @@ TEST(ArmTrajectory, ShapedJointsKeepNoResidualAtTheirDesignMode) {
       EXPECT_LT(after, 0.01 * before) << to_string(schedule) << " joint " << i << ": " << after << " of " << before;
     }
   }
+  // every_mode: both modes of the end pose cancelled in both joints
+  const auto both = joint_shapers(arm, end, {.schedule = ShaperSchedule::end_pose, .every_mode = true});
+  EXPECT_EQ(both[0].size(), 9u);  // ZVD * ZVD
+  const JointTrajectory s = shape_trajectory(t, both);
+  const ArmModes m = joint_modes(arm, end);
+  for (int i = 0; i < 2; ++i) {
+    for (int k = 0; k < 2; ++k) {
+      const double w = m.natural_frequency_rad_s(k);
+      EXPECT_LT(residual(s, i, w), 0.01 * residual(t, i, w) + 1e-12) << "joint " << i << " mode " << k;
+    }
+  }
   const auto none = joint_shapers(arm, end, {.schedule = ShaperSchedule::none});
   EXPECT_EQ(shape_trajectory(t, none).position_rad, t.position_rad);
 }

@@ -51,11 +51,15 @@ struct MoveShaping {
   ShaperSchedule schedule = ShaperSchedule::end_pose;
   shaping::Method method = shaping::Method::zvd;  ///< zv, zvd, zvdd, zvddd, mzv, ei, ei2, ei3
   double vtol = 0.05;                              ///< for the EI family
+  /// false: each joint's shaper cancels its dominant mode; true: every mode of the pose (the
+  /// shapers of all modes convolved, Crain, Singhose & Seering 1996), the same for all joints.
+  bool every_mode = false;
   JointModeOptions modes{};
 };
 
 /// One shaper per joint, designed by `shaping.method` at the dominant mode of that joint
-/// (ArmModes::joint_mode) at the design pose; schedule none gives single unit impulses.
+/// (ArmModes::joint_mode) at the design pose, or at every mode (`every_mode`); schedule none
+/// gives single unit impulses.
 std::vector<shaping::Shaper> joint_shapers(const ArmModel& arm, const Eigen::VectorXd& end_pose_rad,
                                            const MoveShaping& shaping);
 
