@@ -1,5 +1,5 @@
 #pragma once
-// The arm's linearised modes at a pose (issue 24; docs/arm.md §8). With every play closed on a
+// The arm's linearised modes at a pose (issue 24; docs/arm.md §7). With every play closed on a
 // flank the links see the gearbox outputs through the flank stiffness K_i and damping C_i (the
 // contact law's tangent at a small penetration, plus the bearing's viscous friction); the drives
 // impose the outputs (one-way coupling, docs/design.md §1), so they do not enter the links' modes:

@@ -1,5 +1,5 @@
 #pragma once
-// Jerk-limited point-to-point moves (issue 24 item 4; docs/arm.md §8). One axis: the
+// Jerk-limited point-to-point moves (issue 24 item 4; docs/arm.md §7). One axis: the
 // minimum-time rest-to-rest "double S" profile under velocity, acceleration and jerk limits —
 // seven segments of constant jerk +j, 0, −j, 0, −j, 0, +j (Biagiotti & Melchiorri, Trajectory
 // Planning for Automatic Machines and Robots, 2008, §3.4). rise.hpp's S-curve is its special
