@@ -1,13 +1,18 @@
-/* UART0 rings (see uart.h). ISRs touch only the ring indices they own. */
+/* UART0 rings (see uart.h). ISRs touch only the ring indices they own. The RX indices are 16
+ * bits wide: the main loop reads rx_head and writes rx_tail with interrupts off, so the ISR never
+ * sees half of an update (and the main loop never half of the ISR's). */
 #include "uart.h"
 
 #include <avr/interrupt.h>
 #include <avr/io.h>
 #include <util/atomic.h>
 
+typedef char uart_rx_ring_is_a_power_of_two_up_to_32768
+    [((UART_RX_RING & (UART_RX_RING - 1u)) == 0u && UART_RX_RING <= 32768u) ? 1 : -1];
+
 static volatile uint8_t rx_ring[UART_RX_RING];
-static volatile uint8_t rx_head; /* written by the ISR */
-static volatile uint8_t rx_tail; /* written by the main loop */
+static volatile uint16_t rx_head; /* written by the ISR */
+static volatile uint16_t rx_tail; /* written by the main loop */
 static volatile uint16_t rx_overruns;
 static volatile uint8_t tx_ring[UART_TX_RING];
 static volatile uint8_t tx_head; /* written by the main loop (UART_TX_RING = 256: wraps as u8) */
@@ -22,7 +27,7 @@ void uart_init(void) {
 
 ISR(USART0_RX_vect) {
   const uint8_t byte = UDR0;
-  const uint8_t next = (uint8_t)((rx_head + 1u) & (UART_RX_RING - 1u));
+  const uint16_t next = (uint16_t)((rx_head + 1u) & (UART_RX_RING - 1u));
   if (next == rx_tail) {
     ++rx_overruns;
     return;
@@ -41,9 +46,12 @@ ISR(USART0_UDRE_vect) {
 }
 
 uint8_t uart_read(uint8_t* byte) {
-  if (rx_tail == rx_head) return 0;
-  *byte = rx_ring[rx_tail];
-  rx_tail = (uint8_t)((rx_tail + 1u) & (UART_RX_RING - 1u));
+  const uint16_t tail = rx_tail; /* only this function writes it */
+  uint16_t head;
+  ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { head = rx_head; }
+  if (tail == head) return 0;
+  *byte = rx_ring[tail];
+  ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { rx_tail = (uint16_t)((tail + 1u) & (UART_RX_RING - 1u)); }
   return 1;
 }
 

@@ -3,7 +3,9 @@
 #define CLEARSHAPE_FW_UART_H
 #include <stdint.h>
 
-#define UART_RX_RING 256u /* power of two, at most 256 (8-bit indices) */
+/* RX: a power of two up to 32768 (16-bit indices, read and written atomically). 1024 bytes hold
+ * 73 COMMAND frames, 73 ms of a 1 kHz host's commands; RAM budget in docs/hardware.md. */
+#define UART_RX_RING 1024u
 #define UART_TX_RING 256u /* 256: the 8-bit indices wrap by themselves */
 
 void uart_init(void);

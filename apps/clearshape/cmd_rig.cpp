@@ -386,6 +386,7 @@ json statistics_json(const Outcome& out, const Columns& c, const rig::SerialRigO
           {"log_dropped", s.log_dropped},
           {"ring_overflows", link.ring_overflows},
           {"commands_sent", link.commands_sent},
+          {"commands_coalesced", s.commands_coalesced},
           {"commands_dropped", link.commands_dropped},
           {"board_tx_overflows", link.board_tx_overflows},
           {"commands_rejected", link.commands_rejected},
@@ -481,9 +482,9 @@ void print_summary(const std::filesystem::path& csv, const RunState& st, const s
   }
   fmt::print("{:<14}{} of {} ({} lost, {} corrupted frames, {} late beyond {:g} ms)\n", "samples", s.samples, s.cycles,
              s.samples_lost, s.frames_corrupted, s.samples_late, p.options.late_tolerance_s * 1e3);
-  fmt::print("{:<14}p50 {:.1f} us, p99 {:.1f} us, max {:.1f} us; {} overruns{}\n", "loop latency",
-             s.latency_p50_s * 1e6, s.latency_p99_s * 1e6, s.latency_max_s * 1e6, s.overruns,
-             s.sched_fifo ? " (SCHED_FIFO)" : " (normal priority)");
+  fmt::print("{:<14}p50 {:.1f} us, p99 {:.1f} us, max {:.1f} us; {} overruns, {} late commands coalesced{}\n",
+             "loop latency", s.latency_p50_s * 1e6, s.latency_p99_s * 1e6, s.latency_max_s * 1e6, s.overruns,
+             s.commands_coalesced, s.sched_fifo ? " (SCHED_FIFO)" : " (normal priority)");
   fmt::print("{:<14}{}\n", "record", out.complete() ? "complete" : "INCOMPLETE");
   fmt::print("{:<14}{}\n", "output", csv.string());
 }

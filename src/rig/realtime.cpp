@@ -76,6 +76,9 @@ void RealtimeOptions::validate() const {
   if (!(std::isfinite(status_interval_s) && status_interval_s > 0.0 && status_interval_s <= 60.0)) {
     throw_invalid("status_interval_s", status_interval_s, "(0, 60] s");
   }
+  if (coalesce_backlog_samples > (1u << 20)) {
+    throw_invalid("coalesce_backlog_samples", static_cast<double>(coalesce_backlog_samples), "0 (never) … 1048576");
+  }
 }
 
 // --- runner ----------------------------------------------------------------------------------
@@ -87,7 +90,7 @@ struct RealtimeRunner::State {
   std::int64_t period_ns = 0;
   std::int64_t start_ns = 0;
   std::atomic<std::uint64_t> cycles{0}, samples{0}, overruns{0}, read_failures{0}, write_failures{0}, log_dropped{0},
-      latency_overflows{0};
+      latency_overflows{0}, coalesced{0};
   std::atomic<std::int64_t> latency_max_ns{0};
   std::atomic<bool> sched_fifo{false};
   bool memory_locked = false;
@@ -123,6 +126,7 @@ void RealtimeRunner::begin() {
   s.ring.clear();
   std::fill(s.histogram.begin(), s.histogram.end(), 0u);
   s.cycles = s.samples = s.overruns = s.read_failures = s.write_failures = s.log_dropped = s.latency_overflows = 0;
+  s.coalesced = 0;
   s.latency_max_ns = 0;
   s.stopped_by.clear();
   s.abort = false;
@@ -136,7 +140,8 @@ bool RealtimeRunner::cycle() noexcept {
   State& s = *state_;
   const std::uint64_t k = s.cycles.load(std::memory_order_relaxed);
   const std::int64_t deadline = s.start_ns + static_cast<std::int64_t>(k) * s.period_ns;
-  if (monotonic_ns() > deadline) {
+  const bool late = monotonic_ns() > deadline;
+  if (late) {
     s.overruns.fetch_add(1, std::memory_order_relaxed);  // no catch-up skipping: every sample is read
   } else {
     sleep_until_ns(deadline);
@@ -147,7 +152,11 @@ bool RealtimeRunner::cycle() noexcept {
   source_.next(r.command, r.command_shaped);
   if (r.read_status == Status::ok) {
     s.samples.fetch_add(1, std::memory_order_relaxed);
-    r.write_status = options_.write_commands ? rig_.write(source_.command(r.command_shaped)) : Status::ok;
+    r.command_coalesced = options_.write_commands &&
+                          coalesce_command(late, rig_.samples_waiting(), options_.coalesce_backlog_samples);
+    if (r.command_coalesced) s.coalesced.fetch_add(1, std::memory_order_relaxed);
+    const bool write = options_.write_commands && !r.command_coalesced;
+    r.write_status = write ? rig_.write(source_.command(r.command_shaped)) : Status::ok;
     if (r.write_status != Status::ok) s.write_failures.fetch_add(1, std::memory_order_relaxed);
   } else {
     s.read_failures.fetch_add(1, std::memory_order_relaxed);
@@ -186,6 +195,7 @@ RunStatistics RealtimeRunner::statistics() const noexcept {
   out.read_failures = s.read_failures.load(std::memory_order_relaxed);
   out.write_failures = s.write_failures.load(std::memory_order_relaxed);
   out.log_dropped = s.log_dropped.load(std::memory_order_relaxed);
+  out.commands_coalesced = s.coalesced.load(std::memory_order_relaxed);
   out.latency_overflows = s.latency_overflows.load(std::memory_order_relaxed);
   out.latency_max_s = static_cast<double>(s.latency_max_ns.load(std::memory_order_relaxed)) * 1e-9;
   out.sched_fifo = s.sched_fifo.load(std::memory_order_relaxed);

@@ -112,6 +112,8 @@ LinkCounters SerialRig::link_counters() const noexcept {
   return {s.samples, s.samples_lost, s.frames_corrupted, s.samples_late};
 }
 
+std::size_t SerialRig::samples_waiting() const noexcept { return impl_ ? impl_->ring.size() : 0; }
+
 SerialRigStats SerialRig::stats() const noexcept {
   SerialRigStats s;
   if (!impl_) return s;

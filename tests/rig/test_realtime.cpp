@@ -18,6 +18,7 @@
 
 #include "support/board_double.hpp"
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/units.hpp"
 #include "clearshape/rig/realtime.hpp"
 #include "clearshape/rig/serial_rig.hpp"
 #include "clearshape/rig/sim_rig.hpp"
@@ -71,6 +72,110 @@ class SlowRig final : public rig::Rig {
  private:
   int k_ = 0;
 };
+
+// A device that queues its samples, as the serial rig's receive ring does: the test sets how
+// many wait; each read takes the oldest; the commands written are kept (storage reserved by the
+// test, so the cycle still allocates nothing).
+class QueueRig final : public rig::Rig {
+ public:
+  std::size_t queued = 0;
+  std::vector<double> written_rad;
+  double sample_time_s() const noexcept override { return 1e-3; }
+  rig::CommandMode mode() const noexcept override { return rig::CommandMode::position; }
+  std::string_view name() const noexcept override { return "queue"; }
+  std::size_t samples_waiting() const noexcept override { return queued; }
+
+ protected:
+  void on_configure() override {}
+  void on_activate() override { k_ = 0; }
+  void on_deactivate() noexcept override {}
+  void on_cleanup() noexcept override {}
+  Status on_read(rig::Measurement& m) noexcept override {
+    if (queued == 0) return Status::device_error;
+    --queued;
+    m.sequence = k_++;
+    return Status::ok;
+  }
+  Status on_write(const rig::Command& c) noexcept override {
+    written_rad.push_back(c.value);
+    return Status::ok;
+  }
+
+ private:
+  std::uint64_t k_ = 0;
+};
+
+// Cycles 0–9 on time, one sample each; then the loop stalls 30 ms and 30 samples wait. The
+// catch-up cycles 10–39 each find their deadline passed; 10–31 also find 8 or more newer samples
+// waiting: their commands are coalesced (not written); 32–39 write theirs, the newest 8. Returns
+// the written commands (deg) and the statistics; the catch-up allocates nothing.
+struct CatchUp {
+  std::vector<double> written_deg;
+  std::vector<bool> coalesced;
+  rig::RunStatistics stats;
+  std::size_t allocations = 0;
+};
+CatchUp catch_up_after_a_stall(std::size_t backlog_samples) {
+  QueueRig q;
+  q.written_rad.reserve(64);
+  std::vector<double> ramp(40);
+  for (std::size_t k = 0; k < ramp.size(); ++k) ramp[k] = static_cast<double>(k);
+  rig::CommandSource source(ramp, rig::CommandMode::position);
+  rig::RealtimeOptions options;
+  options.realtime_scheduling = false;
+  options.coalesce_backlog_samples = backlog_samples;
+  rig::RealtimeRunner runner(q, source, options);
+  runner.begin();
+  for (int k = 0; k < 10; ++k) {
+    q.queued = 1;
+    EXPECT_TRUE(runner.cycle());
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  q.queued = 30;
+  CatchUp out;
+  {
+    cs::testing::AllocationCounter counter;
+    for (int k = 0; k < 30; ++k) EXPECT_TRUE(runner.cycle());
+    out.allocations = counter.allocations();
+  }
+  out.stats = runner.end();
+  rig::LogRecord r;
+  while (runner.pop(r)) out.coalesced.push_back(r.command_coalesced);
+  for (const double v : q.written_rad) out.written_deg.push_back(cs::rad_to_deg(v));
+  return out;
+}
+
+TEST(RealtimeRunner, CoalescingDecision) {
+  EXPECT_FALSE(rig::coalesce_command(false, 0, 8));
+  EXPECT_FALSE(rig::coalesce_command(false, 500, 8));  // on time, device ahead (clock drift): write
+  EXPECT_FALSE(rig::coalesce_command(true, 0, 8));     // late, but this is the newest sample: write
+  EXPECT_FALSE(rig::coalesce_command(true, 7, 8));     // late, among the newest 8: write
+  EXPECT_TRUE(rig::coalesce_command(true, 8, 8));      // late, 8 newer samples wait: coalesce
+  EXPECT_TRUE(rig::coalesce_command(true, 1, 1));
+  EXPECT_FALSE(rig::coalesce_command(true, 500, 0));   // 0: never
+}
+
+TEST(RealtimeRunner, ALateLoopWritesOnlyItsNewestCommands) {
+  const CatchUp c = catch_up_after_a_stall(8);
+  EXPECT_EQ(c.allocations, 0u);
+  EXPECT_EQ(c.stats.samples, 40u);
+  EXPECT_EQ(c.stats.commands_coalesced, 22u);
+  EXPECT_EQ(c.stats.write_failures, 0u);
+  ASSERT_EQ(c.written_deg.size(), 18u);
+  for (std::size_t k = 0; k < 10; ++k) EXPECT_NEAR(c.written_deg[k], static_cast<double>(k), 1e-9) << k;
+  for (std::size_t k = 10; k < 18; ++k) EXPECT_NEAR(c.written_deg[k], static_cast<double>(k + 22), 1e-9) << k;
+  ASSERT_EQ(c.coalesced.size(), 40u);
+  for (std::size_t k = 0; k < 40; ++k) EXPECT_EQ(c.coalesced[k], k >= 10 && k < 32) << "cycle " << k;
+  // Only the newest: a backlog of 1 keeps cycle 39's command alone.
+  const CatchUp newest = catch_up_after_a_stall(1);
+  EXPECT_EQ(newest.stats.commands_coalesced, 29u);
+  ASSERT_EQ(newest.written_deg.size(), 11u);
+  EXPECT_NEAR(newest.written_deg[10], 39.0, 1e-9);
+  // The control: without coalescing the catch-up writes one command per cycle (the burst).
+  const CatchUp every = catch_up_after_a_stall(0);
+  EXPECT_EQ(every.stats.commands_coalesced, 0u);
+  EXPECT_EQ(every.written_deg.size(), 40u);
+}
 
 TEST(RealtimeRunner, FeedsTheRigLikeAPlainLoopAndPacesOnTheWallClock) {
   const std::size_t n = 300;
@@ -301,6 +406,14 @@ TEST(RealtimeRunner, RejectsBadOptionsAndAModeMismatch) {
   rig::RealtimeOptions bad;
   bad.priority = 0;
   EXPECT_THROW(rig::RealtimeRunner(sim, position, bad), cs::InvalidArgument);
+  rig::RealtimeOptions backlog;
+  backlog.coalesce_backlog_samples = (1u << 20) + 1;
+  try {
+    rig::RealtimeRunner runner(sim, position, backlog);
+    ADD_FAILURE() << "accepted";
+  } catch (const cs::InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("coalesce_backlog_samples"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(rig::CommandSource({}, rig::CommandMode::position), cs::InvalidArgument);
 }
 

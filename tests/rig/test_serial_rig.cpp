@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <thread>
 
 #include "support/board_double.hpp"
 #include "clearshape/core/error.hpp"
@@ -429,6 +431,7 @@ TEST(SerialRig, ReadAndWriteAreNoexceptAndAllocationFree) {
   rig::Measurement m;
   static_assert(noexcept(r.read(m)));
   static_assert(noexcept(r.write(rig::Command::position_deg(1.0))));
+  static_assert(noexcept(r.samples_waiting()));
   ASSERT_EQ(r.configure(), Status::ok);
   ASSERT_EQ(r.activate(), Status::ok);
   ASSERT_EQ(r.read(m), Status::ok);
@@ -437,6 +440,7 @@ TEST(SerialRig, ReadAndWriteAreNoexceptAndAllocationFree) {
   {
     cs::testing::AllocationCounter counter;  // counts every thread: the receiver's and the double's too
     while (reads < 200 && r.read(m) == Status::ok) {
+      (void)r.samples_waiting();  // the runner's coalescing question
       (void)r.write(rig::Command::position_deg(0.01 * reads));
       ++reads;
     }
@@ -444,6 +448,26 @@ TEST(SerialRig, ReadAndWriteAreNoexceptAndAllocationFree) {
   }
   EXPECT_EQ(reads, 200);
   EXPECT_EQ(allocations, 0u);
+  r.deactivate();
+}
+
+// samples_waiting() is what the receive thread queued and read() has not taken: a host that
+// stops reading for 30 ms (1 kHz samples) finds them waiting, and reading them drains it.
+TEST(SerialRig, SamplesWaitingCountsTheReceivedSamplesNotYetRead) {
+  BoardDouble board;
+  board.start();
+  rig::SerialRig r(options_for(board));
+  EXPECT_EQ(r.samples_waiting(), 0u);  // not configured: no ring
+  ASSERT_EQ(r.configure(), Status::ok);
+  ASSERT_EQ(r.activate(), Status::ok);
+  rig::Measurement m;
+  ASSERT_EQ(r.read(m), Status::ok);
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  const std::size_t waiting = r.samples_waiting();
+  EXPECT_GE(waiting, 10u);
+  for (std::size_t k = 0; k < waiting; ++k) ASSERT_EQ(r.read(m), Status::ok);
+  EXPECT_EQ(m.sequence, waiting);  // the newest of them: nothing was skipped
+  EXPECT_LT(r.samples_waiting(), waiting);
   r.deactivate();
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <vector>
 
 #include "emulator_session.hpp"
@@ -22,26 +23,30 @@ Board board_stats(EmulatorSession& s) {
           cs_get_u32(f->payload + 16)};
 }
 
-// 15 COMMAND frames written at once (210 bytes: what a host that stalled for 15 ms sends when
-// it catches up; 2.1 ms of the 1 Mbaud line back to back) every 100 ticks of a 1 kHz run with
-// the watchdog on, paced at real time: every tick still arrives, in order, none flagged
-// dropped, and no COMMAND is lost. (Longer bursts overflow the board's 256-byte RX ring: the
-// COMMANDs are lost and counted as rx_corrupted, docs/hardware.md; samples are still not.)
-TEST(RigFirmwareSampleLoss, CommandBurstDelaysTicksButLosesNone) {
-  REQUIRE_EMULATOR();
+// `burst` COMMAND frames written at once (14 bytes each, back to back on the 1 Mbaud line: what
+// a host that stalled `burst` ms sends when it catches up one frame per missed cycle) every 100
+// ticks of a 1 kHz run with the watchdog on, paced at real time: every tick still arrives, in
+// order, none flagged dropped or rejected, no COMMAND is lost and each burst's newest COMMAND is
+// the one applied.
+void expect_bursts_lose_nothing(int burst) {
   EmulatorSession s({"--duration-s", "30", "--no-noise", "--speed", "1"});
   Configure c;
   c.watchdog_ms = 200;
   ASSERT_TRUE(s.start_run(c));
   std::uint32_t expected = 0;
+  std::uint8_t newest = 0;
   for (int round = 0; round < 4; ++round) {
     for (int k = 0; k < 100; ++k) {
       const auto smp = s.sample();
       ASSERT_TRUE(smp);
       ASSERT_EQ(smp->tick, expected++);
-      EXPECT_EQ(smp->flags & (CS_SAMPLE_TX_OVERFLOW | CS_SAMPLE_WATCHDOG), 0u) << "tick " << smp->tick;
+      EXPECT_EQ(smp->flags & (CS_SAMPLE_TX_OVERFLOW | CS_SAMPLE_WATCHDOG | CS_SAMPLE_RX_REJECTED), 0u)
+          << "tick " << smp->tick;
       if (k == 0) {
-        for (int b = 0; b < 15; ++b) s.send(CS_MSG_COMMAND, i32_command(smp->tick, b));
+        for (int b = 0; b < burst; ++b) newest = s.send(CS_MSG_COMMAND, i32_command(smp->tick, 10 * b));
+      }
+      if (k == 99) {
+        EXPECT_EQ(smp->command_seq, newest) << "round " << round << ": the burst's newest COMMAND";
       }
     }
   }
@@ -49,9 +54,23 @@ TEST(RigFirmwareSampleLoss, CommandBurstDelaysTicksButLosesNone) {
   ASSERT_TRUE(s.ack(CS_MSG_STOP));
   for (const Sample& smp : s.skipped_samples()) EXPECT_EQ(smp.tick, expected++);
   const Board b = board_stats(s);
+  std::printf("4 bursts of %d COMMANDs (%d bytes each): %u frames rejected by the board, %u samples dropped\n",
+              burst, burst * 14, b.rx_corrupted, b.samples_dropped);
   EXPECT_EQ(b.samples_dropped, 0u);
   EXPECT_EQ(b.rx_corrupted, 0u);
   EXPECT_EQ(b.samples_sent, expected);
+}
+
+TEST(RigFirmwareSampleLoss, CommandBurstDelaysTicksButLosesNone) {
+  REQUIRE_EMULATOR();
+  expect_bursts_lose_nothing(15);
+}
+
+// Issue 21 item 6: the board's RX ring grew from 256 to 1024 bytes (73 COMMANDs). A burst of 60
+// (840 bytes) overran the old ring: 9 frames rejected, the newest COMMAND never applied.
+TEST(RigFirmwareSampleLoss, ABurstOf60CommandsIsReceivedWhole) {
+  REQUIRE_EMULATOR();
+  expect_bursts_lose_nothing(60);
 }
 
 // A host that writes COMMANDs at the full line rate (four per SAMPLE at 2 kHz sampling: 112 of

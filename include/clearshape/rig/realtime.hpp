@@ -12,12 +12,17 @@
 // is noexcept and allocation-free. Statistics: samples, lost, corrupted, late (the rig's link
 // counters), overruns (a cycle that found its deadline passed), read/write failures, dropped log
 // records and the cycle latency (deadline → write done) p50/p99/max from a preallocated
-// histogram of 1 µs bins.
+// histogram of 1 µs bins. A late loop catching up sends only its newest commands: a cycle that
+// found its deadline passed while the rig already holds coalesce_backlog_samples or more newer
+// samples writes nothing (a newer cycle's command follows at once; counted as
+// commands_coalesced), so a host stall never becomes a burst of COMMAND frames that overruns the
+// board's receive queue.
 //
 //   rig::CommandSource source(values, rig::CommandMode::position);    // deg or V per sample
 //   rig::RealtimeRunner runner(rig, source, {});
 //   const rig::RunStatistics s = runner.run(cycles, [&](const rig::LogRecord& r) { ... });
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -61,6 +66,13 @@ struct RealtimeOptions {
   double latency_range_s = 0.02;    ///< histogram range (1 µs bins; beyond it counts as overflow), (0, 1]
   double status_interval_s = 0.2;   ///< status callback period (~5 Hz), (0, 60]
   bool write_commands = true;       ///< false: read only (sensor logging; the rig holds its safe command)
+  /// A late cycle writes no command while at least this many newer samples wait in the rig
+  /// (coalesce_command()); 0: never coalesce. [0, 2^20]. The default, 8, keeps the newest 8
+  /// commands of a catch-up: more than the 5 the board's next updates choose from (each update
+  /// plans to the newest COMMAND at least 4 ticks old, docs/hardware.md), so the board applies
+  /// what it would have without coalescing, in 112 bytes, an eighth of its receive queue; and
+  /// samples that merely arrive 2–3 at a time (a pty, a USB bridge) are never coalesced.
+  std::size_t coalesce_backlog_samples = 8;
   /// Polled before every cycle (a lock-free load): once it reads true the loop ends, the rig is
   /// deactivated as after the last cycle (the serial rig: STOP, servo off) and stopped_by says
   /// so. The CLI passes io::interrupt_requested(), so SIGINT/SIGTERM end a run this way.
@@ -79,7 +91,18 @@ struct LogRecord {
   Status read_status = Status::ok;
   Status write_status = Status::ok;
   double latency_s = 0.0;        ///< deadline → write() returned
+  bool command_coalesced = false;  ///< not written: the loop was late, newer cycles followed at once
 };
+
+/// The coalescing decision of one cycle: its command is not written when the loop is behind its
+/// schedule (the deadline had passed) and the rig already holds `backlog_samples` (> 0) or more
+/// newer samples — the next cycles run at once and write newer commands. A device merely ahead
+/// of an on-time loop (a standing backlog from clock drift) is never coalesced, so commands keep
+/// flowing.
+constexpr bool coalesce_command(bool behind_schedule, std::size_t samples_waiting,
+                                std::size_t backlog_samples) noexcept {
+  return behind_schedule && backlog_samples > 0 && samples_waiting >= backlog_samples;
+}
 
 struct RunStatistics {
   std::uint64_t cycles = 0;             ///< cycles run
@@ -91,6 +114,7 @@ struct RunStatistics {
   std::uint64_t read_failures = 0;
   std::uint64_t write_failures = 0;     ///< write() other than ok (clipped, rejected, port busy)
   std::uint64_t log_dropped = 0;        ///< records the full ring could not take
+  std::uint64_t commands_coalesced = 0; ///< late cycles whose command newer ones superseded (not written)
   double latency_p50_s = 0.0, latency_p99_s = 0.0, latency_max_s = 0.0;
   std::uint64_t latency_overflows = 0;  ///< latencies beyond latency_range_s
   bool sched_fifo = false;              ///< the loop ran under SCHED_FIFO

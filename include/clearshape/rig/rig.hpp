@@ -17,6 +17,7 @@
 // Loop contract: after activate() the clock is at t = 0. Each read() returns the next sample
 // (t = 0, T, 2T, …; T = sample_time_s()); a write() holds its command from the time of the
 // last read until the next write.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -77,6 +78,9 @@ class Rig {
   virtual std::string_view name() const noexcept = 0;
   /// The link's counters since activation (real-time safe).
   virtual LinkCounters link_counters() const noexcept { return {}; }
+  /// Samples already received and not yet read (real-time safe; 0 for a rig that queues none):
+  /// while this is above 0 the loop is behind the device (RealtimeRunner coalesces then).
+  virtual std::size_t samples_waiting() const noexcept { return 0; }
   /// After deactivate(): why the last run's record is degraded — it did not follow its command
   /// or has holes (e.g. "3 sample(s) lost on the link") — one reason each; empty when it is
   /// whole. A degraded record is never used as a complete run. Configuration time.

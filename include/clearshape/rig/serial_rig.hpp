@@ -115,6 +115,8 @@ class SerialRig final : public Rig {
   CommandMode mode() const noexcept override { return options_.mode; }
   std::string_view name() const noexcept override { return "serial"; }
   LinkCounters link_counters() const noexcept override;
+  /// SAMPLEs in the receive ring, not yet read.
+  std::size_t samples_waiting() const noexcept override;
 
   const SerialRigOptions& options() const noexcept { return options_; }
   /// Valid after configure().
