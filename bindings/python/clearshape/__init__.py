@@ -13,6 +13,8 @@ from ._core import (  # noqa: F401
     RigTruth,
     Shaper,
     StreamingShaper,
+    arm_modes,
+    arm_move,
     arm_names,
     arm_text,
     consistency,

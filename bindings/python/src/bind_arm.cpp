@@ -8,6 +8,7 @@
 
 #include "arrays.hpp"
 #include "clearshape/arm/simulation.hpp"
+#include "clearshape/arm/trajectory.hpp"
 
 namespace clearshape::python {
 namespace {
@@ -96,6 +97,76 @@ py::dict simulate_arm(const DoubleArray& commands, double sample_time_s, const s
   return d;
 }
 
+Eigen::VectorXd to_pose(const DoubleArray& a, const char* name) {
+  const std::vector<double> v = to_vector(a, name);
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+py::dict arm_modes(const DoubleArray& pose_rad, const std::string& name, const std::optional<std::string>& urdf,
+                   const std::optional<std::string>& toml, double flank_penetration_rad) {
+  const arm::ArmModel model = model_of(name, urdf, toml);
+  const arm::ArmModes m = arm::joint_modes(model, to_pose(pose_rad, "pose_rad"), {flank_penetration_rad});
+  const Eigen::VectorXd f = m.natural_frequency_rad_s / (2.0 * 3.14159265358979323846);
+  py::dict d;
+  d["natural_frequency_hz"] = to_array(std::vector<double>(f.data(), f.data() + f.size()));
+  d["damping_ratio"] = to_array(std::vector<double>(m.damping_ratio.data(), m.damping_ratio.data() + m.damping_ratio.size()));
+  d["shapes"] = to_array2(m.shapes);
+  d["share"] = to_array2(m.share);
+  d["dominant_mode"] = m.dominant_mode;
+  return d;
+}
+
+arm::ShaperSchedule schedule_of(const std::string& text) {
+  for (const auto s : {arm::ShaperSchedule::none, arm::ShaperSchedule::fixed, arm::ShaperSchedule::end_pose}) {
+    if (text == arm::to_string(s)) return s;
+  }
+  throw InvalidArgument("schedule = '" + text + "'; allowed: unshaped, fixed, scheduled");
+}
+
+std::vector<signal::AxisLimits> limits_of(const DoubleArray& limits, int dof) {
+  if (limits.ndim() != 2 || limits.shape(0) != dof || limits.shape(1) != 3) {
+    throw InvalidArgument("limits must be a " + std::to_string(dof) +
+                          " × 3 array: per joint (velocity rad/s, acceleration rad/s², jerk rad/s³)");
+  }
+  auto v = limits.unchecked<2>();
+  std::vector<signal::AxisLimits> out;
+  for (int j = 0; j < dof; ++j) out.push_back({v(j, 0), v(j, 1), v(j, 2)});
+  return out;
+}
+
+py::dict arm_move(const DoubleArray& start_rad, const DoubleArray& end_rad, const DoubleArray& limits,
+                  double sample_time_s, const std::string& name, const std::optional<std::string>& urdf,
+                  const std::optional<std::string>& toml, const std::string& schedule, const std::string& method,
+                  double vtol, bool every_mode, const std::optional<std::string>& json_path,
+                  const std::optional<std::string>& csv_path) {
+  const arm::ArmModel model = model_of(name, urdf, toml);
+  const Eigen::VectorXd q1 = to_pose(end_rad, "end_rad");
+  const arm::JointTrajectory move =
+      arm::plan_move(model, to_pose(start_rad, "start_rad"), q1, limits_of(limits, model.dof()), sample_time_s);
+  const std::vector<shaping::Shaper> shapers = arm::joint_shapers(
+      model, q1, {.schedule = schedule_of(schedule), .method = shaping::method_from_string(method), .vtol = vtol,
+                  .every_mode = every_mode});
+  const arm::JointTrajectory t = arm::shape_trajectory(move, shapers);
+  if (json_path) arm::write_trajectory_json(*json_path, t);
+  if (csv_path) arm::write_trajectory_csv(*csv_path, t);
+  Eigen::MatrixXd commands(static_cast<Eigen::Index>(t.time_s.size()), model.dof());
+  const std::vector<plant::Command> u = arm::drive_commands(model, t);
+  for (int j = 0; j < model.dof(); ++j) {
+    const std::vector<double>& v = u[static_cast<std::size_t>(j)].samples().values;
+    commands.col(j) = Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+  }
+  py::dict d;
+  d["joint_names"] = t.joint_names;
+  d["time_s"] = to_array(t.time_s);
+  d["position_rad"] = to_array2(t.position_rad);
+  d["velocity_rad_s"] = to_array2(t.velocity_rad_s);
+  d["acceleration_rad_s2"] = to_array2(t.acceleration_rad_s2);
+  d["commands"] = to_array2(commands.transpose());
+  d["move_duration_s"] = move.time_s.back();
+  d["shapers"] = shapers;
+  return d;
+}
+
 }  // namespace
 
 void bind_arm(py::module_& m) {
@@ -119,6 +190,25 @@ held ('zero_order_hold'), the last value held after the end. Returns a dict: tim
 link_angle_rad, link_rate_rad_s, contact_torque_n_m; tool_position_m (samples × 3); the
 energies kinetic_j, potential_j, contact_energy_j; events (onsets and separations); joints,
 gear_ratio, steps.)doc");
+  m.def("arm_modes", &arm_modes, py::arg("pose_rad"), py::arg("arm") = "scara-2", py::arg("urdf") = py::none(),
+        py::arg("toml") = py::none(), py::arg("flank_penetration_rad") = 1e-4,
+        R"doc(The arm's linearised modes at a pose (docs/arm.md §7): plays closed on the flanks, ω² =
+eig(M(q)⁻¹K), modal ζ = φᵀCφ/(2ω). Returns natural_frequency_hz and damping_ratio (ascending),
+shapes (joints × modes, φᵀMφ = 1), share (modes × joints: mode k's share in joint i's static
+response to its own gearbox output) and dominant_mode (per joint).)doc");
+  m.def("arm_move", &arm_move, py::arg("start_rad"), py::arg("end_rad"), py::arg("limits"),
+        py::arg("sample_time_s") = 1e-3, py::arg("arm") = "scara-2", py::arg("urdf") = py::none(),
+        py::arg("toml") = py::none(), py::arg("schedule") = "unshaped", py::arg("method") = "zvd",
+        py::arg("vtol") = 0.05, py::arg("every_mode") = false, py::arg("json_path") = py::none(),
+        py::arg("csv_path") = py::none(),
+        R"doc(A synchronised jerk-limited move of every joint (docs/arm.md §7), limits a joints × 3 array
+(velocity, acceleration, jerk at the link, rad units), each joint shaped by `method` at its
+dominant mode: schedule 'unshaped', 'fixed' (at the workspace centre) or 'scheduled' (at the end
+pose); every_mode shapes every joint at all the pose's modes. Optionally written as a ROS
+JointTrajectory JSON (json_path) and a CSV (csv_path). Returns joint_names, time_s,
+position_rad, velocity_rad_s, acceleration_rad_s2 (samples × joints), commands (joints ×
+samples: the drives' commands, ready for simulate_arm), move_duration_s (before shaping) and
+shapers.)doc");
 }
 
 }  // namespace clearshape::python
