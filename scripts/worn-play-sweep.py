@@ -12,6 +12,9 @@ A finished study is reused (OUT/play-<p>/study/results.json); --fresh runs it ag
 
 usage: scripts/worn-play-sweep.py [--exe build/bin/clearshape] [--out out/worn-play-sweep]
                                   [--plays 0.5,1,2] [--jobs 2] [--fresh] [--command-path realtime]
+                                  [--update-phase-ms 0]
+--update-phase-ms P starts every move of the noise-free check P ms after an update instant of the
+drive's 30 Hz clock (the study's rig starts them on one): the phase a controller may meet.
 """
 import argparse
 import concurrent.futures
@@ -21,6 +24,8 @@ import os
 import subprocess
 import sys
 import tempfile
+
+UPDATE_PERIOD_MS = 1000.0 / 30.0  # the position drive's pulse update (thesis §3.2)
 
 STARTS = (-1.0, -0.5, 0.0, 0.5, 1.0)
 DESIGNS = (("zvdd@link-mode", "B.6"), ("ei@link-mode", "B.6-ei"), ("clearance-aware", "B.6-clearance-aware"))
@@ -82,6 +87,15 @@ def signal_args(inp):
     return args
 
 
+def delayed(inp, phase_ms):
+    """The input with its move(s) started phase_ms later."""
+    out = dict(inp)
+    for key in ("start_s", "second_start_s"):
+        if key in out:
+            out[key] = out[key] + phase_ms / 1000.0
+    return out
+
+
 def simulate_md(exe, config, inp, start, impulses, duration_s, command_path):
     """Eq. 5.1 of the link angle, noise-free, from one start place (deg)."""
     cmd = [exe, "simulate", "--config", config, "--no-noise", "--json", "--command-path", command_path,
@@ -108,6 +122,8 @@ def main():
     ap.add_argument("--fresh", action="store_true", help="run every study again")
     ap.add_argument("--command-path", choices=("realtime", "offline"), default="realtime",
                     help="the noise-free check's pulse path: realtime (the study rig's loop, default) or offline")
+    ap.add_argument("--update-phase-ms", type=float, default=0.0,
+                    help=f"start the noise-free check's moves this long after an update instant, [0, {UPDATE_PERIOD_MS:.4g})")
     a = ap.parse_args()
     try:
         plays = [float(p) for p in a.plays.split(",")]
@@ -115,6 +131,8 @@ def main():
         ap.error(f"--plays: '{a.plays}' is not a comma-separated list of numbers (deg, each in [0.5, 2])")
     if any(not 0.5 <= p <= 2.0 for p in plays):
         ap.error(f"--plays: {a.plays}: each play must be in [0.5, 2] deg (the worn-coupling rig's range)")
+    if not 0.0 <= a.update_phase_ms < UPDATE_PERIOD_MS:
+        ap.error(f"--update-phase-ms: {a.update_phase_ms:g} is outside [0, {UPDATE_PERIOD_MS:.4g}) ms (one update period)")
     os.makedirs(a.out, exist_ok=True)
     rows, md_lines = [], []
     for play in plays:
@@ -128,12 +146,14 @@ def main():
                 for start in STARTS:
                     for design in ("unshaped", *[d for d, _ in DESIGNS if d in shapers]):
                         imp = shapers.get(design, "")
-                        jobs[(inp["name"], start, design)] = pool.submit(simulate_md, a.exe, config, inp, start, imp,
-                                                                         duration_s, a.command_path)
+                        jobs[(inp["name"], start, design)] = pool.submit(
+                            simulate_md, a.exe, config, delayed(inp, a.update_phase_ms), start, imp, duration_s,
+                            a.command_path)
         md = {k: f.result() for k, f in jobs.items()}
         md_lines += [f"## {play:g}° of play", "",
                      "Improvement of Eq. 5.1 (link angle) over unshaped: the study's 10 trials through the "
-                     f"sensors / noise-free on the rig truth ({a.command_path} pulse path), worst of the five "
+                     f"sensors / noise-free on the rig truth ({a.command_path} pulse path, moves {a.update_phase_ms:g} ms after an "
+                     "update instant), worst of the five "
                      "start places.", "",
                      "| design | " + " | ".join(i["label"] for i in inputs) + " |",
                      "|---" * (len(inputs) + 1) + "|"]

@@ -61,3 +61,20 @@ def test_a_play_outside_the_worn_rig_is_refused(tmp_path):
     r = run_sweep(tmp_path, "--plays", "3")
     assert r.returncode == 2
     assert "--plays" in r.stderr and "[0.5, 2]" in r.stderr
+
+
+def test_an_update_phase_starts_each_move_that_much_later(tmp_path, cli_json):
+    stand_in_study(tmp_path)
+    r = run_sweep(tmp_path, "--plays", "1", "--jobs", "2", "--update-phase-ms", "8")
+    assert r.returncode == 0, r.stderr
+    with open(tmp_path / "sweep.csv", newline="") as f:
+        row = next(row for row in csv.DictReader(f) if row["start_fraction"] == "0")
+    config = str(tmp_path / "play-1" / "rig.toml")
+    base = ["simulate", "--config", config, "--no-noise", "--command-path", "realtime", "--initial-play", "0",
+            "--duration", "2", "--signal", "step", "--amplitude", "10", "--start-s", "0.508"]
+    unshaped = cli_json(*base)["mean_deviation_eq_5_1"]["link_angle_deg"]["mean_deviation"]
+    assert float(row["md_unshaped_deg"]) == pytest.approx(unshaped, rel=1e-5)
+    assert "8 ms after an update instant" in (tmp_path / "sweep.md").read_text()
+    # one update period or more is no phase
+    r = run_sweep(tmp_path, "--plays", "1", "--update-phase-ms", "40")
+    assert r.returncode == 2 and "--update-phase-ms" in r.stderr and "33.33" in r.stderr
