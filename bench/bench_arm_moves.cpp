@@ -64,8 +64,7 @@ Outcome play(const arm::ArmModel& model, const Move& m, arm::ShaperSchedule sche
   return out;
 }
 
-// A run CVODE cannot finish (a root found again right after a restart, at a link resting on a
-// flank: docs/arm.md §9) is printed as such, not left out.
+// A run CVODE cannot finish is printed as such, not left out.
 void print_outcome(const arm::ArmModel& model, const Move& m, arm::ShaperSchedule schedule, bool every_mode) {
   try {
     const Outcome o = play(model, m, schedule, every_mode);

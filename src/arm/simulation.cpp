@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -54,6 +55,10 @@ void check(int flag, const char* what) {
   if (flag < 0) throw RuntimeError(fmt::format("CVODE setup failed in {} (flag {})", what, flag));
 }
 
+void keep_message(int, const char* module, const char* function, char* text, void* user) {
+  *static_cast<std::string*>(user) = fmt::format("{} {}: {}", module, function, text);
+}
+
 // CVODE with a dense BDF solver and root finding around an ArmSystem (RAII).
 class Integrator {
  public:
@@ -79,6 +84,7 @@ class Integrator {
     if (o.analytic_jacobian) check(CVodeSetJacFn(mem_, jac_callback), "CVodeSetJacFn");
     check(CVodeRootInit(mem_, system.root_count(), root_callback), "CVodeRootInit");
     check(CVodeSetNoInactiveRootWarn(mem_), "CVodeSetNoInactiveRootWarn");
+    check(CVodeSetErrHandlerFn(mem_, keep_message, &message), "CVodeSetErrHandlerFn");
   }
   ~Integrator() {
     if (mem_) CVodeFree(&mem_);
@@ -114,6 +120,9 @@ class Integrator {
     }
   }
   long carried_steps = 0, carried_rhs = 0, current_steps = 0, current_rhs = 0;
+  /// CVODE's last error message (kept for the RuntimeError instead of printed: a grazing touch
+  /// that the loop recovers from by a restart is not an error).
+  std::string message;
 
  private:
   SUNContext ctx_ = nullptr;
@@ -156,12 +165,24 @@ ArmTrace simulate_arm(const ArmModel& model, std::span<const plant::Command> com
   cv.restart(t, stop);
   std::vector<int> found(static_cast<std::size_t>(system.root_count()));
   system.record(t, cv.y(), trace, 0);
+  bool after_root = false;
   for (Eigen::Index k = 1; k < rows; ++k) {
     const double tout = static_cast<double>(k) / options.output_rate_hz;
     while (t < tout) {
-      const int flag = cv.advance(std::min(tout, stop), t);
+      const double t_before = t;
+      int flag = cv.advance(std::min(tout, stop), t);
+      if (flag == CV_ILL_INPUT && after_root) {
+        // A grazing touch: a root function still exactly 0 just past the root it returned (a link
+        // resting on a flank), which CVODE refuses to continue from ("root found at and very near
+        // t"). After a restart CVODE treats a root function that is 0 at the start as inactive.
+        t = t_before;
+        cv.restart(t, stop);
+        flag = cv.advance(std::min(tout, stop), t);
+      }
+      after_root = flag == CV_ROOT_RETURN;
       if (flag < 0) {
-        throw RuntimeError(fmt::format("arm '{}': CVODE failed (flag {}) at {}", model.name, flag, system.describe(t, cv.y())));
+        throw RuntimeError(fmt::format("arm '{}': CVODE failed (flag {}: {}) at {}", model.name, flag, cv.message,
+                                       system.describe(t, cv.y())));
       }
       bool restart = false;
       if (flag == CV_ROOT_RETURN) {
