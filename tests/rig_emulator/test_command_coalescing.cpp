@@ -2,18 +2,24 @@
 // board's receive queue after a host stall. rig::RealtimeRunner over rig::SerialRig, its loop
 // stalled 300 ms, sends only its newest 8 commands when it catches up, so no COMMAND is lost; the
 // same stall without coalescing (the control) still overruns the board, so the scenario can
-// fail. (The board's deeper queue is tested in test_sample_loss.cpp.)
+// fail. The same end to end: `clearshape rig run`, the whole process stopped (SIGSTOP) 300 ms.
+// (The board's deeper queue is tested in test_sample_loss.cpp.)
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "clearshape/rig/realtime.hpp"
 #include "clearshape/rig/serial_rig.hpp"
 #include "emulator_session.hpp"
+#include "support/cli.hpp"
+#include "support/paths.hpp"
 
 namespace clearshape::test {
 namespace {
@@ -112,6 +118,35 @@ TEST(RigCommandCoalescing, WithoutCoalescingTheSameStallLosesCommands) {
   EXPECT_EQ(off.run.commands_coalesced, 0u);
   EXPECT_GT(off.board.rx_corrupted, 0u) << "the stall did not overrun the board: the coalescing test proves nothing";
   EXPECT_GT(off.link.rx_rejected_samples, 0u);
+}
+
+// `clearshape rig run` against the firmware, the whole process stopped 300 ms (SIGSTOP, then
+// SIGCONT: its receive thread stalls too, the bytes wait in the pty) half a second into a 3 s
+// run. The watchdog is at 2 s and late samples are allowed, so the record stays complete and
+// the sidecar's counts show what happened: the catch-up was coalesced, no frame was lost.
+TEST(RigCommandCoalescing, ARunWhoseProcessWasStoppedLosesNoCommand) {
+  REQUIRE_EMULATOR();
+  EmulatorSession s({"--duration-s", "30", "--no-noise", "--speed", "1"});
+  const std::filesystem::path dir = clearshape::testing::fresh_temp_dir("clearshape_rig_sigstop");
+  const std::string err = (dir / "err.txt").string();
+  // The shell starts the run, waits for its first status (the handshake is done), stops it.
+  const auto r = clearshape::testing::run_cli(
+      "rig run --port " + s.path() + " --signal step --amplitude 10 --start-s 0.2 --duration 3 --no-realtime "
+      "--watchdog-ms 2000 --max-late-fraction 1 --json -o " + (dir / "run.csv").string() + " 2>" + err +
+      " & pid=$!; for i in $(seq 400); do grep -q 'position mode' " + err + " && break; sleep 0.05; done; "
+      "sleep 0.5; kill -STOP $pid; sleep 0.3; kill -CONT $pid; wait $pid");
+  const std::string text = clearshape::testing::read_bytes(err);
+  ASSERT_EQ(r.exit_code, 0) << text << r.out;
+  const auto stats = nlohmann::json::parse(r.out)["statistics"];
+  std::printf("rig run stopped 300 ms: %d COMMANDs sent, %d coalesced, board rx_corrupted %d, %d samples late\n",
+              stats["commands_sent"].get<int>(), stats["commands_coalesced"].get<int>(),
+              stats["board_during_run"]["rx_corrupted"].get<int>(), stats["samples_late"].get<int>());
+  EXPECT_GE(stats["commands_coalesced"].get<int>(), 200) << text;
+  EXPECT_EQ(stats["commands_sent"].get<int>() + stats["commands_coalesced"].get<int>(), 3001);
+  EXPECT_EQ(stats["board_during_run"]["rx_corrupted"].get<int>(), 0);
+  EXPECT_EQ(stats["rx_rejected_samples"].get<int>(), 0);
+  EXPECT_EQ(stats["samples_lost"].get<int>(), 0);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
