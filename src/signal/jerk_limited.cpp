@@ -132,7 +132,7 @@ std::vector<SampledAxis> sample_move(const SynchronizedMove& move, double sample
   require_positive("sample_time_s", sample_time_s);
   const double steps = std::ceil(move.duration_s / sample_time_s - 1e-9);
   if (!(steps < 1e7)) throw_invalid("sample_time_s", sample_time_s, "at most 1e7 samples per move");
-  const std::size_t n = static_cast<std::size_t>(std::max(steps, 0.0)) + 1;
+  const std::size_t n = static_cast<std::size_t>(std::max(steps, 1.0)) + 1;  // a still move: 2 samples at rest
   std::vector<SampledAxis> out(move.axes.size());
   for (std::size_t i = 0; i < move.axes.size(); ++i) {
     SampledAxis& s = out[i];

@@ -86,6 +86,19 @@ TEST(ArmTrajectory, ShapedJointsKeepNoResidualAtTheirDesignMode) {
   EXPECT_EQ(shape_trajectory(t, none).position_rad, t.position_rad);
 }
 
+TEST(ArmTrajectory, AMoveWithoutMotionStaysPut) {
+  const ArmModel arm = builtin_arm("scara-2");
+  const Eigen::Vector2d q(0.3, -0.4);
+  const JointTrajectory t = plan_move(arm, q, q, kLimits, 1e-3);
+  ASSERT_EQ(t.time_s.size(), 2u);
+  const JointTrajectory s = shape_trajectory(t, joint_shapers(arm, q, {}));
+  for (Eigen::Index k = 0; k < s.position_rad.rows(); ++k) {
+    EXPECT_LT((s.position_rad.row(k) - q.transpose()).norm(), 1e-15);  // ΣA·q, rounded
+    EXPECT_EQ(s.velocity_rad_s.row(k).norm(), 0.0);
+  }
+  EXPECT_NEAR(drive_commands(arm, s)[1].value(0.5), -0.4 * 30.0 * 180.0 / std::numbers::pi, 1e-12);
+}
+
 TEST(ArmTrajectory, DriveCommandsAreMotorDegrees) {
   const ArmModel arm = builtin_arm("scara-2");  // Kp = 1 motor degree per unit, gears 50 and 30
   const JointTrajectory t = a_move(arm);

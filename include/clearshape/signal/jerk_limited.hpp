@@ -85,8 +85,8 @@ struct SynchronizedMove {
 SynchronizedMove synchronized_move(std::span<const double> start, std::span<const double> end,
                                    std::span<const AxisLimits> limits);
 
-/// One axis sampled at k·sample_time_s for k = 0 … ceil(duration/sample_time) (the last sample
-/// at or after the end, at rest).
+/// One axis sampled at k·sample_time_s for k = 0 … max(1, ceil(duration/sample_time)) (the last
+/// sample at or after the end, at rest; a move without motion gives two samples at rest).
 struct SampledAxis {
   UniformSeries position;
   UniformSeries velocity;
