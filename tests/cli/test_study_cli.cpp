@@ -64,7 +64,8 @@ TEST(CalibrateRigCli, ShortSearchWritesTheTruthAndTheResiduals) {
   const auto out = temp("clearshape_cli_calibrate_rig");
   std::filesystem::remove_all(out);
   const auto r = run_cli("calibrate-rig --position " + (studies() / "thesis-position.toml").string() + " --speed " +
-                         (studies() / "thesis-speed.toml").string() + " --max-evaluations 2 --trials 2 --out " +
+                         (studies() / "thesis-speed.toml").string() +
+                         " --max-evaluations 2 --variation-evaluations 2 --trials 2 --out " +
                          out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("B.1"), std::string::npos);

@@ -23,6 +23,7 @@
 
 #include "support/cli.hpp"
 #include "support/paths.hpp"
+#include "support/shared_fixture.hpp"
 
 namespace fs = std::filesystem;
 
@@ -109,38 +110,57 @@ std::size_t count(const std::string& text, const std::string& needle) {
 
 class Report : public ::testing::Test {
  protected:
+  // The quick study and its render are built once per build tree (support/shared_fixture.hpp)
+  // and read by every test process of the suite; base_ is this process's scratch folder.
   static void SetUpTestSuite() {
     base_ = fs::temp_directory_path() / ("clearshape_report_" + std::to_string(::getpid()));
     fs::remove_all(base_);
     fs::create_directories(base_);
-    study_ = base_ / "study";
     const fs::path protocol = repo_root() / "studies" / "thesis-position.toml";
+    const std::string key = clearshape::testing::files_key({CLEARSHAPE_CLI, python_dir(), protocol});
+    const fs::path fixture = clearshape::testing::shared_fixture("report-quick-study", key, [&](const fs::path& dir) {
+      return build_fixture(dir, protocol);
+    });
+    if (fixture.empty()) {
+      setup_error_ = "the report fixture could not be built (see the first test's output)";
+      return;
+    }
+    study_ = fixture / "study";
+    source_ = read_file(fixture / "source.txt");
+    render_.exit_code = std::stoi(read_file(fixture / "render_exit.txt"));
+    render_.out = read_file(fixture / "render_out.txt");
+    std::fprintf(stderr, "report test: study output from the %s\n", source_.c_str());
+  }
+  // The quick thesis-position study (or, when the study cannot run, the synthetic fixture) and
+  // its render into `dir`: study/, source.txt, render_exit.txt, render_out.txt.
+  static bool build_fixture(const fs::path& dir, const fs::path& protocol) {
+    const fs::path study = dir / "study";
+    std::string source;
     const auto help = clearshape::testing::run_cli("study --help");
     bool have_study = false;
     if (help.exit_code == 0 && fs::exists(protocol)) {
-      const auto r = clearshape::testing::run_cli("study " + quote(protocol) + " --quick --out " + quote(study_));
+      const auto r = clearshape::testing::run_cli("study " + quote(protocol) + " --quick --out " + quote(study));
       have_study = r.exit_code == 0;
-      source_ = "quick thesis-position study";
+      source = "quick thesis-position study";
       if (!have_study) {  // the study's own tests report its failures; this suite tests the report
         std::fprintf(stderr, "clearshape study --quick failed (exit %d), using the synthetic fixture:\n%s\n",
                      r.exit_code, r.err.c_str());
-        fs::remove_all(study_);
+        fs::remove_all(study);
       }
     }
     if (!have_study) {
-      source_ = "synthetic fixture (python/clearshape_plot/fixture.py)";
-      const Shell r = run("cd " + quote(python_dir()) + " && /usr/bin/python3 -m clearshape_plot.fixture " +
-                          quote(study_));
-      setup_error_ = r.exit_code == 0 ? "" : "fixture failed:\n" + r.out;
+      source = "synthetic fixture (python/clearshape_plot/fixture.py)";
+      const Shell r = run("cd " + quote(python_dir()) + " && /usr/bin/python3 -m clearshape_plot.fixture " + quote(study));
+      if (r.exit_code != 0) {
+        std::fprintf(stderr, "fixture failed:\n%s\n", r.out.c_str());
+        return false;
+      }
     }
-    std::fprintf(stderr, "report test: study output from the %s\n", source_.c_str());
-    if (setup_error_.empty()) {
-      render_ = render(study_);
-    }
-  }
-  static void TearDownTestSuite() {
-    std::error_code ec;
-    fs::remove_all(base_, ec);
+    const Shell rendered = render(study);
+    std::ofstream(dir / "source.txt", std::ios::binary) << source;
+    std::ofstream(dir / "render_exit.txt", std::ios::binary) << rendered.exit_code;
+    std::ofstream(dir / "render_out.txt", std::ios::binary) << rendered.out;
+    return true;
   }
   void SetUp() override {
     ASSERT_TRUE(setup_error_.empty()) << setup_error_;
