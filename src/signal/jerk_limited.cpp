@@ -27,11 +27,11 @@ JerkLimitedProfile JerkLimitedProfile::minimum_time(double start, double end, co
   p.jerk_ = limits.jerk;
   if (p.distance_ == 0.0) return p;
   const double v = limits.velocity, a = limits.acceleration, j = limits.jerk, d = p.distance_;
-  // Biagiotti & Melchiorri 2008, Eq. 3.19–3.20: is a_max reached on the way to v_max?
+  // Biagiotti & Melchiorri 2008, §3.4 (v0 = v1 = 0): is a_max reached on the way to v_max?
   double tj = v * j >= a * a ? a / j : std::sqrt(v / j);
   double ta = v * j >= a * a ? tj + v / a : 2.0 * tj;
-  double tv = d / v - ta;  // Eq. 3.25 with v0 = v1 = 0: cruise time
-  if (tv <= 0.0) {         // v_max not reached (Eq. 3.26–3.27)
+  double tv = d / v - ta;  // cruise time: D = v·Ta + v·Tv
+  if (tv <= 0.0) {         // v_max not reached: no cruise
     tv = 0.0;
     if (d >= 2.0 * a * a * a / (j * j)) {  // a_max reached: Ta² − Tj·Ta − D/a = 0
       tj = a / j;

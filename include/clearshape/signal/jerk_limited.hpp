@@ -36,7 +36,7 @@ struct AxisState {
 class JerkLimitedProfile {
  public:
   /// The minimum-time rest-to-rest move from `start` to `end` within `limits` (closed form of
-  /// Biagiotti & Melchiorri 2008, Eq. 3.17–3.33 with v0 = v1 = 0). start == end: duration 0.
+  /// Biagiotti & Melchiorri 2008, §3.4, with v0 = v1 = 0). start == end: duration 0.
   /// Throws InvalidArgument for non-finite positions or invalid limits.
   static JerkLimitedProfile minimum_time(double start, double end, const AxisLimits& limits);
   /// The same path played over `duration_s` >= duration_s() (time scaling; 0 keeps a
