@@ -6,7 +6,7 @@
 //   M(q) δq̈ + C δq̇ + K δq = K δθ_out,  K = diag(K_i), C = diag(C_i).
 // The undamped natural frequencies are ω_k² = eig(M(q)⁻¹ K) (generalised symmetric problem
 // K φ = ω² M φ, φᵀ M φ = 1); the damping ratios are the modal ones, ζ_k = φ_kᵀ C φ_k / (2 ω_k)
-// (exact for classically damped systems; Inman, Engineering Vibration, 4th ed., §4.5).
+// (exact for classically damped systems; Inman, Engineering Vibration, ch. 4, modal damping).
 #include <vector>
 
 #include <Eigen/Dense>
