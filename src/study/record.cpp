@@ -11,6 +11,7 @@
 #include "clearshape/core/units.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
+#include "clearshape/rig/realtime.hpp"
 
 namespace clearshape::study {
 
@@ -89,6 +90,7 @@ Record execute_run(rig::Rig& rig, const RunRequest& request) {
     v->resize(n);
   }
   rig::Measurement m;
+  const std::size_t backlog = rig::RealtimeOptions{}.coalesce_backlog_samples;
   for (std::size_t k = 0; k < n; ++k) {
     const Status status = rig.read(m);
     if (status != Status::ok) {
@@ -106,6 +108,10 @@ Record execute_run(rig::Rig& rig, const RunRequest& request) {
     r.link_rate_deg_s[k] = m.gyro_rate_deg_s();
     r.flags[k] = static_cast<double>(m.flags);
     // The command for the next interval (a rejected or clipped command is flagged by the rig).
+    // A loop that fell behind the board (8 or more of its samples already waiting) writes only the
+    // newest commands of its catch-up, as the real-time runner does (rig/realtime.hpp): the older
+    // ones would only fill the board's receive queue, whose updates take the newest.
+    if (rig::coalesce_command(true, rig.samples_waiting(), backlog)) continue;
     (void)rig.write(position ? rig::Command::position_deg(u) : rig::Command::speed_v(u));
   }
   rig.deactivate();

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <unistd.h>
 #include <fstream>
@@ -103,4 +106,57 @@ TEST(Record, AStaleRunReadBackCanBeReplacedByTheRerun) {
   EXPECT_THROW(cs::io::write_text_atomic(user_file, "overwritten"), cs::InvalidArgument);
   cs::io::clear_inputs();
   std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// A rig whose board ran ahead of the loop: after read k it reports waiting[k] samples not yet
+// read, and it keeps the commands written.
+class BackloggedRig final : public cs::rig::Rig {
+ public:
+  explicit BackloggedRig(std::vector<std::size_t> waiting) : waiting_(std::move(waiting)) {}
+  double sample_time_s() const noexcept override { return 1e-3; }
+  cs::rig::CommandMode mode() const noexcept override { return cs::rig::CommandMode::position; }
+  std::string_view name() const noexcept override { return "backlogged"; }
+  std::size_t samples_waiting() const noexcept override {
+    return reads_ > 0 && reads_ <= waiting_.size() ? waiting_[reads_ - 1] : 0;
+  }
+  std::vector<std::pair<std::size_t, double>> written;  // (reads so far, value)
+
+ protected:
+  void on_configure() override {}
+  void on_activate() override { reads_ = 0; }
+  void on_deactivate() noexcept override {}
+  void on_cleanup() noexcept override {}
+  cs::Status on_read(cs::rig::Measurement& m) noexcept override {
+    m = {};
+    m.sequence = reads_++;
+    return cs::Status::ok;
+  }
+  cs::Status on_write(const cs::rig::Command& c) noexcept override {
+    written.emplace_back(reads_, c.value);
+    return cs::Status::ok;
+  }
+
+ private:
+  std::vector<std::size_t> waiting_;
+  std::size_t reads_ = 0;
+};
+
+}  // namespace
+
+// Issue 21 item 6: a study loop that fell behind its board writes only the newest commands of
+// its catch-up (8 or more samples waiting: skip), like the real-time runner.
+TEST(Record, ALoopBehindItsBoardWritesOnlyTheNewestCommands) {
+  std::vector<std::size_t> waiting(101, 0);
+  for (std::size_t k = 30; k < 50; ++k) waiting[k] = 50 - k;  // a 20-sample backlog drained one per read
+  BackloggedRig rig(waiting);
+  const st::RunRequest req = step_request();
+  (void)st::execute_run(rig, req);
+  // Reads 31 … 43 left 8 or more waiting (20 … 8): their 13 commands are skipped, the rest written.
+  ASSERT_EQ(rig.written.size(), 101u - 13u);
+  for (const auto& [reads, value] : rig.written) {
+    EXPECT_TRUE(reads <= 30 || reads >= 44) << reads;
+    EXPECT_NEAR(value, req.command.values[reads - 1] * std::numbers::pi / 180.0, 1e-12);  // written in rad
+  }
 }
