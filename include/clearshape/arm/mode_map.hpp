@@ -1,0 +1,81 @@
+#pragma once
+// A mode map identified from runs (issue 24 item 3; docs/arm.md §7): at each pose of a grid the
+// arm is simulated with play (simulate_arm) under a small jerk-limited step of one joint at a
+// time; once the drives have settled, the links ring at the arm's residual modes, and the free
+// response of each link's rate (a gyro on that link) is identified with the stabilisation-diagram
+// mode estimate of ident/modes.hpp (ERA + least squares, 1σ from the fit's covariance). The
+// estimates of the same mode from the runs at one pose (within `merge_tolerance` in frequency)
+// are combined by inverse-variance weighting. Each identified mode is set beside the nearest of
+// the linearised modes (arm/modes.hpp, joint_modes) at the pose: with play 0 they agree closely;
+// with play the link rattles in its play and the identified frequency depends on the amplitude.
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "clearshape/arm/arm.hpp"
+#include "clearshape/arm/modes.hpp"
+#include "clearshape/arm/simulation.hpp"
+#include "clearshape/ident/modes.hpp"
+#include "clearshape/signal/jerk_limited.hpp"
+
+namespace clearshape::arm {
+
+struct ModeMapOptions {
+  double step_deg = 1.0;  ///< each run's step of one joint at the link (deg), > 0
+  /// Limits of that step per joint (rad/s, rad/s², rad/s³); empty: 2 rad/s, 40 rad/s², 4000 rad/s³.
+  std::vector<signal::AxisLimits> limits;
+  double settle_s = 0.15;           ///< after the step ends, before the window (the drives settle), >= 0
+  double window_s = 0.6;            ///< the free-response window identified (s), > 0
+  double output_rate_hz = 1000.0;   ///< samples of the link rates, > 0
+  double merge_tolerance = 0.05;    ///< relative frequency within which two runs' estimates are one mode, (0, 1)
+  /// modes = 0: the arm's number of joints; residual modes worth shaping are lightly damped:
+  /// max_damping_ratio 0.05 (a heavier "mode" is the rattle of a link in its play, or friction's)
+  ident::ModeOptions identification = [] {
+    ident::ModeOptions o;
+    o.modes = 0;
+    o.max_damping_ratio = 0.05;
+    return o;
+  }();
+  ArmSolverOptions solver{};
+  JointModeOptions linearisation{};
+  void validate(int dof) const;
+};
+
+/// One identified mode at a pose, with its nearest linearised mode.
+struct MapMode {
+  double natural_frequency_hz = 0.0;
+  double natural_frequency_std_hz = 0.0;  ///< 1σ
+  double damping_ratio = 0.0;
+  double damping_ratio_std = 0.0;         ///< 1σ
+  int runs = 0;                 ///< how many runs' estimates were combined
+  int linear_mode = 0;          ///< the nearest of joint_modes' modes (index, ascending frequency)
+  double linear_frequency_hz = 0.0;
+  double linear_damping_ratio = 0.0;
+  double relative_frequency_error = 0.0;  ///< (f − f_lin) / f_lin
+};
+
+struct ModeMapPoint {
+  Eigen::VectorXd pose_rad;
+  std::vector<MapMode> modes;        ///< ascending frequency
+  ArmModes linearised;               ///< joint_modes at the pose
+  std::vector<std::string> failures; ///< runs that gave no mode ("joint shoulder: reason")
+};
+
+struct ModeMap {
+  std::string arm_name;
+  std::vector<std::string> joint_names;
+  std::vector<ModeMapPoint> points;
+};
+
+/// A grid of poses: `points_per_joint` values per joint at the centres of equal cells of its URDF
+/// range, lower + (k + ½)(upper − lower)/N (a continuous joint: of [−π, π)); the first joint
+/// varies slowest. Throws InvalidArgument for points_per_joint < 1 or a grid above 10 000 poses.
+std::vector<Eigen::VectorXd> pose_grid(const ArmModel& arm, int points_per_joint);
+
+/// The mode map of `arm` at `poses` (one angle per joint each). Throws InvalidArgument for bad
+/// options or poses; a run whose identification fails is listed in the point's failures.
+ModeMap identify_mode_map(const ArmModel& arm, const std::vector<Eigen::VectorXd>& poses,
+                          const ModeMapOptions& options = {});
+
+}  // namespace clearshape::arm

@@ -1,0 +1,177 @@
+// The mode map identified from runs (arm/mode_map.hpp; docs/arm.md §7).
+#include "clearshape/arm/mode_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <tuple>
+
+#include "clearshape/arm/trajectory.hpp"
+#include "clearshape/core/error.hpp"
+
+namespace clearshape::arm {
+namespace {
+
+constexpr double two_pi = 2.0 * std::numbers::pi;
+
+void require(bool ok, const std::string& field, const std::string& allowed) {
+  if (!ok) throw InvalidArgument("ModeMapOptions." + field + ": allowed " + allowed);
+}
+
+/// One run's estimate of one mode (Hz).
+struct RunEstimate {
+  double f_hz, f_std_hz, zeta, zeta_std;
+};
+
+std::vector<signal::AxisLimits> step_limits(const ModeMapOptions& o, int dof) {
+  if (!o.limits.empty()) return o.limits;
+  return std::vector<signal::AxisLimits>(static_cast<std::size_t>(dof), {2.0, 40.0, 4000.0});
+}
+
+/// The arm stepped by `step_deg` in joint j from `pose`; every link's rate in the free-response
+/// window after the step has ended and the drives have settled.
+std::vector<UniformSeries> step_run(const ArmModel& arm, const Eigen::VectorXd& pose, int j, const ModeMapOptions& o) {
+  Eigen::VectorXd end = pose;
+  end(j) += o.step_deg * std::numbers::pi / 180.0;
+  const auto limits = step_limits(o, arm.dof());
+  const JointTrajectory move = plan_move(arm, pose, end, limits, 1.0 / o.output_rate_hz);
+  const auto commands = drive_commands(arm, move);
+  ArmSimulationOptions sim;
+  const double window_start_s = move.time_s.back() + o.settle_s;
+  sim.duration_s = window_start_s + o.window_s;
+  sim.output_rate_hz = o.output_rate_hz;
+  sim.solver = o.solver;
+  const ArmTrace trace = simulate_arm(arm, commands, sim);
+  const auto k0 = static_cast<Eigen::Index>(
+      std::lower_bound(trace.time_s.begin(), trace.time_s.end(), window_start_s - 1e-12) - trace.time_s.begin());
+  std::vector<UniformSeries> out;
+  for (int i = 0; i < arm.dof(); ++i) {
+    const Eigen::VectorXd w = trace.link_rate_rad_s.col(i).tail(trace.link_rate_rad_s.rows() - k0);
+    out.push_back({trace.time_s[static_cast<std::size_t>(k0)], 1.0 / o.output_rate_hz,
+                   std::vector<double>(w.data(), w.data() + w.size())});
+  }
+  return out;
+}
+
+/// Groups the estimates within `tolerance` of the group's lowest frequency; each group keeps its
+/// best-determined estimate (smallest 1σ in frequency): the runs share a pose, so their errors are
+/// not independent and are not pooled.
+std::vector<MapMode> merge_estimates(std::vector<RunEstimate> e, double tolerance) {
+  std::sort(e.begin(), e.end(), [](const RunEstimate& a, const RunEstimate& b) { return a.f_hz < b.f_hz; });
+  std::vector<MapMode> out;
+  double group_f = -1.0;
+  for (const RunEstimate& r : e) {
+    if (out.empty() || r.f_hz > group_f * (1.0 + tolerance)) {
+      group_f = r.f_hz;
+      out.push_back({r.f_hz, r.f_std_hz, r.zeta, r.zeta_std, 1});
+      continue;
+    }
+    MapMode& m = out.back();
+    ++m.runs;
+    if (r.f_std_hz < m.natural_frequency_std_hz) {
+      std::tie(m.natural_frequency_hz, m.natural_frequency_std_hz, m.damping_ratio, m.damping_ratio_std) =
+          std::tuple(r.f_hz, r.f_std_hz, r.zeta, r.zeta_std);
+    }
+  }
+  return out;
+}
+
+void set_nearest_linear(MapMode& m, const ArmModes& lin) {
+  Eigen::Index k = 0;
+  (lin.natural_frequency_rad_s / two_pi - Eigen::VectorXd::Constant(lin.natural_frequency_rad_s.size(),
+                                                                     m.natural_frequency_hz))
+      .cwiseAbs()
+      .minCoeff(&k);
+  m.linear_mode = static_cast<int>(k);
+  m.linear_frequency_hz = lin.natural_frequency_rad_s(k) / two_pi;
+  m.linear_damping_ratio = lin.damping_ratio(k);
+  m.relative_frequency_error = (m.natural_frequency_hz - m.linear_frequency_hz) / m.linear_frequency_hz;
+}
+
+ModeMapPoint identify_point(const ArmModel& arm, const Eigen::VectorXd& pose, const ModeMapOptions& o) {
+  ModeMapPoint p{pose, {}, joint_modes(arm, pose, o.linearisation), {}};
+  ident::ModeOptions mo = o.identification;
+  if (mo.modes == 0) mo.modes = static_cast<std::size_t>(arm.dof());
+  std::vector<RunEstimate> estimates;
+  for (int j = 0; j < arm.dof(); ++j) {
+    const std::string run = "step of " + arm.joints[static_cast<std::size_t>(j)].name;
+    try {
+      const auto rates = step_run(arm, pose, j, o);
+      for (std::size_t i = 0; i < rates.size(); ++i) {
+        try {
+          for (const auto& m : ident::identify_free_response_modes(rates[i], mo).modes) {
+            estimates.push_back({m.natural_frequency_hz(), m.natural_frequency_std_hz(), m.damping_ratio,
+                                 m.damping_ratio_std});
+          }
+        } catch (const std::runtime_error& e) {
+          p.failures.push_back(run + ", rate of " + arm.joints[i].name + ": " + e.what());
+        }
+      }
+    } catch (const std::runtime_error& e) {
+      p.failures.push_back(run + ": " + e.what());
+    }
+  }
+  p.modes = merge_estimates(std::move(estimates), o.merge_tolerance);
+  for (MapMode& m : p.modes) set_nearest_linear(m, p.linearised);
+  return p;
+}
+
+}  // namespace
+
+void ModeMapOptions::validate(int dof) const {
+  require(std::isfinite(step_deg) && step_deg > 0.0, "step_deg = " + std::to_string(step_deg), "> 0 (deg)");
+  require(limits.empty() || limits.size() == static_cast<std::size_t>(dof),
+          "limits (" + std::to_string(limits.size()) + " entries)", "empty or one per joint (" + std::to_string(dof) + ")");
+  for (std::size_t i = 0; i < limits.size(); ++i) limits[i].validate("ModeMapOptions.limits[" + std::to_string(i) + "]");
+  require(std::isfinite(settle_s) && settle_s >= 0.0, "settle_s = " + std::to_string(settle_s), ">= 0 (s)");
+  require(std::isfinite(window_s) && window_s > 0.0, "window_s = " + std::to_string(window_s), "> 0 (s)");
+  require(std::isfinite(output_rate_hz) && output_rate_hz > 0.0, "output_rate_hz = " + std::to_string(output_rate_hz),
+          "> 0 (Hz)");
+  require(window_s * output_rate_hz >= 50.0, "window_s × output_rate_hz = " + std::to_string(window_s * output_rate_hz),
+          ">= 50 samples (the identification needs them)");
+  require(merge_tolerance > 0.0 && merge_tolerance < 1.0, "merge_tolerance = " + std::to_string(merge_tolerance),
+          "in (0, 1)");
+  solver.validate();
+  linearisation.validate();
+}
+
+std::vector<Eigen::VectorXd> pose_grid(const ArmModel& arm, int points_per_joint) {
+  const int n = arm.dof();
+  if (points_per_joint < 1 || std::pow(points_per_joint, n) > 10000.0) {
+    throw InvalidArgument("pose_grid: points_per_joint = " + std::to_string(points_per_joint) +
+                          "; allowed: >= 1 and at most 10000 poses in all (" + std::to_string(n) + " joints)");
+  }
+  std::vector<Eigen::VectorXd> poses;
+  const auto& joints = arm.chain.joints();
+  const auto total = static_cast<long>(std::lround(std::pow(points_per_joint, n)));
+  for (long index = 0; index < total; ++index) {
+    Eigen::VectorXd q(n);
+    long rest = index;
+    for (int i = n - 1; i >= 0; --i, rest /= points_per_joint) {  // the last joint varies fastest
+      const ChainJoint& jt = joints[static_cast<std::size_t>(i)];
+      const double lo = jt.limited ? jt.lower_rad : -std::numbers::pi;
+      const double hi = jt.limited ? jt.upper_rad : std::numbers::pi;
+      q(i) = lo + (static_cast<double>(rest % points_per_joint) + 0.5) * (hi - lo) / points_per_joint;
+    }
+    poses.push_back(q);
+  }
+  return poses;
+}
+
+ModeMap identify_mode_map(const ArmModel& arm, const std::vector<Eigen::VectorXd>& poses,
+                          const ModeMapOptions& options) {
+  options.validate(arm.dof());
+  ModeMap map{arm.name, {}, {}};
+  for (const ArmJoint& j : arm.joints) map.joint_names.push_back(j.name);
+  for (std::size_t p = 0; p < poses.size(); ++p) {
+    if (poses[p].size() != arm.dof() || !poses[p].allFinite()) {
+      throw InvalidArgument("identify_mode_map: poses[" + std::to_string(p) + "]: allowed " +
+                            std::to_string(arm.dof()) + " finite angles (rad)");
+    }
+    map.points.push_back(identify_point(arm, poses[p], options));
+  }
+  return map;
+}
+
+}  // namespace clearshape::arm
