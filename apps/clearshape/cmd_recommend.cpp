@@ -56,6 +56,8 @@ struct RecommendState {
   CLI::Option* initial_play_option = nullptr;
   bool clearance_aware = false;  // --clearance-aware: also design on the model (study/clearance_aware.hpp)
   double grid_hz = 0.0;          // --grid-hz: the drive's update rate (0: off)
+  std::string weigh_smoothing = "none";  // --weigh-smoothing klipper: pick by Klipper's score
+  double square_corner_velocity = 5.0, smoothing_accel = 5000.0;  // Klipper's smoothing figures, mm/s and mm/s²
 };
 
 std::vector<std::string> split(const std::string& text) {
@@ -130,6 +132,15 @@ advise::RecommendOptions options(const RecommendState& st) {
     o.min_frequency_hz = st.min_frequency_hz;
   }
   o.update_grid_hz = st.grid_hz;
+  o.weigh_smoothing = st.weigh_smoothing == "klipper";
+  if (!(st.square_corner_velocity >= 0.0 && st.square_corner_velocity <= 1000.0)) {
+    throw_invalid("--square-corner-velocity", st.square_corner_velocity, "[0, 1000] mm/s (Klipper's default: 5)");
+  }
+  if (!(st.smoothing_accel > 0.0 && st.smoothing_accel <= 1e6)) {
+    throw_invalid("--smoothing-accel", st.smoothing_accel, "(0, 1e6] mm/s² (Klipper: 5000)");
+  }
+  o.smoothing.square_corner_velocity_mm_s = st.square_corner_velocity;
+  o.smoothing.accel_mm_s2 = st.smoothing_accel;
   return o;
 }
 
@@ -165,7 +176,9 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
                "the same update merged; delay, remaining and predicted MD are the applied shaper's, designed_% the off-grid design's\n\n",
                grid_hz, 1000.0 / grid_hz);
   }
-  fmt::print("{:<10} {:>18} {:>10} {:>12} {:>12} {:>10}{}{}\n", "shaper", "design_hz", "delay_ms", "remaining_%", "nominal_%", "budget",
+  const bool printer = r.printer_figures;
+  fmt::print("{:<10} {:>18} {:>10} {:>12} {:>12} {:>10}{}{}{}\n", "shaper", "design_hz", "delay_ms", "remaining_%", "nominal_%", "budget",
+             printer ? fmt::format(" {:>12} {:>16}", "smoothing_mm", "max_accel_mm_s2") : "",
              pred ? fmt::format(" {:>13}", "predicted_md") : std::string(), grid_hz > 0.0 ? fmt::format(" {:>10}", "designed_%") : "");
   for (std::size_t k = 0; k < r.candidates.size(); ++k) {
     const auto& c = r.candidates[k];
@@ -176,9 +189,10 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     }
     std::string f = fmt::format("{:.3f}", c.design_frequency_hz[0]);
     if (c.design_frequency_hz.size() > 1) f += fmt::format("+{:.3f}", c.design_frequency_hz[1]);
-    fmt::print("{:<10} {:>18} {:>10.2f} {:>12} {:>12.2f} {:>10}{}{}{}\n", c.name, f, 1000.0 * c.duration_s,
+    fmt::print("{:<10} {:>18} {:>10.2f} {:>12} {:>12.2f} {:>10}{}{}{}{}\n", c.name, f, 1000.0 * c.duration_s,
                fmt::format("{}{:.2f}", c.leaves_too_much ? "!" : "", 100.0 * c.remaining_worst), 100.0 * c.remaining_nominal,
-               c.within_budget ? "ok" : "over", pred ? fmt::format(" {:>13.5g}", *pred->md[k]) : std::string(),
+               c.within_budget ? "ok" : "over",
+               printer ? fmt::format(" {:>12.4f} {:>16.0f}", c.smoothing_mm, c.max_accel_mm_s2) : "", pred ? fmt::format(" {:>13.5g}", *pred->md[k]) : std::string(),
                grid_hz > 0.0 ? fmt::format(" {:>10.2f}", 100.0 * c.remaining_worst_designed) : "",
                mark + (pred && pred->md[k] && *pred->md[k] > pred->unshaped_md ? " WORSE than unshaped" : ""));
     if (grid_hz > 0.0) {
@@ -361,6 +375,16 @@ void setup(CLI::App& sub) {
                  "The drive takes a new command only at updates of this rate (Hz; the thesis's pulse-train drive: 30): every "
                  "candidate is snapped to that grid before it is fitted and scored; omit for none")
       ->check(positive_at_most(1e6, "Hz", "--grid-hz"));
+  sub.add_option("--weigh-smoothing", st->weigh_smoothing,
+                 "klipper: pick as Klipper's calibrate_shaper does, weighing remaining vibration against printer smoothing "
+                 "(score smoothing·(v^1.5 + 0.2v + 0.01)); none: the shortest candidate within the tolerance")
+      ->check(CLI::IsMember({"none", "klipper"}))
+      ->capture_default_str();
+  sub.add_option("--square-corner-velocity", st->square_corner_velocity,
+                 "Printer's square-corner velocity for the smoothing figures, mm/s (Klipper's default)")
+      ->capture_default_str();
+  sub.add_option("--smoothing-accel", st->smoothing_accel, "Acceleration the smoothing figure is quoted at, mm/s² (Klipper: 5000)")
+      ->capture_default_str();
   sub.add_flag("--clearance-aware", st->clearance_aware,
                "With --model and a --move step: also design the clearance-aware shaper on the model (study/clearance_aware.hpp, "
                "no longer than ZVDD for the first mode) and predict its MD; about 1–3 s");

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <functional>
+#include <limits>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -49,6 +51,10 @@ struct Evaluator {
   const std::vector<double>& scales;
   double worst(const shaping::Shaper& s) const { return worst_remaining_vibration(s, bins, dampings, scales); }
   double nominal(const shaping::Shaper& s) const { return worst_remaining_vibration(s, bins, dampings, {1.0}); }
+  const SmoothingSettings& printer;
+  double smoothing(const shaping::Shaper& s) const {
+    return smoothing_mm(s, printer.accel_mm_s2, printer.square_corner_velocity_mm_s);
+  }
 };
 
 std::vector<double> scan_grid(const RecommendOptions& o, double mode_hz) {
@@ -77,9 +83,31 @@ bool same_impulses(const shaping::Shaper& a, const shaping::Shaper& b) {
   return true;
 }
 
+struct ScanPoint {
+  double frequency_hz = 0.0, remaining = 0.0, smoothing_mm = 0.0;
+};
+
 struct ScanResult {
   double selected_hz = 0.0, selected_v = 0.0, least_hz = 0.0, least_v = 0.0;
+  std::vector<ScanPoint> points;  ///< ascending frequency (weigh_smoothing only)
 };
+
+// Klipper's frequency choice when smoothing is weighed (shaper_calibrate.py, fit_shaper): from
+// the lowest frequency up, a near-best point replaces the pick when its score is lower.
+void select_by_score(ScanResult& r, const RecommendOptions& o) {
+  double best_score = std::numeric_limits<double>::infinity();
+  for (const auto& p : r.points) {
+    if (p.frequency_hz == r.least_hz) best_score = std::min(best_score, klipper_score(p.smoothing_mm, p.remaining));
+  }
+  for (const auto& p : r.points) {
+    const double score = klipper_score(p.smoothing_mm, p.remaining);
+    if (p.remaining < r.least_v * o.near_best_factor + o.near_best_offset && score < best_score) {
+      best_score = score;
+      r.selected_hz = p.frequency_hz;
+      r.selected_v = p.remaining;
+    }
+  }
+}
 
 // Klipper's frequency fit: scan from the highest frequency down, keep the least remaining
 // vibration (ties: the higher frequency), then take the highest frequency (shortest shaper)
@@ -94,8 +122,10 @@ ScanResult scan(const std::vector<double>& grid, Make&& make, const Evaluator& e
   ScanResult r;
   bool first = true;
   for (auto it = grid.rbegin(); it != grid.rend(); ++it) {
-    const double v = ev.worst(make(*it));
+    const shaping::Shaper shaper = make(*it);
+    const double v = ev.worst(shaper);
     results.emplace_back(*it, v);
+    if (o.weigh_smoothing) r.points.push_back(ScanPoint{*it, v, ev.smoothing(shaper)});
     if (first || v < r.least_v) {
       r.least_v = v;
       r.least_hz = *it;
@@ -104,11 +134,16 @@ ScanResult scan(const std::vector<double>& grid, Make&& make, const Evaluator& e
   }
   r.selected_hz = r.least_hz;
   r.selected_v = r.least_v;
-  for (const auto& [f, v] : results) {
-    if (v < r.least_v * o.near_best_factor + o.near_best_offset) {
-      r.selected_hz = f;
-      r.selected_v = v;
-      break;
+  std::reverse(r.points.begin(), r.points.end());
+  if (o.weigh_smoothing) {
+    select_by_score(r, o);
+  } else {
+    for (const auto& [f, v] : results) {
+      if (v < r.least_v * o.near_best_factor + o.near_best_offset) {
+        r.selected_hz = f;
+        r.selected_v = v;
+        break;
+      }
     }
   }
   if (o.update_grid_hz > 0.0) {
@@ -164,6 +199,9 @@ void validate(const std::vector<MeasuredSpectrum>& spectra, const std::vector<Mo
   }
   for (const double f : o.scan_frequencies_hz) require_positive("scan frequency", f);
   require_non_negative("update_grid_hz", o.update_grid_hz, "The drive's update rate in Hz (0: no update grid).");
+  require_positive("smoothing acceleration (mm/s²)", o.smoothing.accel_mm_s2);
+  require_non_negative("square-corner velocity (mm/s)", o.smoothing.square_corner_velocity_mm_s);
+  require_positive("target smoothing (mm)", o.smoothing.target_smoothing_mm);
 }
 
 // The shaper as the drive applies it: on its update grid when one is set.
@@ -251,6 +289,78 @@ void choose(Recommendation& r, const RecommendOptions& o) {
   }
 }
 
+// Every figure of a candidate whose shaper is set: remaining vibration, delay, printer figures.
+void evaluate(CandidateResult& c, const Evaluator& ev, const RecommendOptions& o) {
+  c.remaining_worst = ev.worst(*c.shaper);
+  c.remaining_nominal = ev.nominal(*c.shaper);
+  if (c.designed) c.remaining_worst_designed = ev.worst(*c.designed);
+  c.duration_s = c.shaper->duration_s();
+  c.within_budget = c.duration_s <= o.max_delay_s * (1.0 + 1e-12);
+  c.leaves_too_much = c.remaining_worst > o.max_remaining;
+  c.smoothing_mm = ev.smoothing(*c.shaper);
+  c.max_accel_mm_s2 = max_accel_mm_s2(*c.shaper, o.smoothing.square_corner_velocity_mm_s, o.smoothing.target_smoothing_mm);
+  c.klipper_score = klipper_score(c.smoothing_mm, c.remaining_worst);
+}
+
+// A candidate's frequency scan, kept for Klipper's choice (single-mode candidates only).
+struct ScanFit {
+  std::vector<ScanPoint> points;
+  std::function<shaping::Shaper(double)> remake;
+};
+
+// Klipper's choice across candidates, in their order (shaper_calibrate.py, find_best_shaper).
+std::size_t klipper_best(std::vector<CandidateResult>& c, const std::vector<ScanFit>& fits, const Evaluator& ev,
+                         const RecommendOptions& o) {
+  const auto eligible = [&](std::size_t i) { return c[i].available && c[i].within_budget && !c[i].duplicate_of; };
+  std::optional<std::size_t> best;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!eligible(i)) continue;
+    if (!best || c[i].klipper_score * 1.2 < c[*best].klipper_score ||
+        (c[i].klipper_score * 1.05 < c[*best].klipper_score && c[i].smoothing_mm * 1.1 < c[*best].smoothing_mm)) {
+      best = i;
+    }
+    // A scan point with less vibration and less smoothing than the best so far replaces it.
+    for (const auto& p : fits[i].points) {
+      if (!(p.remaining < c[*best].remaining_worst && p.smoothing_mm < c[*best].smoothing_mm)) continue;
+      CandidateResult moved = c[i];
+      moved.design_frequency_hz = {p.frequency_hz};
+      moved.shaper = fits[i].remake(p.frequency_hz);
+      evaluate(moved, ev, o);
+      if (!moved.within_budget) continue;
+      c[i] = std::move(moved);
+      best = i;
+    }
+  }
+  if (c[*best].name == "zv") {  // a ZV pick gives way to the first candidate leaving 10 % less
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (eligible(i) && c[i].name != "zv" && c[i].remaining_worst * 1.1 < c[*best].remaining_worst) return i;
+    }
+  }
+  return *best;
+}
+
+void choose_as_klipper(Recommendation& r, const std::vector<ScanFit>& fits, const Evaluator& ev, const RecommendOptions& o) {
+  const CandidateResult by_delay = r.candidates[*r.chosen];
+  const std::size_t pick = klipper_best(r.candidates, fits, ev, o);
+  r.chosen = pick;
+  r.weighed_smoothing = true;
+  const auto& p = r.candidates[pick];
+  const std::string delay_rule = by_delay.name == p.name
+                                     ? fmt::format("the delay rule picks {} too", upper(p.name))
+                                     : fmt::format("the delay rule would pick {} ({}, smoothing {:.3f} mm, {})", upper(by_delay.name),
+                                                   percent(by_delay.remaining_worst), by_delay.smoothing_mm, millis(by_delay.duration_s));
+  r.reason = fmt::format("{}: Klipper's pick, the best score smoothing·(v^1.5 + 0.2v + 0.01) = {:.3g} (remaining {}, smoothing "
+                         "{:.3f} mm at {:g} mm/s², max accel {:.0f} mm/s², {}); {}",
+                         upper(p.name), p.klipper_score, percent(p.remaining_worst), p.smoothing_mm, o.smoothing.accel_mm_s2,
+                         p.max_accel_mm_s2, millis(p.duration_s), delay_rule);
+  r.warning.clear();
+  if (p.leaves_too_much) {
+    r.warning = fmt::format("{} leaves {} of the vibration (more than the {} limit): no candidate cancels what this spectrum holds; "
+                            "record the response to broadband excitation again", upper(p.name), percent(p.remaining_worst),
+                            percent(o.max_remaining));
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> default_candidates(std::size_t modes) {
@@ -280,11 +390,16 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
     const double min_f = o.min_frequency_hz ? *o.min_frequency_hz : 2.0 * s.resolution_hz;
     bins.push_back(weighted_bins(s, o.threshold_fraction, min_f));
   }
-  const Evaluator ev{bins, r.test_damping_ratios, r.frequency_scales};
+  const Evaluator ev{bins, r.test_damping_ratios, r.frequency_scales, o.smoothing};
 
   const std::vector<std::string> names = o.candidates.empty() ? default_candidates(modes.size()) : o.candidates;
+  r.printer_figures = o.weigh_smoothing || std::any_of(spectra.begin(), spectra.end(), [](const MeasuredSpectrum& s) {
+                        return s.format != InputFormat::table;
+                      });
+  std::vector<ScanFit> fits;
   for (const std::string& name : names) {
     CandidateResult c;
+    ScanFit fit;
     c.name = name;
     c.design_damping = r.design_damping;
     const auto star = name.find('*');
@@ -307,6 +422,8 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
         c.least_remaining_frequency_hz = s.least_hz;
         c.shaper = make(s.selected_hz);
         if (o.update_grid_hz > 0.0) c.designed = scaled(p1, s.selected_hz);
+        fit.points = s.points;
+        fit.remake = [p1, &o](double f) { return applied(scaled(p1, f), o); };
       } else {
         const ModeEstimate& m2 = modes[1];
         const double zeta2 = std::clamp(m2.damping_ratio, 0.0, 0.9);
@@ -332,12 +449,7 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
         if (o.update_grid_hz > 0.0) c.designed = shaping::convolve(scaled(p1, f1), scaled(p2, f2));
         c.note = fmt::format("second factor designed at ζ = {:.4g}", zeta2);
       }
-      c.remaining_worst = ev.worst(*c.shaper);
-      c.remaining_nominal = ev.nominal(*c.shaper);
-      if (c.designed) c.remaining_worst_designed = ev.worst(*c.designed);
-      c.duration_s = c.shaper->duration_s();
-      c.within_budget = c.duration_s <= o.max_delay_s * (1.0 + 1e-12);
-      c.leaves_too_much = c.remaining_worst > o.max_remaining;
+      evaluate(c, ev, o);
     } catch (const InvalidArgument& e) {
       c.available = false;
       c.note = e.what();
@@ -346,9 +458,11 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
       c.note = e.what();
     }
     r.candidates.push_back(std::move(c));
+    fits.push_back(std::move(fit));
   }
   if (o.update_grid_hz > 0.0) mark_duplicates(r.candidates, o.update_grid_hz);
   choose(r, o);
+  if (o.weigh_smoothing && r.chosen) choose_as_klipper(r, fits, ev, o);
   return r;
 }
 

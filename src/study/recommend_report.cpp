@@ -57,6 +57,11 @@ ojson candidates_json(const advise::Recommendation& r, const std::optional<MoveP
       j["within_budget"] = c.within_budget;
       j["leaves_too_much"] = c.leaves_too_much;
       j["impulses"] = impulses;
+      if (r.printer_figures) {  // Klipper's figures for printer data (advise/smoothing.hpp)
+        j["smoothing_mm"] = c.smoothing_mm;
+        j["max_accel_mm_s2"] = number_or_null(c.max_accel_mm_s2);
+        j["klipper_score"] = c.klipper_score;
+      }
       if (grid_hz > 0.0) {  // the impulses above are the applied ones, on the drive's update grid
         j["update_grid_hz"] = grid_hz;
         j["duplicate_of"] = c.duplicate_of ? ojson(*c.duplicate_of) : ojson(nullptr);
@@ -118,6 +123,12 @@ ojson scoring_json(const advise::Recommendation& r, const advise::RecommendOptio
                    {"scan", o.scan_step_hz ? fmt::format("linear, {:g} Hz steps", *o.scan_step_hz)
                                            : fmt::format("log-spaced, x{:g} per step", 1.0 + o.scan_step_ratio)}};
   if (o.update_grid_hz > 0.0) scoring["update_grid_hz"] = o.update_grid_hz;
+  if (r.printer_figures) {
+    scoring["smoothing"] = {{"accel_mm_s2", o.smoothing.accel_mm_s2},
+                            {"square_corner_velocity_mm_s", o.smoothing.square_corner_velocity_mm_s},
+                            {"target_smoothing_mm", o.smoothing.target_smoothing_mm},
+                            {"weighed", r.weighed_smoothing ? "klipper" : "none"}};
+  }
   return scoring;
 }
 
@@ -136,7 +147,7 @@ ojson model_json(const RecommendRequest& request, const std::optional<MovePredic
 ojson recommendation_json(const advise::Recommendation& r, const std::optional<MovePrediction>& pred, double grid_hz) {
   if (!r.chosen) return nullptr;
   const auto& c = r.candidates[*r.chosen];
-  return {{"name", c.name},
+  ojson j = {{"name", c.name},
           {"design_frequency_hz", c.design_frequency_hz},
           {"design_damping", c.design_damping},
           {"duration_s", c.duration_s},
@@ -144,6 +155,11 @@ ojson recommendation_json(const advise::Recommendation& r, const std::optional<M
           {"warning", r.warning.empty() ? ojson(nullptr) : ojson(r.warning)},
           {"predicted_md", pred ? ojson(*pred->md[*r.chosen]) : ojson(nullptr)},
           {"shape_command", shape_command(c, r, grid_hz)}};
+  if (r.printer_figures) {
+    j["smoothing_mm"] = c.smoothing_mm;
+    j["max_accel_mm_s2"] = number_or_null(c.max_accel_mm_s2);
+  }
+  return j;
 }
 
 // The move's parameters as JSON text (signal/parameters.hpp), for the output.

@@ -13,6 +13,7 @@
 
 #include "clearshape/advise/mode_estimate.hpp"
 #include "clearshape/advise/remaining.hpp"
+#include "clearshape/advise/smoothing.hpp"
 #include "clearshape/shaping/shaper.hpp"
 
 namespace clearshape::advise {
@@ -55,6 +56,16 @@ struct RecommendOptions {
   /// scan included: remaining vibration, duration and the choice are those of the applied
   /// shaper. 0: off (the designed shapers as they are).
   double update_grid_hz = 0.0;
+  /// Printer figures (smoothing.hpp): every candidate's smoothing at smoothing.accel_mm_s2 and its
+  /// max acceleration are always computed. weigh_smoothing: pick as Klipper's calibrate_shaper
+  /// does — each candidate's frequency is the lowest klipper_score among the near-best scan
+  /// points (instead of the highest frequency), and the candidates are compared in order by
+  /// Klipper's rules (a later one wins with a 20 % lower score, or 5 % lower with 10 % less
+  /// smoothing; a scan point with less vibration and less smoothing than the pick replaces it; a
+  /// ZV pick gives way to the first candidate leaving 10 % less). The vibration v in the score is
+  /// the worst-case remaining vibration.
+  SmoothingSettings smoothing;
+  bool weigh_smoothing = false;
 };
 
 struct CandidateResult {
@@ -78,6 +89,9 @@ struct CandidateResult {
   std::optional<shaping::Shaper> designed;
   double remaining_worst_designed = 0.0;
   std::optional<std::string> duplicate_of;
+  double smoothing_mm = 0.0;                   ///< Klipper's smoothing at RecommendOptions::smoothing
+  double max_accel_mm_s2 = 0.0;                ///< … and the acceleration keeping it under the target
+  double klipper_score = 0.0;                  ///< smoothing_mm · (v^1.5 + 0.2 v + 0.01), v = remaining_worst
 };
 
 struct Recommendation {
@@ -89,6 +103,10 @@ struct Recommendation {
   std::optional<std::size_t> chosen;          ///< index into candidates
   std::string reason;
   std::string warning;                        ///< non-empty: the pick leaves more than max_remaining
+  bool weighed_smoothing = false;             ///< the pick followed Klipper's score (weigh_smoothing)
+  /// Printer data (a Klipper file among the spectra) or weigh_smoothing: the output shows the
+  /// candidates' smoothing and max acceleration.
+  bool printer_figures = false;
 };
 
 /// Throws InvalidArgument for no spectra, no modes, an unknown candidate, a two-mode candidate
