@@ -55,6 +55,11 @@ def draw(data: dict):
         freqs = "+".join(f"{float(f):.2f}" for f in c["design_frequency_hz"])
         label = (f"{name.upper()} ({freqs} Hz, vibr. {100 * float(c['remaining_worst']):.1f} %, "
                  f"{1000 * float(c['duration_s']):.0f} ms)")
+        if c.get("smoothing_mm") is not None:  # printer data: Klipper's smoothing and max acceleration
+            accel = c.get("max_accel_mm_s2")
+            label = (f"{name.upper()} ({freqs} Hz, {100 * float(c['remaining_worst']):.1f} %, "
+                     f"{1000 * float(c['duration_s']):.0f} ms, {float(c['smoothing_mm']):.3f} mm"
+                     + (f", ≤ {100 * round(float(accel) / 100):.0f} mm/s²)" if accel is not None else ")"))
         if c.get("chosen"):
             style.update(linewidth=2.6, zorder=6)
             label += " — recommended"

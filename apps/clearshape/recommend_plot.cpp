@@ -84,6 +84,10 @@ nlohmann::ordered_json figure_data(const std::vector<advise::MeasuredSpectrum>& 
                      {"duration_s", c.duration_s},
                      {"chosen", r.chosen && *r.chosen == i},
                      {"response", advise::worst_response(*c.shaper, grid, r.test_damping_ratios, r.frequency_scales)}});
+    if (r.printer_figures) {  // Klipper's legend: smoothing and max acceleration (advise/smoothing.hpp)
+      cands.back()["smoothing_mm"] = c.smoothing_mm;
+      cands.back()["max_accel_mm_s2"] = std::isfinite(c.max_accel_mm_s2) ? nlohmann::ordered_json(c.max_accel_mm_s2) : nullptr;
+    }
   }
   doc["candidates"] = cands;
   nlohmann::ordered_json modes = nlohmann::ordered_json::array();
