@@ -8,7 +8,9 @@
 #include <vector>
 
 #include "clearshape/core/series.hpp"
+#include "clearshape/ident/experiment.hpp"
 #include "clearshape/lti/discretize.hpp"
+#include "clearshape/lti/simulate.hpp"
 
 namespace clearshape::testing {
 
@@ -52,6 +54,23 @@ inline lti::DiscreteStateSpace two_resonances(double w1, double z1, double w2, d
   c.c(0, 2) = 300;
   c.d = Eigen::MatrixXd::Zero(1, 1);
   return lti::discretize(c, dt);
+}
+
+/// A seeded white input (2000 samples at 200 Hz) through two resonances (4 Hz ζ 0.02, 11 Hz
+/// ζ 0.05; two_resonances) with white output noise of `noise` × the output's RMS.
+inline ident::Experiment two_resonance_record(std::uint64_t seed, double noise) {
+  const double two_pi = 2.0 * std::numbers::pi;
+  const auto d = two_resonances(two_pi * 4.0, 0.02, two_pi * 11.0, 0.05, 0.005);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> nd;
+  std::vector<double> u(2000);
+  for (auto& v : u) v = nd(rng);
+  auto y = lti::simulate(d, u);
+  double rms = 0.0;
+  for (double v : y) rms += v * v;
+  rms = std::sqrt(rms / static_cast<double>(y.size()));
+  for (double& v : y) v += noise * rms * nd(rng);
+  return {"io", 0.005, u, y};
 }
 
 }  // namespace clearshape::testing

@@ -1,6 +1,7 @@
 #pragma once
 // General linear model of a chosen order from input/output data, for multi-mode systems:
-// N4SID start (subspace.hpp), then output-error (simulation) refinement with Ceres in real modal
+// N4SID starts (subspace.hpp) at the horizons max(2n, 10), ×2, ×4, ×8 (as the record allows), the
+// one with the least simulation error refined by output error (simulation) with Ceres in real modal
 // form — one 2×2 block r·R(θ) per complex pole pair, a scalar per real pole, B = [0 1]ᵀ / 1 per
 // block, C, D (and x0) free: a minimal parametrization whose pole parameters are the modes.
 #include <cstddef>
