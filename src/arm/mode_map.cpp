@@ -29,9 +29,25 @@ std::vector<signal::AxisLimits> step_limits(const ModeMapOptions& o, int dof) {
   return std::vector<signal::AxisLimits>(static_cast<std::size_t>(dof), {2.0, 40.0, 4000.0});
 }
 
+/// Each link resting on the flank that carries its gravity torque, φ_i = −sign(g_i)(β_i + |g_i|/K_i)
+/// (the equilibrium τ_contact = g(q) of docs/arm.md §1 with the flank's tangent stiffness K_i:
+/// exact for a linear flank), so that a run does not start with the links dropping across their play.
+Eigen::VectorXd resting_on_flanks(const ArmModel& arm, const Eigen::VectorXd& pose, const ArmModes& modes) {
+  ChainWorkspace workspace(arm.chain);
+  Eigen::VectorXd g(arm.dof());
+  workspace.gravity_torque(pose, g);
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(arm.dof());
+  for (int i = 0; i < arm.dof(); ++i) {
+    const double beta = arm.joints[static_cast<std::size_t>(i)].half_play_rad;
+    if (g(i) != 0.0) phi(i) = -std::copysign(beta + std::abs(g(i)) / modes.stiffness_n_m_per_rad(i), g(i));
+  }
+  return phi;
+}
+
 /// The arm stepped by `step_deg` in joint j from `pose`; every link's rate in the free-response
 /// window after the step has ended and the drives have settled.
-std::vector<UniformSeries> step_run(const ArmModel& arm, const Eigen::VectorXd& pose, int j, const ModeMapOptions& o) {
+std::vector<UniformSeries> step_run(const ArmModel& arm, const Eigen::VectorXd& pose, const Eigen::VectorXd& phi0, int j,
+                                    const ModeMapOptions& o) {
   Eigen::VectorXd end = pose;
   end(j) += o.step_deg * std::numbers::pi / 180.0;
   const auto limits = step_limits(o, arm.dof());
@@ -42,6 +58,7 @@ std::vector<UniformSeries> step_run(const ArmModel& arm, const Eigen::VectorXd& 
   sim.duration_s = window_start_s + o.window_s;
   sim.output_rate_hz = o.output_rate_hz;
   sim.solver = o.solver;
+  sim.initial.relative_angle_rad = phi0;
   const ArmTrace trace = simulate_arm(arm, commands, sim);
   const auto k0 = static_cast<Eigen::Index>(
       std::lower_bound(trace.time_s.begin(), trace.time_s.end(), window_start_s - 1e-12) - trace.time_s.begin());
@@ -89,18 +106,35 @@ void set_nearest_linear(MapMode& m, const ArmModes& lin) {
   m.relative_frequency_error = (m.natural_frequency_hz - m.linear_frequency_hz) / m.linear_frequency_hz;
 }
 
+/// Marks the modes at an integer multiple of a lower one (the lower ones are not harmonics).
+void mark_harmonics(std::vector<MapMode>& modes, double tolerance) {
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    for (std::size_t l = 0; l < i && modes[i].harmonic == 0; ++l) {
+      if (modes[l].harmonic != 0) continue;
+      const double ratio = modes[i].natural_frequency_hz / modes[l].natural_frequency_hz;
+      const double k = std::round(ratio);
+      if (k >= 2.0 && k <= 9.0 && std::abs(ratio / k - 1.0) < tolerance) modes[i].harmonic = static_cast<int>(k);
+    }
+  }
+}
+
 ModeMapPoint identify_point(const ArmModel& arm, const Eigen::VectorXd& pose, const ModeMapOptions& o) {
   ModeMapPoint p{pose, {}, joint_modes(arm, pose, o.linearisation), {}};
   ident::ModeOptions mo = o.identification;
   if (mo.modes == 0) mo.modes = static_cast<std::size_t>(arm.dof());
+  const Eigen::VectorXd phi0 = resting_on_flanks(arm, pose, p.linearised);
   std::vector<RunEstimate> estimates;
   for (int j = 0; j < arm.dof(); ++j) {
     const std::string run = "step of " + arm.joints[static_cast<std::size_t>(j)].name;
     try {
-      const auto rates = step_run(arm, pose, j, o);
+      const auto rates = step_run(arm, pose, phi0, j, o);
       for (std::size_t i = 0; i < rates.size(); ++i) {
         try {
           for (const auto& m : ident::identify_free_response_modes(rates[i], mo).modes) {
+            // a growing pole (ζ below −3σ) or one without an uncertainty is not a residual mode
+            if (!std::isfinite(m.natural_frequency_std_rad_s) || m.damping_ratio + 3.0 * m.damping_ratio_std <= 0.0) {
+              continue;
+            }
             estimates.push_back({m.natural_frequency_hz(), m.natural_frequency_std_hz(), m.damping_ratio,
                                  m.damping_ratio_std});
           }
@@ -114,6 +148,7 @@ ModeMapPoint identify_point(const ArmModel& arm, const Eigen::VectorXd& pose, co
   }
   p.modes = merge_estimates(std::move(estimates), o.merge_tolerance);
   for (MapMode& m : p.modes) set_nearest_linear(m, p.linearised);
+  mark_harmonics(p.modes, o.harmonic_tolerance);
   return p;
 }
 
@@ -132,6 +167,8 @@ void ModeMapOptions::validate(int dof) const {
           ">= 50 samples (the identification needs them)");
   require(merge_tolerance > 0.0 && merge_tolerance < 1.0, "merge_tolerance = " + std::to_string(merge_tolerance),
           "in (0, 1)");
+  require(harmonic_tolerance >= 0.0 && harmonic_tolerance < merge_tolerance,
+          "harmonic_tolerance = " + std::to_string(harmonic_tolerance), "in [0, merge_tolerance)");
   solver.validate();
   linearisation.validate();
 }

@@ -29,6 +29,7 @@ struct ModeMapOptions {
   double window_s = 0.6;            ///< the free-response window identified (s), > 0
   double output_rate_hz = 1000.0;   ///< samples of the link rates, > 0
   double merge_tolerance = 0.05;    ///< relative frequency within which two runs' estimates are one mode, (0, 1)
+  double harmonic_tolerance = 0.003;  ///< relative, for MapMode::harmonic, [0, merge_tolerance)
   /// modes = 0: the arm's number of joints; residual modes worth shaping are lightly damped:
   /// max_damping_ratio 0.05 (a heavier "mode" is the rattle of a link in its play, or friction's)
   ident::ModeOptions identification = [] {
@@ -53,6 +54,10 @@ struct MapMode {
   double linear_frequency_hz = 0.0;
   double linear_damping_ratio = 0.0;
   double relative_frequency_error = 0.0;  ///< (f − f_lin) / f_lin
+  /// k ≥ 2 when f is within `harmonic_tolerance` of k times a lower identified mode's frequency
+  /// (2 ≤ k ≤ 9): a harmonic of that mode from a nonlinearity (the play's contact, the regularised
+  /// Coulomb friction), not a mode of its own; 0 otherwise.
+  int harmonic = 0;
 };
 
 struct ModeMapPoint {
