@@ -1,0 +1,60 @@
+#pragma once
+// Options shared by the `clearshape arm` subcommands (cmd_arm.cpp, cmd_arm_modes.cpp): which arm
+// (built-in or URDF + TOML, with an optional play for every joint), angle lists, output files.
+#include <filesystem>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <Eigen/Dense>
+
+#include "clearshape/arm/arm.hpp"
+
+namespace clearshape::cli {
+
+struct ArmSource {
+  std::string name = "scara-2";
+  std::string urdf, config;
+  double play_deg = 0.0;
+  CLI::Option* play_option = nullptr;
+};
+
+/// --arm, --urdf, --config, --play-deg on `app`.
+void add_arm_options(CLI::App& app, ArmSource& source);
+/// A subcommand of `parent` with the arm options.
+CLI::App* add_arm_subcommand(CLI::App& parent, const std::string& name, const std::string& description,
+                             ArmSource& source);
+/// The arm named by the options (InvalidArgument naming the option; InputError naming the file).
+arm::ArmModel load_arm(const ArmSource& source);
+
+/// "a,b,…" → one angle per joint (rad). InvalidArgument naming `option` and the joints.
+Eigen::VectorXd parse_angles(const std::string& text, const std::string& option, const arm::ArmModel& arm);
+std::string format_angles(const Eigen::VectorXd& q);
+
+/// ".json" or ".csv" (lower case) of `-o`; InvalidArgument naming -o otherwise.
+std::string output_kind(const std::filesystem::path& path);
+
+}  // namespace clearshape::cli
+
+#include "clearshape/arm/trajectory.hpp"
+
+namespace clearshape::cli {
+
+/// A synchronised jerk-limited move, optionally shaped (arm move, arm simulate).
+struct MoveRequest {
+  std::string from, to;
+  std::string shaper = "none";  ///< none | fixed | scheduled
+  std::string method = "zvd";
+  bool every_mode = false;
+  double velocity = 2.0, acceleration = 20.0, jerk = 400.0;  ///< every joint, at the link
+  double sample_time_s = 1e-3;
+};
+/// --from, --to (required when `required`), --shaper, --method, --every-mode, --velocity,
+/// --acceleration, --jerk, --sample-time.
+void add_move_options(CLI::App& app, MoveRequest& move, bool required);
+/// The (shaped) move; `summary` receives one line per joint on its design.
+arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& move, std::string& summary);
+
+/// Registers `arm modes` under `arm` (cmd_arm_modes.cpp).
+void setup_arm_modes(CLI::App& arm);
+
+}  // namespace clearshape::cli

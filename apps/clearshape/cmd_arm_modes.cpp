@@ -1,0 +1,168 @@
+// clearshape arm modes: the arm's linearised modes at a pose (arm/modes.hpp), or with --identify
+// the mode map identified from simulated step runs on a grid of poses beside them
+// (arm/mode_map.hpp). A table on stdout; -o writes CSV or JSON.
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "arm_options.hpp"
+#include "clearshape/arm/mode_map.hpp"
+#include "clearshape/core/error.hpp"
+#include "clearshape/io/json.hpp"
+#include "clearshape/io/table.hpp"
+#include "command.hpp"
+
+namespace clearshape::cli {
+namespace {
+
+struct ModesState {
+  ArmSource source;
+  std::string pose, out;
+  bool identify = false;
+  int grid = 3;
+  double step_deg = 1.0;
+  bool json = false;
+};
+
+/// One row of the output: a mode at a pose (identified columns NaN for the linearised modes).
+struct ModeRow {
+  Eigen::VectorXd pose;
+  int mode = 0;
+  double f_hz = NAN, f_std_hz = NAN, zeta = NAN, zeta_std = NAN;
+  int runs = 0;
+  double linear_f_hz = NAN, linear_zeta = NAN, relative_error = NAN;
+  int harmonic = 0;
+};
+
+std::vector<ModeRow> linear_rows(const arm::ArmModes& m) {
+  std::vector<ModeRow> rows;
+  for (Eigen::Index k = 0; k < m.natural_frequency_rad_s.size(); ++k) {
+    ModeRow r{m.pose_rad, static_cast<int>(k)};
+    r.linear_f_hz = m.natural_frequency_rad_s(k) / (2 * M_PI);
+    r.linear_zeta = m.damping_ratio(k);
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::vector<ModeRow> map_rows(const arm::ModeMap& map) {
+  std::vector<ModeRow> rows;
+  for (const auto& p : map.points) {
+    for (const auto& m : p.modes) {
+      rows.push_back({p.pose_rad, m.linear_mode, m.natural_frequency_hz, m.natural_frequency_std_hz, m.damping_ratio,
+                      m.damping_ratio_std, m.runs, m.linear_frequency_hz, m.linear_damping_ratio,
+                      m.relative_frequency_error, m.harmonic});
+    }
+    for (const auto& f : p.failures) fmt::print(stderr, "clearshape arm modes: at {} rad: {}\n", format_angles(p.pose_rad), f);
+  }
+  return rows;
+}
+
+std::vector<std::string> column_names(const arm::ArmModel& model) {
+  std::vector<std::string> names;
+  for (const auto& j : model.joints) names.push_back(j.name + "_rad");
+  for (const char* n : {"linear_mode", "frequency_hz", "frequency_std_hz", "damping_ratio", "damping_ratio_std", "runs",
+                        "linear_frequency_hz", "linear_damping_ratio", "relative_frequency_error", "harmonic"}) {
+    names.emplace_back(n);
+  }
+  return names;
+}
+
+std::vector<std::vector<double>> columns(const std::vector<ModeRow>& rows, int dof) {
+  std::vector<std::vector<double>> c(static_cast<std::size_t>(dof) + 10);
+  for (const ModeRow& r : rows) {
+    for (int i = 0; i < dof; ++i) c[static_cast<std::size_t>(i)].push_back(r.pose(i));
+    const double values[] = {static_cast<double>(r.mode), r.f_hz, r.f_std_hz, r.zeta, r.zeta_std,
+                             static_cast<double>(r.runs), r.linear_f_hz, r.linear_zeta, r.relative_error,
+                             static_cast<double>(r.harmonic)};
+    for (std::size_t k = 0; k < 10; ++k) c[static_cast<std::size_t>(dof) + k].push_back(values[k]);
+  }
+  return c;
+}
+
+nlohmann::ordered_json to_json(const arm::ArmModel& model, const std::vector<ModeRow>& rows, bool identified) {
+  nlohmann::ordered_json doc = io::make_document();
+  doc["arm"] = model.name;
+  doc["source"] = identified ? "identified from simulated step runs (arm::identify_mode_map)" : "linearised (arm::joint_modes)";
+  const auto names = column_names(model);
+  const auto c = columns(rows, model.dof());
+  doc["modes"] = nlohmann::ordered_json::array();
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    nlohmann::ordered_json row;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const bool count = names[k] == "linear_mode" || names[k] == "runs" || names[k] == "harmonic";
+      if (count && (identified || names[k] == "linear_mode")) row[names[k]] = static_cast<int>(c[k][r]);
+      if (!count && std::isfinite(c[k][r])) row[names[k]] = c[k][r];
+    }
+    doc["modes"].push_back(row);
+  }
+  return doc;
+}
+
+void print_table(const std::vector<ModeRow>& rows, bool identified) {
+  fmt::print("{}", identified ? "pose_rad                   mode  identified_hz (1σ)     zeta (1σ)            linear_hz  "
+                          "linear_zeta  error_%  note\n"
+                        : "pose_rad                   mode  frequency_hz  damping_ratio\n");
+  for (const ModeRow& r : rows) {
+    if (identified) {
+      fmt::print("{:<26} {:>4}  {:>9.3f} ({:.3f})  {:.5f} ({:.5f})  {:>9.3f}  {:.5f}  {:>+7.3f}  {}\n",
+                 format_angles(r.pose), r.mode, r.f_hz, r.f_std_hz, r.zeta, r.zeta_std, r.linear_f_hz, r.linear_zeta,
+                 100 * r.relative_error, r.harmonic == 0 ? "" : fmt::format("harmonic {} of a lower mode", r.harmonic));
+    } else {
+      fmt::print("{:<26} {:>4}  {:>12.3f}  {:.3g}\n", format_angles(r.pose), r.mode, r.linear_f_hz, r.linear_zeta);
+    }
+  }
+}
+
+void run_modes(const ModesState& st) {
+  const arm::ArmModel model = load_arm(st.source);
+  if (st.identify && !st.pose.empty()) throw InvalidArgument("--pose and --identify: give one (--identify uses --grid)");
+  std::vector<ModeRow> rows;
+  if (st.identify) {
+    arm::ModeMapOptions o;
+    o.step_deg = st.step_deg;
+    rows = map_rows(arm::identify_mode_map(model, arm::pose_grid(model, st.grid), o));
+  } else {
+    const Eigen::VectorXd q = st.pose.empty() ? arm::workspace_centre(model) : parse_angles(st.pose, "--pose", model);
+    rows = linear_rows(arm::joint_modes(model, q));
+  }
+  const std::string kind = st.out.empty() ? "" : output_kind(st.out);
+  if (st.json) {
+    print_json(to_json(model, rows, st.identify));
+  } else {
+    print_table(rows, st.identify);
+  }
+  if (kind == ".json") io::write_json(st.out, to_json(model, rows, st.identify));
+  if (kind == ".csv") {
+    const auto c = columns(rows, model.dof());
+    std::vector<const std::vector<double>*> pointers;
+    for (const auto& col : c) pointers.push_back(&col);
+    io::write_csv(st.out, column_names(model), pointers);
+  }
+}
+
+}  // namespace
+
+void setup_arm_modes(CLI::App& parent) {
+  auto st = std::make_shared<ModesState>();
+  CLI::App* sub = add_arm_subcommand(
+      parent, "modes", "The arm's modes at a pose, linearised on closed plays; --identify: identified from simulated "
+               "step runs on a grid of poses, beside the linearised ones (docs/arm.md §7)",
+      st->source);
+  sub->add_option("--pose", st->pose, "One angle per joint, comma-separated (rad); default the workspace centre");
+  sub->add_flag("--identify", st->identify, "Identify the modes from simulated 1° step runs at every pose of --grid");
+  sub->add_option("--grid", st->grid, "Poses per joint of the identification grid (1-10; cell centres of the ranges)")
+      ->check(CLI::Range(1, 10))->capture_default_str();
+  sub->add_option("--step-deg", st->step_deg, "Each identification run's step of one joint at the link (deg, 0.01-30)")
+      ->check(CLI::Range(0.01, 30.0))->capture_default_str();
+  sub->add_flag("--json", st->json, "Print JSON instead of the table");
+  sub->add_option("-o,--out", st->out, "Also write the rows: a .csv or .json file");
+  sub->callback([st] { run_modes(*st); });
+}
+
+}  // namespace clearshape::cli

@@ -1,0 +1,139 @@
+// clearshape arm: modes at a pose against the SciPy eigh golden (tests/golden/gen_arm_modes.py),
+// the identified mode map against those, a shaped move's JSON and CSV (the ZVD's length is one
+// damped period, Singer & Seering 1990), a move played by the simulation ends where it was sent
+// (no play: the position drives' steady state), help text, and bad input → exit 2 naming the option.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "clearshape/io/table.hpp"
+#include "support/cli.hpp"
+#include "support/paths.hpp"
+
+namespace fs = std::filesystem;
+using clearshape::testing::run_cli;
+
+namespace {
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+/// The golden row of scara-2's modes at elbow angle q2 (rad).
+std::pair<double, double> golden_modes_hz(double q2) {
+  const auto t = clearshape::io::read_table(clearshape::testing::golden_path("arm_scara_modes.csv"));
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    if (std::abs(t.column("q2_rad")[r] - q2) < 1e-9) return {t.column("f1_hz")[r], t.column("f2_hz")[r]};
+  }
+  ADD_FAILURE() << "no golden row at q2 = " << q2;
+  return {NAN, NAN};
+}
+
+TEST(ArmCli, ModesAtAPoseMatchTheScipyGolden) {
+  const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_modes");
+  const auto r = run_cli("arm modes --pose 0.7,0.6 -o " + (dir / "modes.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = read_json(dir / "modes.json");
+  const auto [f1, f2] = golden_modes_hz(0.6);
+  ASSERT_EQ(doc["modes"].size(), 2u);
+  EXPECT_NEAR(doc["modes"][0]["linear_frequency_hz"].get<double>() / f1, 1.0, 1e-9);
+  EXPECT_NEAR(doc["modes"][1]["linear_frequency_hz"].get<double>() / f2, 1.0, 1e-9);
+  EXPECT_NE(r.out.find("frequency_hz"), std::string::npos) << r.out;
+}
+
+// The identified first mode beside the linearised one written in the same file (joint_modes, itself
+// checked against the golden in tests/arm) and, on the elbow-straight poses, beside the golden.
+TEST(ArmCli, IdentifiedMapWithoutPlayAgreesWithTheLinearisedModes) {
+  const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_map");
+  const auto r = run_cli("arm modes --identify --grid 3 --play-deg 0 -o " + (dir / "map.csv").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto t = clearshape::io::read_table(dir / "map.csv");
+  int first_modes = 0, straight = 0;
+  for (std::size_t k = 0; k < t.rows(); ++k) {
+    if (t.column("linear_mode")[k] != 0.0 || t.column("harmonic")[k] != 0.0) continue;
+    ++first_modes;
+    EXPECT_NEAR(t.column("frequency_hz")[k] / t.column("linear_frequency_hz")[k], 1.0, 1e-3) << k;
+    EXPECT_GT(t.column("frequency_std_hz")[k], 0.0);
+    if (t.column("elbow_rad")[k] != 0.0) continue;
+    ++straight;
+    EXPECT_NEAR(t.column("frequency_hz")[k] / golden_modes_hz(0.0).first, 1.0, 1e-3) << k;
+  }
+  EXPECT_EQ(first_modes, 9);
+  EXPECT_EQ(straight, 3);
+}
+
+TEST(ArmCli, ShapedMoveWritesJointTrajectoryJsonAndCsv) {
+  const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_move");
+  const std::string move = "arm move --from 0,1.5 --to 1.2,0.6 ";
+  auto r = run_cli(move + "-o " + (dir / "plain.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli(move + "--shaper scheduled -o " + (dir / "shaped.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli(move + "--shaper scheduled -o " + (dir / "shaped.csv").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto plain = read_json(dir / "plain.json"), shaped = read_json(dir / "shaped.json");
+  EXPECT_EQ(shaped["joint_names"], nlohmann::json::parse(R"(["shoulder", "elbow"])"));
+  const auto end_s = [](const nlohmann::json& d) {
+    const auto& t = d["points"].back()["time_from_start"];
+    return t["sec"].get<double>() + 1e-9 * t["nanosec"].get<double>();
+  };
+  // ZVD at the end pose's shoulder mode lasts one damped period (golden f1 at q2 = 0.6; ζ < 1e-3)
+  const double period_s = 1.0 / golden_modes_hz(0.6).first;
+  EXPECT_NEAR(end_s(shaped) - end_s(plain), period_s, 1.5e-3);
+  const auto& last = shaped["points"].back()["positions"];
+  EXPECT_DOUBLE_EQ(last[0].get<double>(), 1.2);
+  EXPECT_DOUBLE_EQ(last[1].get<double>(), 0.6);
+  const auto csv = clearshape::io::read_table(dir / "shaped.csv");
+  EXPECT_EQ(csv.rows(), shaped["points"].size());
+  EXPECT_DOUBLE_EQ(csv.column("shoulder_rad").back(), 1.2);
+}
+
+TEST(ArmCli, SimulatedMoveWithoutPlayEndsAtItsTarget) {
+  const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_simulate");
+  auto r = run_cli("arm move --from 0,1.5 --to 1.2,0.6 --shaper fixed -o " + (dir / "m.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli("arm simulate --play-deg 0 --trajectory " + (dir / "m.json").string() + " -o " + (dir / "run.csv").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("residual"), std::string::npos) << r.out;
+  const auto t = clearshape::io::read_table(dir / "run.csv");
+  EXPECT_NEAR(t.column("shoulder_link_deg").back(), 1.2 * 180 / M_PI, 0.01);
+  EXPECT_NEAR(t.column("elbow_link_deg").back(), 0.6 * 180 / M_PI, 0.01);
+  // the move (0.75 s), 1 s of settling, and the ZVD at the centre's shoulder mode: one period
+  const double zvd_s = 1.0 / golden_modes_hz(0.0).first;
+  EXPECT_NEAR(t.column("time_s").back() - t.column("time_s").front(), 0.75 + 1.0 + zvd_s, 2e-3);
+}
+
+TEST(ArmCli, HelpNamesTheSubcommandsAndOptions) {
+  auto r = run_cli("arm --help");
+  ASSERT_EQ(r.exit_code, 0);
+  for (const char* s : {"simulate", "modes", "move"}) EXPECT_NE(r.out.find(s), std::string::npos) << s;
+  r = run_cli("arm move --help");
+  ASSERT_EQ(r.exit_code, 0);
+  for (const char* s : {"--shaper", "--from", "--to", "--velocity", "--urdf"}) EXPECT_NE(r.out.find(s), std::string::npos) << s;
+}
+
+TEST(ArmCli, BadInputExits2NamingTheOption) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"arm move --from 1,2,3 --to 0,0", "--from = '1,2,3' has 3 angles; allowed: 2"},
+      {"arm move --from 0,0 --to 0,x", "--to = '0,x': 'x' is not an angle"},
+      {"arm move --from 0,0 --to 0,1 --shaper bogus", "--shaper"},
+      {"arm move --from 0,0 --to 0,1 -o t.txt", "-o = 't.txt': allowed a file name ending in .json or .csv"},
+      {"arm modes --identify --grid 0", "--grid: Value 0 not in range 1 to 10"},
+      {"arm modes --play-deg 20", "--play-deg"},
+      {"arm modes --arm nope", "--arm: nope not in {scara-2,vertical-2}"},
+      {"arm simulate", "give either --trajectory FILE or --from and --to"},
+  };
+  for (const auto& [args, message] : cases) {
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << "\n" << r.err;
+  }
+}
+
+}  // namespace
