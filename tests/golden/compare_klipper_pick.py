@@ -17,6 +17,13 @@ Usage (Debian's Python: NumPy, matplotlib):
   /usr/bin/python3 tests/golden/compare_klipper_pick.py KLIPPER_CHECKOUT CLEARSHAPE_BINARY FILE.csv [...]
 Prints one line per file: Klipper's pick and clearshape's two picks with Klipper's estimate,
 the smoothing and max acceleration, and the margin against Klipper's pick + 1 point.
+
+  /usr/bin/python3 tests/golden/compare_klipper_pick.py --golden KLIPPER_CHECKOUT
+writes, for the Klipper-format golden inputs (recommend_klipper_raw.csv and its PSD file), what
+tests/advise/test_klipper_pick.cpp compares with: Klipper's pick (name, frequency, impulses,
+vibrations, smoothing, max_accel) in klipper_pick.json, and the PSD Klipper scores (normalised by
+Klipper's parse_log, bins up to 200 Hz, full precision) as klipper_pick_<input>_scored.csv in
+Klipper's PSD format (with its `shapers:` marker, so Klipper would read it as normalised).
 """
 import contextlib
 import hashlib
@@ -69,19 +76,55 @@ def clearshape_pick(binary, path, extra):
     return cand, ""
 
 
+GOLDEN_INPUTS = ["recommend_klipper_raw.csv", "recommend_klipper_raw_psd.csv"]
+
+
+def klipper_pick(cs, path):
+    with contextlib.redirect_stdout(io.StringIO()):
+        name, all_shapers, _ = cs.calibrate_shaper(
+            [cs.parse_log(path)], None, shapers=None, damping_ratio=None, scv=5.0, shaper_freqs=None,
+            max_smoothing=None, max_vibrs_pcnt=None, test_damping_ratios=None, max_freq=MAX_FREQ_HZ)
+    return next(s for s in all_shapers if s.name == name)
+
+
+def write_golden(root):
+    cs = load_klipper(root)
+    here = os.path.dirname(os.path.abspath(__file__))
+    cases = []
+    for name in GOLDEN_INPUTS:
+        data = cs.parse_log(os.path.join(here, name))
+        k = klipper_pick(cs, os.path.join(here, name))
+        amplitudes, times = cs.shaper_calibrate.shaper_defs.init_shaper(k.name, k.freq, 0.1)
+        scored = f"klipper_pick_{os.path.splitext(name)[0]}_scored.csv"
+        with open(os.path.join(here, scored), "w") as f:
+            f.write(f"freq,psd_x,psd_y,psd_z,psd_xyz,shapers:,{k.name}({k.freq:.1f})\n")
+            for i, freq in enumerate(data.freq_bins):
+                if freq <= MAX_FREQ_HZ:
+                    f.write(",".join(repr(float(x)) for x in (freq, data.psd_x[i], data.psd_y[i], data.psd_z[i],
+                                                                data.psd_sum[i])) + ",,\n")
+        cases.append({"input": name, "scored_psd": scored,
+                      "test_damping_ratios": list(cs.shaper_calibrate.TEST_DAMPING_RATIOS),
+                      "klipper_pick": {"name": k.name, "frequency_hz": float(k.freq), "vibrations": float(k.vibrs),
+                                       "smoothing_mm": float(k.smoothing), "max_accel_mm_s2": float(k.max_accel),
+                                       "amplitudes": [float(a) for a in amplitudes], "times_s": [float(t) for t in times]}})
+    with open(os.path.join(here, "klipper_pick.json"), "w") as f:
+        json.dump({"klipper_commit": "84104bbbd7625d28b4eaaad83f4562972460ecd9", "cases": cases}, f, indent=1)
+        f.write("\n")
+    print(f"wrote klipper_pick.json and {len(cases)} scored PSD files")
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--golden":
+        write_golden(sys.argv[2])
+        return
     if len(sys.argv) < 4:
         sys.exit("usage: compare_klipper_pick.py KLIPPER_CHECKOUT CLEARSHAPE_BINARY FILE.csv [...]")
     cs = load_klipper(sys.argv[1])
     helper = cs.shaper_calibrate.ShaperCalibrate(printer=None)
     for path in sys.argv[3:]:
         data = cs.parse_log(path)
-        with contextlib.redirect_stdout(io.StringIO()):
-            name, all_shapers, _ = cs.calibrate_shaper(
-                [cs.parse_log(path)], None, shapers=None, damping_ratio=None, scv=5.0, shaper_freqs=None,
-                max_smoothing=None, max_vibrs_pcnt=None, test_damping_ratios=None, max_freq=MAX_FREQ_HZ)
-        k = next(s for s in all_shapers if s.name == name)
-        line = [f"{os.path.basename(path)}: Klipper {name} {k.freq:.1f} Hz {100 * k.vibrs:.2f} % "
+        k = klipper_pick(cs, path)
+        line = [f"{os.path.basename(path)}: Klipper {k.name} {k.freq:.1f} Hz {100 * k.vibrs:.2f} % "
                 f"(smoothing {k.smoothing:.3f}, max accel {k.max_accel:.0f})"]
         for label, extra in (("clearshape", []), ("clearshape --weigh-smoothing klipper", ["--weigh-smoothing", "klipper"])):
             cand, why = clearshape_pick(sys.argv[2], path, extra)
