@@ -61,9 +61,10 @@ TEST(ArmModeMap, WithoutPlayAgreesWithLinearisedModes) {
   EXPECT_GE(harmonics, 6);
 }
 
-// The built-in 0.5° play: after a 1° step the link's free swing (about M·a/K = 0.05°) is smaller
-// than the play, so the link floats and rattles instead of ringing on a flank: no lightly damped
-// mode near the linearised first mode is found, and the runs that find none are listed.
+// The built-in 0.5° play: after the step the link's swing (a/ω² ≈ 0.25° at 40 rad/s², 15 Hz) is
+// as large as the half-play, so the link leaves the flanks and rattles (e = 0.5) instead of ringing
+// on one: no lightly damped mode near the linearised first mode is found (docs/arm.md §7), and the
+// runs that find none are listed.
 TEST(ArmModeMap, WithPlayTheLinkFloatsAndTheRunsSaySo) {
   const ArmModel arm = builtin_arm("scara-2");
   const ModeMap map = identify_mode_map(arm, pose_grid(arm, 3));

@@ -1,7 +1,8 @@
 // clearshape arm: modes at a pose against the SciPy eigh golden (tests/golden/gen_arm_modes.py),
 // the identified mode map against those, a shaped move's JSON and CSV (the ZVD's length is one
 // damped period, Singer & Seering 1990), a move played by the simulation ends where it was sent
-// (no play: the position drives' steady state), help text, and bad input → exit 2 naming the option.
+// (no play: the position drives' steady state), help text, a failure → exit 1, and bad input →
+// exit 2 naming the option.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -116,6 +117,12 @@ TEST(ArmCli, HelpNamesTheSubcommandsAndOptions) {
   r = run_cli("arm move --help");
   ASSERT_EQ(r.exit_code, 0);
   for (const char* s : {"--shaper", "--from", "--to", "--velocity", "--urdf"}) EXPECT_NE(r.out.find(s), std::string::npos) << s;
+}
+
+TEST(ArmCli, AFailureExits1) {  // standard output that cannot be written is a run-time failure
+  const auto r = run_cli("arm modes --pose 0,0 > /dev/full");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("cannot write to standard output"), std::string::npos) << r.err;
 }
 
 TEST(ArmCli, BadInputExits2NamingTheOption) {
