@@ -3,6 +3,7 @@
 // (arm/mode_map.hpp). A table on stdout; -o writes CSV or JSON.
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@ struct ModesState {
   bool identify = false;
   int grid = 3;
   double step_deg = 1.0;
+  double max_damping = 0.05;
   bool json = false;
 };
 
@@ -63,6 +65,18 @@ std::vector<ModeRow> map_rows(const arm::ModeMap& map) {
   return rows;
 }
 
+/// The runs without a lightly damped mode, per pose (JSON).
+nlohmann::ordered_json map_failures(const arm::ModeMap& map) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const auto& p : map.points) {
+    for (const auto& f : p.failures) {
+      out.push_back({{"pose_rad", std::vector<double>(p.pose_rad.data(), p.pose_rad.data() + p.pose_rad.size())},
+                     {"run", f}});
+    }
+  }
+  return out;
+}
+
 std::vector<std::string> column_names(const arm::ArmModel& model) {
   std::vector<std::string> names;
   for (const auto& j : model.joints) names.push_back(j.name + "_rad");
@@ -85,7 +99,8 @@ std::vector<std::vector<double>> columns(const std::vector<ModeRow>& rows, int d
   return c;
 }
 
-nlohmann::ordered_json to_json(const arm::ArmModel& model, const std::vector<ModeRow>& rows, bool identified) {
+nlohmann::ordered_json to_json(const arm::ArmModel& model, const std::vector<ModeRow>& rows, bool identified,
+                               const nlohmann::ordered_json* failures) {
   nlohmann::ordered_json doc = io::make_document();
   doc["arm"] = model.name;
   doc["source"] = identified ? "identified from simulated step runs (arm::identify_mode_map)" : "linearised (arm::joint_modes)";
@@ -101,6 +116,7 @@ nlohmann::ordered_json to_json(const arm::ArmModel& model, const std::vector<Mod
     }
     doc["modes"].push_back(row);
   }
+  if (failures != nullptr) doc["failures"] = *failures;
   return doc;
 }
 
@@ -123,21 +139,25 @@ void run_modes(const ModesState& st) {
   const arm::ArmModel model = load_arm(st.source);
   if (st.identify && !st.pose.empty()) throw InvalidArgument("--pose and --identify: give one (--identify uses --grid)");
   std::vector<ModeRow> rows;
+  std::optional<nlohmann::ordered_json> failures;
   if (st.identify) {
     arm::ModeMapOptions o;
     o.step_deg = st.step_deg;
-    rows = map_rows(arm::identify_mode_map(model, arm::pose_grid(model, st.grid), o));
+    o.identification.max_damping_ratio = st.max_damping;
+    const arm::ModeMap map = arm::identify_mode_map(model, arm::pose_grid(model, st.grid), o);
+    rows = map_rows(map);
+    failures = map_failures(map);
   } else {
     const Eigen::VectorXd q = st.pose.empty() ? arm::workspace_centre(model) : parse_angles(st.pose, "--pose", model);
     rows = linear_rows(arm::joint_modes(model, q));
   }
   const std::string kind = st.out.empty() ? "" : output_kind(st.out);
   if (st.json) {
-    print_json(to_json(model, rows, st.identify));
+    print_json(to_json(model, rows, st.identify, failures ? &*failures : nullptr));
   } else {
     print_table(rows, st.identify);
   }
-  if (kind == ".json") io::write_json(st.out, to_json(model, rows, st.identify));
+  if (kind == ".json") io::write_json(st.out, to_json(model, rows, st.identify, failures ? &*failures : nullptr));
   if (kind == ".csv") {
     const auto c = columns(rows, model.dof());
     std::vector<const std::vector<double>*> pointers;
@@ -160,6 +180,8 @@ void setup_arm_modes(CLI::App& parent) {
       ->check(CLI::Range(1, 10))->capture_default_str();
   sub->add_option("--step-deg", st->step_deg, "Each identification run's step of one joint at the link (deg, 0.01-30)")
       ->check(CLI::Range(0.01, 30.0))->capture_default_str();
+  sub->add_option("--max-damping", st->max_damping, "Report identified modes with damping ratio below this (0.001-1)")
+      ->check(CLI::Range(0.001, 1.0))->capture_default_str();
   sub->add_flag("--json", st->json, "Print JSON instead of the table");
   sub->add_option("-o,--out", st->out, "Also write the rows: a .csv or .json file");
   sub->callback([st] { run_modes(*st); });
