@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "clearshape/arm/arm.hpp"
 #include "clearshape/io/table.hpp"
 #include "support/cli.hpp"
 #include "support/paths.hpp"
@@ -50,6 +51,30 @@ TEST(ArmCli, ModesAtAPoseMatchTheScipyGolden) {
 
 // The identified first mode beside the linearised one written in the same file (joint_modes, itself
 // checked against the golden in tests/arm) and, on the elbow-straight poses, beside the golden.
+void write_text(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+// Your own arm: scara-2's URDF and TOML as files give the golden modes; a TOML with a bad key is
+// refused naming the file and the key.
+TEST(ArmCli, OwnUrdfAndConfigWorkTheSameWay) {
+  const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_own");
+  const auto text = clearshape::arm::builtin_arm_text("scara-2");
+  write_text(dir / "arm.urdf", text.urdf);
+  write_text(dir / "arm.toml", text.toml);
+  const std::string files = " --urdf " + (dir / "arm.urdf").string() + " --config " + (dir / "arm.toml").string();
+  auto r = run_cli("arm modes --pose 0.7,0.6 --json" + files);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(doc["modes"][0]["linear_frequency_hz"].get<double>() / golden_modes_hz(0.6).first, 1.0, 1e-9);
+  write_text(dir / "bad.toml", text.toml + "\n[bogus]\nx = 1\n");
+  r = run_cli("arm modes --urdf " + (dir / "arm.urdf").string() + " --config " + (dir / "bad.toml").string());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("bad.toml"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("bogus"), std::string::npos) << r.err;
+  r = run_cli("arm modes --urdf " + (dir / "arm.urdf").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--urdf requires --config"), std::string::npos) << r.err;
+}
+
 TEST(ArmCli, IdentifiedMapWithoutPlayAgreesWithTheLinearisedModes) {
   const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_map");
   const auto r = run_cli("arm modes --identify --grid 3 --play-deg 0 -o " + (dir / "map.csv").string());
