@@ -217,6 +217,41 @@ def trial_panel(panel: dict) -> bool:
     return all(roles.infer_role(_y_column(s), s.get("label"))[0] == "trial" for s in series)
 
 
+def model_record_pair(panel: dict) -> tuple[dict, dict] | None:
+    """(record, model) of a model-vs-record overlay: a panel of exactly two series, one measured
+    (experiment, gyro, encoder) and one model (model, fitted, simulated); None otherwise."""
+    series = panel.get("series") or []
+    if len(series) != 2:
+        return None
+    found = {}
+    for s in series:
+        role = roles.normalise_role(s["role"]) if s.get("role") else roles.infer_role(_y_column(s), s.get("label"))[0]
+        found.setdefault(role, s)
+    return (found["measured"], found["model"]) if set(found) == {"measured", "model"} else None
+
+
+def model_residual(panel: dict, cache: CsvCache) -> tuple[np.ndarray, np.ndarray]:
+    """(time, record − model) on the record's samples; the model is interpolated when on another grid."""
+    rec, mod = model_record_pair(panel)
+    x = cache.column(_file(panel, rec), _x_column(panel, rec))
+    y = cache.column(_file(panel, rec), _y_column(rec)) * float(rec.get("scale", 1.0))
+    xm = cache.column(_file(panel, mod), _x_column(panel, mod))
+    ym = cache.column(_file(panel, mod), _y_column(mod)) * float(mod.get("scale", 1.0))
+    same = len(xm) == len(x) and np.array_equal(xm, x)
+    return x, y - (ym if same else np.interp(x, xm, ym))
+
+
+def _draw_model_residual(ax, panel: dict, cache: CsvCache, unit: str) -> None:
+    """The panel under a model-vs-record overlay (as MATLAB's compare): record − model, with its RMS
+    over the record, where a fit that looks perfect at the overlay's scale still misses."""
+    x, r = model_residual(panel, cache)
+    rms = float(np.sqrt(np.mean(r ** 2)))
+    ax.plot(x, r, label=f"record − model (RMS {rms:.3g} {unit})".replace(" )", ")"), **roles.style_for("measured"))
+    ax.axhline(0.0, color="#1a1a1a", linewidth=0.6, zorder=1)
+    ax.set_ylabel(f"residual ({unit or '–'})")
+    ax.set_title("Residual: record − model", fontweight="normal", fontsize=8.5)
+
+
 def _draw_deviations(ax, trial_values, colours, unit: str) -> None:
     """Each run minus the mean of the runs, in % of the mean's range r, labelled with its Eq. 4.1
     error: the spread that Tables 4.1–4.2 measure, which the runs themselves hide by overlapping."""
@@ -603,6 +638,14 @@ def draw(spec: dict, cache: CsvCache, index: int = 0):
         ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
         dev.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=7)
         panels, axes = [], []
+    elif kind in LINE_KINDS and len(panels) == 1 and model_record_pair(panels[0]):
+        fig, (ax, res) = plt.subplots(2, 1, figsize=(6.4, 4.4), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+        _draw_lines(ax, panels[0], cache, kind)
+        ax.set_xlabel("")
+        _draw_model_residual(res, panels[0], cache, _unit_of(ax.get_ylabel()))
+        res.set_xlabel(_x_label(panels[0], _x_column(panels[0], panels[0]["series"][0])))
+        res.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=7.5)
+        axes = [ax]
     else:
         fig, axes = _new_figure(len(panels), spec)
         for ax, panel in zip(axes, panels):

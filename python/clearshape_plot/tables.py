@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+from . import roles
 
 DEFAULT_REL_TOLERANCE = 0.10
 TRIAL_KINDS = {"consistency", "mean-deviation"}
@@ -162,9 +163,40 @@ def normalise(t: dict) -> Table:
         col.extra = {k: nums(v) for k, v in c.items() if k not in _KNOWN and isinstance(v, list)
                      and v and all(isinstance(x, (int, float)) or x is None for x in v)}
         cols.append(col)
+    note = " ".join(x for x in [str(t.get("note") or "")] + [delays_that_apply(c) for c in cols] if x)
     return Table(id=str(t.get("id", "")), kind=str(t.get("kind", "")), title=str(t.get("title", "")),
-                 unit=str(t.get("unit", "") or ""), row_labels=rows, columns=cols, note=str(t.get("note") or ""),
+                 unit=str(t.get("unit", "") or ""), row_labels=rows, columns=cols, note=note,
                  headline=t.get("headline") if isinstance(t.get("headline"), dict) else {}, raw=t)
+
+
+def delay_applies(delay_s: float | None, duration_s: float | None) -> bool:
+    """A shaper's half-rise delay (metrics::shaping_delay_s) measures what the shaper adds only when it
+    lies in (0, duration]: a positive shaper's impulses spread a step over its duration, so its response
+    reaches half the final value later, by no more than that. 0 or more than the duration means half
+    the final value is reached on another step of the input (a double step, a PRBS), not delayed."""
+    if delay_s is None:
+        return False
+    return delay_s > 0 and (duration_s is None or delay_s <= duration_s * (1 + 1e-9))
+
+
+def delays_that_apply(col: Column) -> str:
+    """Keeps a column's delay_s only where it applies (delay_applies): the unshaped reference has none
+    (0 by definition), a shaped input where it does not apply reads "—". Returns the note that says so."""
+    if "delay_s" not in col.extra:
+        return ""
+    if col.key in ("none", "unshaped") or roles.normalise_role(col.key) == "unshaped":
+        del col.extra["delay_s"]
+        return ""
+    duration = num(col.raw.get("shaper_duration_s"))
+    kept = [d if delay_applies(d, duration) else None for d in col.extra["delay_s"]]
+    if kept == col.extra["delay_s"]:
+        return ""
+    col.extra["delay_s"] = kept
+    if all(d is None for d in kept):
+        del col.extra["delay_s"]
+    span = f"the shaper's duration, {duration:.3g} s" if duration is not None else "the shaper's duration"
+    return (f"{col.label}: a delay is given only where it lies between 0 and {span}; \u2014 where the input "
+            "reaches half its final value on another of its steps, so the half-rise time measures no delay.")
 
 
 def mean_sd(values):

@@ -701,6 +701,76 @@ def check_like_with_like(study: Path, results: dict, html: str, tmp: Path, **_) 
         expect(rows and all(x == "na" for x in rows), f"an unidentifiable exponent is scored: {rows}")
 
 
+def check_model_residual(study: Path, python_dir: Path, **_) -> None:
+    """22.10: a model-vs-record overlay (identification, clearance fit, link-mode fit) has a residual
+    panel below it, as MATLAB's compare: a second axes whose curve is record − model, recomputed here
+    from the CSV columns, to 1e-9 of the record's span."""
+    import numpy as np  # noqa: E402
+    figures, cache, specs = _figures(study, python_dir)
+    checked = []
+    for spec in specs:
+        panels = figures.panels_of(spec)
+        if spec.get("kind", "time-series") != "time-series" or len(panels) != 1:
+            continue
+        series = panels[0].get("series") or []
+        looks = {figures.roles.infer_role(s.get("column", ""), s.get("label"))[0] for s in series}
+        if len(series) != 2 or looks != {"measured", "model"}:
+            continue
+        rec, mod = sorted(series, key=lambda s: figures.roles.infer_role(s["column"], s.get("label"))[0] != "measured")
+        f = spec["file"]
+        y, m = cache.column(f, rec["column"]), cache.column(f, mod["column"])
+        want = y - m
+        span = float(np.ptp(y)) or 1.0
+        fig = figures.draw(spec, cache)
+        axes = [a for a in fig.axes if a.get_visible() and a.axison]
+        found = any(len(ln.get_ydata()) == len(want) and float(np.max(np.abs(np.asarray(ln.get_ydata()) - want)))
+                    <= 1e-9 * span for a in axes[1:] for ln in a.get_lines())
+        below = len(axes) > 1 and axes[1].get_position().y1 <= axes[0].get_position().y0 + 1e-6
+        checked.append(f"{spec['id']} {'residual below' if found and below else 'NO residual panel'}")
+        expect(found and below, f"{spec['id']}: no record − model panel under the overlay")
+        plt_close(fig)
+    print(f"model-vs-record figures: {checked or 'none'}")
+    expect(bool(checked) or not any(str(s.get("id", "")).startswith("identification-") for s in specs),
+           "identification figures are not recognised as model-vs-record overlays")
+
+
+def check_delays(results: dict, html: str, python_dir: Path, **_) -> None:
+    """22.11: a table's shaping delay is one the shaper can add — more than 0 and at most the shaper's
+    duration (a ZVDD of 0.1 s delays a step's half-rise by under 0.1 s; a shaped PRBS or double step
+    reaches half its final value on another step, which is no delay); the unshaped reference has no
+    delay column (0 by definition); where a delay does not apply the cell reads "—"."""
+    sys.path.insert(0, str(python_dir))
+    from clearshape_plot import tables  # noqa: E402
+    expect(not tables.delay_applies(0.0, 0.1) and not tables.delay_applies(0.424, 0.1)
+           and tables.delay_applies(0.05, 0.1), "tables.delay_applies accepts a delay outside (0, duration]")
+    shown = 0
+    for t in results.get("tables", []):
+        cols = [c for c in t.get("columns", []) if isinstance(c.get("delay_s"), list)]
+        if not cols:
+            continue
+        page = next((x for x in tables_of(html) if x["id"] == f"table-{t['id'].lower().replace('.', '-')}"), None)
+        expect(page is not None, f"table {t['id']} is not on the page")
+        if page is None:
+            continue
+        head = [c[1] for c in page["rows"][0]]
+        for c in cols:
+            h = f"{c['label']}: delay s"
+            unshaped = c.get("key") in ("none", "unshaped")
+            expect(not (unshaped and h in head), f"{t['id']}: the unshaped reference has a delay column")
+            if h not in head or unshaped:
+                continue
+            j, dur = head.index(h), c.get("shaper_duration_s")
+            for r in page["rows"][1:]:
+                cell = r[j][1] if j < len(r) else ""
+                if cell in ("—", ""):
+                    continue
+                d = float(cell.replace("−", "-"))
+                shown += 1
+                expect(tables.delay_applies(d, dur), f"{t['id']} {r[0][1]}: {c['label']} delay {cell} s outside "
+                       f"(0, {dur}] s")
+    print(f"{shown} shaping delays shown, each within (0, the shaper's duration]")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -709,6 +779,7 @@ CHECKS = {
     "rig-kind": check_rig_kind, "worse-marked": check_worse_marked, "missing-null": check_missing_is_null,
     "thesis-verbatim": check_thesis_verbatim, "rig-words": check_rig_words, "finding": check_finding,
     "figure-colours": check_figure_colours, "zoom": check_zoom, "like-with-like": check_like_with_like,
+    "model-residual": check_model_residual, "delays": check_delays,
 }
 
 

@@ -322,6 +322,8 @@ REPORT_CHECK(TheHeaderHoldsTheFindingWithIntervals, "finding")                //
 REPORT_CHECK(NoTwoCurvesOfARigFigureLookAlike, "figure-colours")              // 22.10
 REPORT_CHECK(RigTracesAreDrawnWhereTheyRing, "zoom")                          // 22.10
 REPORT_CHECK(VerdictsCompareLikeWithLike, "like-with-like")                   // 22.8
+REPORT_CHECK(ModelOverlaysHaveAResidualPanel, "model-residual")              // 22.10
+REPORT_CHECK(ShapingDelaysAreOnesTheShaperCanAdd, "delays")                   // 22.11
 
 // Issue 22 on the what-if rigs: the quick large-play study (no thesis contact law or Eq. 4.1 figure in
 // its protocol) on its own rig and on the built-in worn-coupling rig (the thesis's drive and sensors,
