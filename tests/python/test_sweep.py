@@ -329,3 +329,81 @@ def test_pool_workers_die_with_their_parent(tmp_path, signo):
     for w in left:
         os.kill(w, signal.SIGKILL)
     assert not left, f"pool workers {left} outlived the sweep"
+
+
+# Issue 23: `--scheduler tcp://HOST:PORT` always failed ("No clients found", exit 2): the tests
+# above pass a Client, never an address. Here a real `dask-scheduler` and two `dask-worker`
+# processes (Debian's python3-distributed, the same interpreter) are started by the test and
+# only the address string is handed to run_sweep and to the CLI.
+def _dask_cli(name, *args, log):
+    return subprocess.Popen([sys.executable, "-m", f"distributed.cli.dask_{name}", *args],
+                            stdout=log, stderr=log, env=dict(os.environ))
+
+
+def _stop(processes):
+    for p in processes:
+        p.terminate()
+    for p in processes:
+        try:
+            p.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.wait()
+
+
+@pytest.fixture(scope="module")
+def dask_scheduler(tmp_path_factory):
+    from distributed import Client
+
+    d = tmp_path_factory.mktemp("dask")
+    log = open(d / "dask.log", "w")
+    info = d / "scheduler.json"
+    scheduler = _dask_cli("scheduler", "--host", "127.0.0.1", "--port", "0", "--dashboard-address", ":0",
+                          "--scheduler-file", str(info), log=log)
+    workers = []
+    try:
+        deadline = time.monotonic() + 60
+        while not info.exists() and time.monotonic() < deadline and scheduler.poll() is None:
+            time.sleep(0.1)
+        address = json.loads(info.read_text())["address"]
+        assert address.startswith("tcp://127.0.0.1:")
+        workers = [_dask_cli("worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard",
+                             "--local-directory", str(d / f"w{i}"), log=log) for i in range(2)]
+        with Client(address, set_as_default=False) as c:
+            c.wait_for_workers(2, timeout=60)
+        yield address
+    finally:
+        _stop(workers)
+        _stop([scheduler])
+        log.close()
+
+
+def test_dask_scheduler_address_is_byte_identical(local, sweep_file, dask_scheduler, tmp_path):
+    out, _ = local
+    s = run_sweep(sweep_file, str(tmp_path / "tcp"), scheduler=dask_scheduler, quiet=True)
+    assert s["points"] == 16 and s["ran"] == 16 and s["failed"] == 0
+    assert files(str(tmp_path / "tcp")) == files(out)
+
+
+def test_cli_sweep_on_a_dask_scheduler_address(local, sweep_file, dask_scheduler, tmp_path):
+    out, _ = local
+    r = subprocess.run([os.environ["CLEARSHAPE_CLI"], "sweep", str(sweep_file), "--out", str(tmp_path / "cli"),
+                        "--scheduler", dask_scheduler], capture_output=True, text=True, timeout=240)
+    assert r.returncode == 0, r.stderr
+    assert "16/16 points (0 failed)" in r.stderr and "No clients found" not in r.stderr
+    assert files(str(tmp_path / "cli")) == files(out)
+
+
+def test_an_unreachable_scheduler_exits_1_naming_it(sweep_file, tmp_path):
+    """Errors from distributed exit 1; 2 is kept for a bad sweep file (docs/sweeps.md)."""
+    import socket
+
+    with socket.socket() as s:  # a port nobody listens on
+        s.bind(("127.0.0.1", 0))
+        address = f"tcp://127.0.0.1:{s.getsockname()[1]}"
+    env = dict(os.environ, DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT="2s")
+    r = subprocess.run([os.environ["CLEARSHAPE_CLI"], "sweep", str(sweep_file), "--out", str(tmp_path / "x"),
+                        "--scheduler", address, "--quiet"], capture_output=True, text=True, timeout=120, env=env)
+    assert r.returncode == 1, r.stderr
+    assert f"--scheduler {address}: " in r.stderr and "Traceback" not in r.stderr
+    assert not list((tmp_path / "x" / ".sweep").iterdir())  # nothing was stored

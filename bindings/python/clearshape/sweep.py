@@ -105,22 +105,41 @@ def _collect(pool, pending, settings, on_done, fn):
     return lost
 
 
+class DaskError(RuntimeError):
+    """The Dask scheduler could not be reached or failed (exit 1: exit 2 is a bad sweep file)."""
+
+
+def _connect(scheduler):
+    from distributed import Client
+
+    try:
+        return Client(scheduler, set_as_default=False)
+    except Exception as e:  # noqa: BLE001 — OSError (timeout), ValueError (bad address), …
+        raise DaskError(f"--scheduler {scheduler}: {type(e).__name__}: {e}") from e
+
+
 def _run_dask(pending, settings, scheduler, retries, digest, on_done, fn):
     from distributed import Client, as_completed
 
-    client = scheduler if isinstance(scheduler, Client) else Client(scheduler, set_as_default=False)
+    own = not isinstance(scheduler, Client)
+    client = _connect(scheduler) if own else scheduler
+    where = scheduler if own else getattr(client.scheduler, "address", "of the given Client")
+    lost = []
     try:
         futures = {client.submit(fn, batch, settings, retries=retries, pure=False,
                                  key=f"clearshape-sweep-{digest[:12]}-{bid}"): bid for bid, batch in pending}
-        lost = []
-        for f in as_completed(futures):
+        # The client's own loop: a Client made with set_as_default=False is no default client,
+        # and as_completed without a loop looks for one ("No clients found", issue 23).
+        for f in as_completed(futures, loop=client.loop):
             try:
                 on_done(futures[f], f.result())
             except Exception as e:  # noqa: BLE001 — failed after its retries
                 lost.append((futures[f], repr(e)))
         return lost
+    except Exception as e:  # noqa: BLE001 — the scheduler, not a task (those are in `lost`)
+        raise DaskError(f"--scheduler {where}: {type(e).__name__}: {e}") from e
     finally:
-        if client is not scheduler:
+        if own:
             client.close()
 
 
@@ -132,8 +151,9 @@ def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, 
     default every core), a Dask scheduler address 'tcp://HOST:8786' or a distributed.Client.
     batch_function(points, settings) evaluates one task (default sweep_run.run_batch; the tests
     pass one that fails to exercise the retries). Raises SweepError (a ValueError) for a bad
-    sweep file and RuntimeError when tasks still failed after their retries (their points are
-    kept for the next run). A sweep of more than `max_points` points is refused (SweepError, with
+    sweep file, RuntimeError when tasks still failed after their retries (their points are
+    kept for the next run) and DaskError (a RuntimeError) when the scheduler cannot be reached
+    or fails. A sweep of more than `max_points` points is refused (SweepError, with
     its estimate) before the output folder is made.
     """
     if not isinstance(sweep, Sweep):
