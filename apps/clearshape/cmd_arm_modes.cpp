@@ -28,6 +28,8 @@ struct ModesState {
   int grid = 3;
   double step_deg = 1.0;
   double max_damping = 0.05;
+  std::string excitation = "step";
+  double ramp_velocity = 0.02;
   bool json = false;
 };
 
@@ -144,6 +146,8 @@ void run_modes(const ModesState& st) {
     arm::ModeMapOptions o;
     o.step_deg = st.step_deg;
     o.identification.max_damping_ratio = st.max_damping;
+    o.excitation = st.excitation == "step" ? arm::ModeMapExcitation::step : arm::ModeMapExcitation::loaded_ramp;
+    o.ramp_velocity_rad_s = st.ramp_velocity;
     const arm::ModeMap map = arm::identify_mode_map(model, arm::pose_grid(model, st.grid), o);
     rows = map_rows(map);
     failures = map_failures(map);
@@ -180,6 +184,13 @@ void setup_arm_modes(CLI::App& parent) {
       ->check(CLI::Range(1, 10))->capture_default_str();
   sub->add_option("--step-deg", st->step_deg, "Each identification run's step of one joint at the link (deg, 0.01-30)")
       ->check(CLI::Range(0.01, 30.0))->capture_default_str();
+  sub->add_option("--excitation", st->excitation,
+                  "step: a step of each joint in turn; loaded-ramp: all joints ramp slowly, friction keeps "
+                  "every link on a flank (for arms with play)")
+      ->check(CLI::IsMember({"step", "loaded-ramp"}))
+      ->capture_default_str();
+  sub->add_option("--ramp-velocity", st->ramp_velocity, "loaded-ramp: every joint's rate (rad/s, 1e-3-1)")
+      ->check(CLI::Range(1e-3, 1.0))->capture_default_str();
   sub->add_option("--max-damping", st->max_damping, "Report identified modes with damping ratio below this (0.001-1)")
       ->check(CLI::Range(0.001, 1.0))->capture_default_str();
   sub->add_flag("--json", st->json, "Print JSON instead of the table");

@@ -32,36 +32,63 @@ std::vector<signal::AxisLimits> step_limits(const ModeMapOptions& o, int dof) {
 /// Each link resting on the flank that carries its gravity torque, φ_i = −sign(g_i)(β_i + |g_i|/K_i)
 /// (the equilibrium τ_contact = g(q) of docs/arm.md §1 with the flank's tangent stiffness K_i:
 /// exact for a linear flank), so that a run does not start with the links dropping across their play.
-Eigen::VectorXd resting_on_flanks(const ArmModel& arm, const Eigen::VectorXd& pose, const ArmModes& modes) {
+/// A joint without gravity torque starts on the flank `unloaded_side` (−1: trailing a positive ramp, 0: centred).
+Eigen::VectorXd resting_on_flanks(const ArmModel& arm, const Eigen::VectorXd& pose, const ArmModes& modes,
+                                  double unloaded_side) {
   ChainWorkspace workspace(arm.chain);
   Eigen::VectorXd g(arm.dof());
   workspace.gravity_torque(pose, g);
   Eigen::VectorXd phi = Eigen::VectorXd::Zero(arm.dof());
   for (int i = 0; i < arm.dof(); ++i) {
     const double beta = arm.joints[static_cast<std::size_t>(i)].half_play_rad;
-    if (g(i) != 0.0) phi(i) = -std::copysign(beta + std::abs(g(i)) / modes.stiffness_n_m_per_rad(i), g(i));
+    phi(i) = g(i) != 0.0 ? -std::copysign(beta + std::abs(g(i)) / modes.stiffness_n_m_per_rad(i), g(i))
+                         : unloaded_side * beta;
   }
   return phi;
 }
 
-/// The arm stepped by `step_deg` in joint j from `pose`; every link's rate in the free-response
-/// window after the step has ended and the drives have settled.
-std::vector<UniformSeries> step_run(const ArmModel& arm, const Eigen::VectorXd& pose, const Eigen::VectorXd& phi0, int j,
-                                    const ModeMapOptions& o) {
+/// One excitation: the joints' move and when its free-response window starts.
+struct Excitation {
+  std::string name;
+  JointTrajectory move;
+  double window_start_s = 0.0;
+};
+
+/// Joint j stepped by `step_deg`; the window starts once the step has ended and the drives settled.
+Excitation step_excitation(const ArmModel& arm, const Eigen::VectorXd& pose, int j, const ModeMapOptions& o) {
   Eigen::VectorXd end = pose;
   end(j) += o.step_deg * std::numbers::pi / 180.0;
-  const auto limits = step_limits(o, arm.dof());
-  const JointTrajectory move = plan_move(arm, pose, end, limits, 1.0 / o.output_rate_hz);
-  const auto commands = drive_commands(arm, move);
+  JointTrajectory move = plan_move(arm, pose, end, step_limits(o, arm.dof()), 1.0 / o.output_rate_hz);
+  const double start_s = move.time_s.back() + o.settle_s;
+  return {"step of " + arm.joints[static_cast<std::size_t>(j)].name, std::move(move), start_s};
+}
+
+/// Every joint ramping at ramp_velocity_rad_s: the bearings' friction keeps each link on its
+/// trailing flank. The window starts once the joints cruise (ramp-up T = v/a + a/j, symmetric, so
+/// it covers v·T/2) and the drives settled; the ramp starts before `pose` so that the joints pass
+/// it in the middle of the window.
+Excitation ramp_excitation(const ArmModel& arm, const Eigen::VectorXd& pose, const ModeMapOptions& o) {
+  const double v = o.ramp_velocity_rad_s, a = o.ramp_acceleration_rad_s2, j = 100.0 * a;
+  const double ramp_up_s = v / a + a / j;
+  const double start_s = ramp_up_s + o.settle_s;
+  const double middle_s = start_s + 0.5 * o.window_s;
+  const Eigen::VectorXd from = pose.array() - v * (middle_s - 0.5 * ramp_up_s);
+  const Eigen::VectorXd end = from.array() + v * (start_s + o.window_s + 1.0);  // still cruising at the window's end
+  const std::vector<signal::AxisLimits> limits(static_cast<std::size_t>(arm.dof()), {v, a, j});
+  return {"loaded ramp", plan_move(arm, from, end, limits, 1.0 / o.output_rate_hz), start_s};
+}
+
+/// Every link's rate in the excitation's free-response window.
+std::vector<UniformSeries> record_rates(const ArmModel& arm, const Excitation& e, const Eigen::VectorXd& phi0,
+                                        const ModeMapOptions& o) {
   ArmSimulationOptions sim;
-  const double window_start_s = move.time_s.back() + o.settle_s;
-  sim.duration_s = window_start_s + o.window_s;
+  sim.duration_s = e.window_start_s + o.window_s;
   sim.output_rate_hz = o.output_rate_hz;
   sim.solver = o.solver;
   sim.initial.relative_angle_rad = phi0;
-  const ArmTrace trace = simulate_arm(arm, commands, sim);
+  const ArmTrace trace = simulate_arm(arm, drive_commands(arm, e.move), sim);
   const auto k0 = static_cast<Eigen::Index>(
-      std::lower_bound(trace.time_s.begin(), trace.time_s.end(), window_start_s - 1e-12) - trace.time_s.begin());
+      std::lower_bound(trace.time_s.begin(), trace.time_s.end(), e.window_start_s - 1e-12) - trace.time_s.begin());
   std::vector<UniformSeries> out;
   for (int i = 0; i < arm.dof(); ++i) {
     const Eigen::VectorXd w = trace.link_rate_rad_s.col(i).tail(trace.link_rate_rad_s.rows() - k0);
@@ -118,32 +145,38 @@ void mark_harmonics(std::vector<MapMode>& modes, double tolerance) {
   }
 }
 
+/// The modes of one record (link rate) into `estimates`; a record without one into `failures`.
+void identify_record(const UniformSeries& rate, const ident::ModeOptions& mo, const std::string& what,
+                     std::vector<RunEstimate>& estimates, std::vector<std::string>& failures) {
+  try {
+    for (const auto& m : ident::identify_free_response_modes(rate, mo).modes) {
+      // a growing pole (ζ below −3σ) or one without an uncertainty is not a residual mode
+      if (!std::isfinite(m.natural_frequency_std_rad_s) || m.damping_ratio + 3.0 * m.damping_ratio_std <= 0.0) continue;
+      estimates.push_back({m.natural_frequency_hz(), m.natural_frequency_std_hz(), m.damping_ratio, m.damping_ratio_std});
+    }
+  } catch (const std::runtime_error& e) {
+    failures.push_back(what + ": " + e.what());
+  }
+}
+
 ModeMapPoint identify_point(const ArmModel& arm, const Eigen::VectorXd& pose, const ModeMapOptions& o) {
   ModeMapPoint p{pose, {}, joint_modes(arm, pose, o.linearisation), {}};
   ident::ModeOptions mo = o.identification;
   if (mo.modes == 0) mo.modes = static_cast<std::size_t>(arm.dof());
-  const Eigen::VectorXd phi0 = resting_on_flanks(arm, pose, p.linearised);
+  const bool ramp = o.excitation == ModeMapExcitation::loaded_ramp;
+  std::vector<Excitation> runs;
+  if (ramp) runs.push_back(ramp_excitation(arm, pose, o));
+  for (int j = 0; !ramp && j < arm.dof(); ++j) runs.push_back(step_excitation(arm, pose, j, o));
   std::vector<RunEstimate> estimates;
-  for (int j = 0; j < arm.dof(); ++j) {
-    const std::string run = "step of " + arm.joints[static_cast<std::size_t>(j)].name;
+  for (const Excitation& e : runs) {
     try {
-      const auto rates = step_run(arm, pose, phi0, j, o);
+      const Eigen::VectorXd from = e.move.position_rad.row(0).transpose();
+      const auto rates = record_rates(arm, e, resting_on_flanks(arm, from, p.linearised, ramp ? -1.0 : 0.0), o);
       for (std::size_t i = 0; i < rates.size(); ++i) {
-        try {
-          for (const auto& m : ident::identify_free_response_modes(rates[i], mo).modes) {
-            // a growing pole (ζ below −3σ) or one without an uncertainty is not a residual mode
-            if (!std::isfinite(m.natural_frequency_std_rad_s) || m.damping_ratio + 3.0 * m.damping_ratio_std <= 0.0) {
-              continue;
-            }
-            estimates.push_back({m.natural_frequency_hz(), m.natural_frequency_std_hz(), m.damping_ratio,
-                                 m.damping_ratio_std});
-          }
-        } catch (const std::runtime_error& e) {
-          p.failures.push_back(run + ", rate of " + arm.joints[i].name + ": " + e.what());
-        }
+        identify_record(rates[i], mo, e.name + ", rate of " + arm.joints[i].name, estimates, p.failures);
       }
-    } catch (const std::runtime_error& e) {
-      p.failures.push_back(run + ": " + e.what());
+    } catch (const std::runtime_error& e_run) {
+      p.failures.push_back(e.name + ": " + e_run.what());
     }
   }
   p.modes = merge_estimates(std::move(estimates), o.merge_tolerance);
@@ -169,6 +202,10 @@ void ModeMapOptions::validate(int dof) const {
           "in (0, 1)");
   require(harmonic_tolerance >= 0.0 && harmonic_tolerance < merge_tolerance,
           "harmonic_tolerance = " + std::to_string(harmonic_tolerance), "in [0, merge_tolerance)");
+  require(std::isfinite(ramp_velocity_rad_s) && ramp_velocity_rad_s > 0.0,
+          "ramp_velocity_rad_s = " + std::to_string(ramp_velocity_rad_s), "> 0 (rad/s)");
+  require(std::isfinite(ramp_acceleration_rad_s2) && ramp_acceleration_rad_s2 > 0.0,
+          "ramp_acceleration_rad_s2 = " + std::to_string(ramp_acceleration_rad_s2), "> 0 (rad/s²)");
   solver.validate();
   linearisation.validate();
 }

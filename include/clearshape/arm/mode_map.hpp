@@ -1,7 +1,8 @@
 #pragma once
 // A mode map identified from runs (issue 24 item 3; docs/arm.md §7): at each pose of a grid the
 // arm is simulated with play (simulate_arm) under a small jerk-limited step of one joint at a
-// time; once the drives have settled, the links ring at the arm's residual modes, and the free
+// time, or a slow ramp of all joints that keeps the flanks loaded (ModeMapExcitation); once the
+// drives have settled, the links ring at the arm's residual modes, and the free
 // response of each link's rate (a gyro on that link) is identified with the stabilisation-diagram
 // mode estimate of ident/modes.hpp (ERA + least squares, 1σ from the fit's covariance). The
 // estimates of the same mode from the runs at one pose (within `merge_tolerance` in frequency)
@@ -21,10 +22,27 @@
 
 namespace clearshape::arm {
 
+/// How the runs excite the arm's modes.
+enum class ModeMapExcitation {
+  /// one run per joint: a small jerk-limited step of that joint (step_deg, limits); the links
+  /// ring freely after it. With play the free response is a mode only where gravity keeps the
+  /// flanks loaded through the swing; elsewhere the links rattle in their play.
+  step,
+  /// one run: every joint ramps at ramp_velocity_rad_s, reached gently (ramp_acceleration_rad_s2);
+  /// each link starts on its trailing flank (or on its gravity flank) and the bearing's friction
+  /// keeps it there, so the links ring at the locked-play modes while the joints cruise through
+  /// the pose (it is passed in the middle of the window). Needs
+  /// Coulomb friction ≥ K·(swing): the swing ≈ a/ω² must stay below F_c/K.
+  loaded_ramp,
+};
+
 struct ModeMapOptions {
+  ModeMapExcitation excitation = ModeMapExcitation::step;
   double step_deg = 1.0;  ///< each run's step of one joint at the link (deg), > 0
   /// Limits of that step per joint (rad/s, rad/s², rad/s³); empty: 2 rad/s, 40 rad/s², 4000 rad/s³.
   std::vector<signal::AxisLimits> limits;
+  double ramp_velocity_rad_s = 0.02;       ///< loaded_ramp: every joint's cruise rate, > 0
+  double ramp_acceleration_rad_s2 = 0.1;   ///< loaded_ramp: reached at this acceleration (jerk 100×), > 0
   double settle_s = 0.15;           ///< after the step ends, before the window (the drives settle), >= 0
   double window_s = 0.6;            ///< the free-response window identified (s), > 0
   double output_rate_hz = 1000.0;   ///< samples of the link rates, > 0
