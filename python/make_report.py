@@ -731,7 +731,8 @@ def render_figure(rec: dict, number: int) -> str:
     num = spec.get("thesis_figure")
     f = {"label": f"Figure {number}" + (f" (analogue of thesis Fig. {num})" if num else " (clearshape)"),
          "title": tbl.plain_label(str(spec.get("title") or rec["id"])), "anchor": f"fig-{slug(rec['id'])}",
-         "caption": tbl.plain_label(str(spec.get("caption") or "")), "error": None, "pdf": None, "png": None}
+         "caption": tbl.plain_label(". ".join(x for x in (str(spec.get("caption") or ""), rec.get("caption") or "") if x)),
+         "error": None, "pdf": None, "png": None}
     if rec.get("error") or not rec.get("png"):
         f["error"] = rec.get("error") or "no PNG"
         return str(parts().figure(f))

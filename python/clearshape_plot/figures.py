@@ -27,6 +27,7 @@ Outputs: <id>.png (150 dpi) and <id>.pdf with fixed metadata: the same inputs gi
 from __future__ import annotations
 
 import math
+import re
 import textwrap
 from pathlib import Path
 
@@ -478,7 +479,9 @@ def steady_state_mean_deviation(t: np.ndarray, s: np.ndarray, final_window_fract
     return r["mean_deviation"], r["steady_mean"], r["start_index"]
 
 
-def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
+def _mean_deviation_inputs(panel: dict, cache: CsvCache) -> dict:
+    """The response of a mean-deviation panel with Eq. 5.1's M, start (index k and time), MD, start rule
+    and band, as the study gives them or, where it does not, from eq_5_1."""
     s = (panel.get("series") or [None])[0]
     if s is None:
         raise StudyDataError("mean-deviation figure has no series")
@@ -498,6 +501,47 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
     k = int(np.searchsorted(t, float(start_s)))
     if md is None:  # Eq. 5.1 from the given M and start
         md = float(np.sqrt(np.mean((float(mean) - y[k:]) ** 2)))
+    return {"series": s, "t": t, "y": y, "mean": float(mean), "start_s": float(start_s), "k": k, "md": float(md),
+            "rule": rule, "band": band}
+
+
+def steady_drift(t: np.ndarray, y: np.ndarray, k: int) -> dict | None:
+    """The steady state's slow drift, reported apart from Eq. 5.1 (an integrated gyro's bias makes the
+    link angle wander): the least-squares line through y[k:], its slope, the change it makes over the
+    steady state, and the RMS about that line (Eq. 5.1 with the line in place of M). None under 3 samples."""
+    if len(y) - k < 3:
+        return None
+    tt, yy = t[k:] - t[k], y[k:]
+    slope, offset = np.polyfit(tt, yy, 1)
+    line = slope * tt + offset
+    return {"slope": float(slope), "change": float(slope * tt[-1]), "t": t[k:], "line": line,
+            "md_about_line": float(np.sqrt(np.mean((yy - line) ** 2)))}
+
+
+def _minus_signs(text: str) -> str:
+    """A number's sign as the typographic minus (U+2212), as the tables print it; hyphens in words stay."""
+    return re.sub(r"-(?=[0-9.])", "\u2212", text)
+
+
+def drift_caption(panel: dict, cache: CsvCache) -> str:
+    """The figure caption's account of the drift: reported apart, not removed, with its share of MD²."""
+    m = _mean_deviation_inputs(panel, cache)
+    d = steady_drift(m["t"], m["y"], m["k"])
+    if d is None:
+        return ""
+    unit = _unit_of(_y_label(panel, _y_column(m["series"])))
+    share = max(0.0, 1.0 - (d["md_about_line"] / m["md"]) ** 2) if m["md"] > 0 else 0.0
+    return _minus_signs(
+        f"Drift reported apart, not removed: the steady state drifts by {d['change']:+.3g} {unit} "
+        f"({d['slope']:+.3g} {unit}/s, a least-squares line, as an integrated gyro's bias would make the angle "
+        f"wander); MD = {m['md']:.3g} {unit} includes it as the tables do ({100 * share:.0f} % of MD² is the "
+        f"drift); about the drift line the RMS is {d['md_about_line']:.3g} {unit}")
+
+
+def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
+    m = _mean_deviation_inputs(panel, cache)
+    s, t, y, mean, start_s, k, md = (m[x] for x in ("series", "t", "y", "mean", "start_s", "k", "md"))
+    rule, band = m["rule"], m["band"]
     ylab = _y_label(panel, _y_column(s))
     unit = _unit_of(ylab)
     ax.axvspan(float(start_s), float(t[-1]), color="#F2F2F2", zorder=0, linewidth=0,
@@ -510,6 +554,11 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
         ax.axhline(mean - float(band), color="#7A7A7A", linewidth=0.7, linestyle=":",
                    label=f"M ± b, b = {float(band):.3g} {unit} (start band)")
         ax.axhline(mean + float(band), color="#7A7A7A", linewidth=0.7, linestyle=":")
+    drift = steady_drift(t, y, k)
+    if drift is not None:
+        ax.plot(drift["t"], drift["line"], color="#1a1a1a", linewidth=0.9, linestyle=(0, (3, 1, 1, 1)), zorder=6,
+                label=_minus_signs(f"drift {drift['slope']:+.2g} {unit}/s (reported apart; RMS about it "
+                                   f"{drift['md_about_line']:.3g} {unit})"))
     rule = rule or "crossing"
     ax.plot([t[min(k, len(t) - 1)]], [y[min(k, len(t) - 1)]], marker=START_MARKERS.get(rule, "o"), markersize=5,
             color="#1a1a1a", linestyle="none", zorder=9,
@@ -704,6 +753,8 @@ def draw_all(study_dir: Path, specs: list[dict], out_dir: Path | None = None, lo
         try:
             fig = draw(spec, cache, i)
             rec.update(save(fig, out_dir, fid))
+            if str(spec.get("kind")) in ("mean-deviation", "mean_deviation"):
+                rec["caption"] = drift_caption(panels_of(spec)[0], cache)
         except (StudyDataError, KeyError, ValueError, TypeError, IndexError) as e:
             plt.close("all")
             msg = f"missing field {e}" if isinstance(e, KeyError) else str(e)

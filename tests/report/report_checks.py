@@ -771,6 +771,38 @@ def check_delays(results: dict, html: str, python_dir: Path, **_) -> None:
     print(f"{shown} shaping delays shown, each within (0, the shaper's duration]")
 
 
+def check_drift_apart(study: Path, html: str, python_dir: Path, **_) -> None:
+    """22.10: a slow drift of the steady state (an integrated gyro's bias; 3/4 of a shaped MD² on the quick
+    study) is reported apart from Eq. 5.1's MD: each mean-deviation figure draws the least-squares drift
+    line of its steady state, recomputed here with numpy, and its caption says the drift is reported
+    apart, not removed, with its share of MD²."""
+    import numpy as np  # noqa: E402
+    figures, cache, specs = _figures(study, python_dir)
+    seen = []
+    for spec in specs:
+        if spec.get("kind") not in ("mean-deviation", "mean_deviation"):
+            continue
+        s = spec["series"][0]
+        t, y = cache.column(spec["file"], spec["x"]["column"]), cache.column(spec["file"], s["column"])
+        k = int(np.searchsorted(t, float(spec["start_time_s"])))
+        slope = float(np.polyfit(t[k:] - t[k], y[k:], 1)[0])
+        fig = figures.draw(spec, cache)
+        lines = [ln for ln in fig.axes[0].get_lines() if "drift" in ln.get_label()]
+        drawn = None
+        if lines:
+            x, v = np.asarray(lines[0].get_xdata(), float), np.asarray(lines[0].get_ydata(), float)
+            drawn = (v[-1] - v[0]) / (x[-1] - x[0])
+        expect(drawn is not None and abs(drawn - slope) <= 1e-6 * max(abs(slope), 1e-9) + 1e-12,
+               f"{spec['id']}: no drift line of slope {slope:.3g} (drawn: {drawn})")
+        fig_html = html[html.find(f'id="fig-{spec["id"]}"'):]
+        cap = fig_html[fig_html.find("<figcaption>"):fig_html.find("</figcaption>")]
+        m = re.search(r"Drift reported apart, not removed.*?\((\d+) % of MD² is the drift\)", cap)
+        expect(m is not None, f"{spec['id']}: the caption does not report the drift apart")
+        seen.append(f"{spec['id']}: slope {slope:.3g}/s, {m.group(1) if m else '?'} % of MD²")
+        plt_close(fig)
+    print(f"mean-deviation figures: {seen or 'none'}")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -780,6 +812,7 @@ CHECKS = {
     "thesis-verbatim": check_thesis_verbatim, "rig-words": check_rig_words, "finding": check_finding,
     "figure-colours": check_figure_colours, "zoom": check_zoom, "like-with-like": check_like_with_like,
     "model-residual": check_model_residual, "delays": check_delays,
+    "drift-apart": check_drift_apart,
 }
 
 
