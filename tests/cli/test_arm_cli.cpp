@@ -94,6 +94,22 @@ TEST(ArmCli, IdentifiedMapWithoutPlayAgreesWithTheLinearisedModes) {
   EXPECT_EQ(straight, 3);
 }
 
+// With the built-in 0.5° play the loaded ramp keeps the flanks loaded: the first mode within 0.5 %
+// of the linearised one at every pose, and no run without a mode in the JSON.
+TEST(ArmCli, IdentifiedMapWithPlayUnderALoadedRamp) {
+  const auto r = run_cli("arm modes --identify --grid 2 --excitation loaded-ramp --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(doc["failures"].empty()) << doc["failures"].dump();
+  int first_modes = 0;
+  for (const auto& m : doc["modes"]) {
+    if (m["linear_mode"] != 0 || m["harmonic"] != 0) continue;
+    ++first_modes;
+    EXPECT_LT(std::abs(m["relative_frequency_error"].get<double>()), 0.005) << m.dump();
+  }
+  EXPECT_EQ(first_modes, 4);
+}
+
 TEST(ArmCli, ShapedMoveWritesJointTrajectoryJsonAndCsv) {
   const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_move");
   const std::string move = "arm move --from 0,1.5 --to 1.2,0.6 ";
