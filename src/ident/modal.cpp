@@ -75,10 +75,10 @@ Eigen::MatrixXd scaled_covariance(ceres::Problem& problem, double* x, std::size_
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(total), static_cast<Eigen::Index>(total));
   const double sigma2 = samples > free_count ? 2.0 * cost / static_cast<double>(samples - free_count)
                                              : std::numeric_limits<double>::quiet_NaN();
-  const Eigen::MatrixXd c = inverse_gram(problem, {x});
+  const Eigen::MatrixXd c = parameter_covariance(problem, {x}, sigma2, free_count);
   for (std::size_t i = 0; i < free_count; ++i)
     for (std::size_t j = 0; j < free_count; ++j)
-      out(idx[i], idx[j]) = c(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) * sigma2;
+      out(idx[i], idx[j]) = c(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
   return out;
 }
 

@@ -376,9 +376,10 @@ Run run_lm(const Layout& l, const std::vector<Prepared>& prep, int n, const Star
   return run;
 }
 
-// Scaled covariance (JᵀJ)⁻¹σ² of the free plant parameters in optimizer variables.
+// Covariance of the free plant parameters in optimizer variables: (JᵀJ)⁻¹σ², or the sandwich
+// for a coloured residual (covariance.hpp); p counts every free parameter.
 Eigen::MatrixXd theta_covariance(const Layout& l, const std::vector<Prepared>& prep, int n, ModelCache& cache, Run run,
-                                 double sigma2) {
+                                 double sigma2, std::size_t p) {
   const auto np = static_cast<Eigen::Index>(l.free.size());
   Eigen::MatrixXd out = Eigen::MatrixXd::Constant(np, np, kNaN);
   if (np == 0) return out;
@@ -387,8 +388,8 @@ Eigen::MatrixXd theta_covariance(const Layout& l, const std::vector<Prepared>& p
   std::vector<double*> blocks{run.theta.data()};
   for (auto& v : run.nuisance)
     if (!v.empty()) blocks.push_back(v.data());
-  const Eigen::MatrixXd full = detail::inverse_gram(problem, blocks);  // θ first, then the nuisance
-  out = full.topLeftCorner(np, np) * sigma2;
+  const Eigen::MatrixXd full = detail::parameter_covariance(problem, blocks, sigma2, p);  // θ first, then the nuisance
+  out = full.topLeftCorner(np, np);
   return out;
 }
 
@@ -634,7 +635,7 @@ ProcessEstimate estimate_process_model(const lti::ProcessStructure& structure, s
   out.samples = total;
   out.free_parameters = p_total;
   const double sigma2 = total > p_total ? 2.0 * best.cost / static_cast<double>(total - p_total) : kNaN;
-  const Eigen::MatrixXd cov_theta = theta_covariance(layout, prep, n, cache, best, sigma2);
+  const Eigen::MatrixXd cov_theta = theta_covariance(layout, prep, n, cache, best, sigma2, p_total);
   const std::vector<double> chain = layout.chain(best.theta.data());
   const auto np = static_cast<Eigen::Index>(layout.free.size());
   out.covariance.resize(np, np);

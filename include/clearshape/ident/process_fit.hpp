@@ -13,7 +13,8 @@
 // (half of central differences), and ∂/∂Td needs no step size across sample boundaries.
 // Uncertainty: (JᵀJ)⁻¹σ², σ² = Σ(w e)²/(N − p), from the Jacobian Ceres evaluates at the optimum
 // (column-scaled SVD; NaN when the data do not determine a direction, e.g. Tz with a free initial
-// state on a step applied at the first sample).
+// state on a step applied at the first sample); when the residual fails a Ljung–Box whiteness test
+// (coloured noise), the Newey–West sandwich instead (src/ident/covariance.hpp).
 // Time constants, Tw and Zeta are optimised as logarithms (always positive: a stable model, as
 // procest); Kp and Tz are free in sign (Tz < 0 is a right-half-plane zero, thesis speed model).
 #include <cstddef>
@@ -70,7 +71,7 @@ struct ProcessFitOptions {
 struct ParameterEstimate {
   std::string name;      ///< MATLAB name
   double value = 0.0;
-  double std_dev = 0.0;  ///< 1σ from (JᵀJ)⁻¹σ² (0 for fixed, NaN if not determined by the data)
+  double std_dev = 0.0;  ///< 1σ: (JᵀJ)⁻¹σ² or, coloured residual, the sandwich (0 fixed, NaN undetermined)
   bool fixed = false;
   bool at_bound = false;  ///< free and on a finite bound of the search (ident/trust.hpp)
 };
