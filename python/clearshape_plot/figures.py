@@ -21,7 +21,7 @@ Kinds:
                  start when not given.
   md-summary     (drawn by the report, from results.json) Eq. 5.1 means and improvements of every
                  trial table beside the thesis's.
-Legends sit beside the axes (or under the panels), never on the data.
+Legends sit in a strip above the axes (or under the panels), never on the data.
 Outputs: <id>.png (150 dpi) and <id>.pdf with fixed metadata: the same inputs give the same bytes.
 """
 from __future__ import annotations
@@ -247,10 +247,10 @@ def _draw_model_residual(ax, panel: dict, cache: CsvCache, unit: str) -> None:
     over the record, where a fit that looks perfect at the overlay's scale still misses."""
     x, r = model_residual(panel, cache)
     rms = float(np.sqrt(np.mean(r ** 2)))
-    ax.plot(x, r, label=f"record − model (RMS {rms:.3g} {unit})".replace(" )", ")"), **roles.style_for("measured"))
+    ax.plot(x, r, label="_residual", **roles.style_for("measured"))
     ax.axhline(0.0, color="#1a1a1a", linewidth=0.6, zorder=1)
     ax.set_ylabel(f"residual ({unit or '–'})")
-    ax.set_title("Residual: record − model", fontweight="normal", fontsize=8.5)
+    ax.set_title(f"Residual: record − model, RMS {rms:.3g} {unit}".rstrip(), fontweight="normal", fontsize=8.5)
 
 
 def _draw_deviations(ax, trial_values, colours, unit: str) -> None:
@@ -656,6 +656,32 @@ def _draw_md_summary(axes, spec: dict) -> None:
             lab.set_ha("right")
 
 
+# Share of the figure's width the plot keeps beside its y label: a legend strip may be no wider.
+LEGEND_STRIP_WIDTH = 0.86
+
+
+def legend_strip(fig, ax, fontsize: float | None = None) -> None:
+    """The axes' legend as a compact strip above its data, in as many columns (at most 4) as fit in the
+    plot's width, measured; a panel title becomes the strip's title. The figure grows by the strip's
+    height, so the plot keeps the figure's width instead of giving half of it to a legend."""
+    _, labels = ax.get_legend_handles_labels()
+    if not labels:
+        return
+    title = ax.get_title("left") or ax.get_title()  # the style puts titles on the left
+    ax.set_title("", loc="left")
+    ax.set_title("")
+    renderer = fig.canvas.get_renderer()
+    width_px = LEGEND_STRIP_WIDTH * fig.get_size_inches()[0] * fig.dpi
+    for ncol in range(min(4, len(labels)), 0, -1):
+        leg = ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=ncol, borderaxespad=0.0,
+                        fontsize=fontsize, title=title or None, title_fontsize=8.5, alignment="left")
+        box = leg.get_window_extent(renderer)
+        if box.width <= width_px or ncol == 1:
+            break
+    w_in, h_in = fig.get_size_inches()
+    fig.set_size_inches(w_in, h_in + box.height / fig.dpi)
+
+
 def _new_figure(n_panels: int, spec: dict):
     rows, cols = (n_panels, 1) if n_panels <= 3 else (math.ceil(n_panels / 2), 2)
     width = 6.4 if cols == 1 else 7.6
@@ -684,8 +710,8 @@ def draw(spec: dict, cache: CsvCache, index: int = 0):
         _draw_lines(ax, panels[0], cache, kind, deviation_ax=dev)
         ax.set_xlabel("")
         dev.set_xlabel(_x_label(panels[0], _x_column(panels[0], panels[0]["series"][0])))
-        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
-        dev.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=7)
+        legend_strip(fig, ax)
+        legend_strip(fig, dev, fontsize=7)
         panels, axes = [], []
     elif kind in LINE_KINDS and len(panels) == 1 and model_record_pair(panels[0]):
         fig, (ax, res) = plt.subplots(2, 1, figsize=(6.4, 4.4), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
@@ -693,7 +719,6 @@ def draw(spec: dict, cache: CsvCache, index: int = 0):
         ax.set_xlabel("")
         _draw_model_residual(res, panels[0], cache, _unit_of(ax.get_ylabel()))
         res.set_xlabel(_x_label(panels[0], _x_column(panels[0], panels[0]["series"][0])))
-        res.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=7.5)
         axes = [ax]
     else:
         fig, axes = _new_figure(len(panels), spec)
@@ -713,14 +738,7 @@ def draw(spec: dict, cache: CsvCache, index: int = 0):
             ax.set_xlim(*panel["xlim"])
         if panel.get("ylim"):
             ax.set_ylim(*panel["ylim"])
-        handles, _ = ax.get_legend_handles_labels()
-        if handles:  # the legend goes beside the axes, never on the data
-            small = len(handles) > 12
-            # Tall enough for the legend: about 0.17 in per entry at 7.5 pt (0.21 at the default size).
-            height = max(fig.get_size_inches()[1], 0.8 + (0.17 if small else 0.21) * len(handles))
-            fig.set_size_inches(max(fig.get_size_inches()[0], 8.2 if not small else 9.0), height)
-            ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0,
-                      fontsize=7.5 if small else None)
+        legend_strip(fig, ax)
     num = spec.get("thesis_figure")
     head = (f"Fig. {num} analogue — " if num else "") + plain_label(str(spec.get("title") or spec.get("id") or ""))
     fig.suptitle("\n".join(textwrap.wrap(head, 92)[:2]), x=0.01, ha="left", fontsize=9, fontweight="normal",

@@ -803,6 +803,29 @@ def check_drift_apart(study: Path, html: str, python_dir: Path, **_) -> None:
     print(f"mean-deviation figures: {seen or 'none'}")
 
 
+def check_legend_strip(study: Path, python_dir: Path, **_) -> None:
+    """22.10: legends do not shrink the plots (rig figures' axes were 51 % of the figure's width, a
+    legend beside them): in every single-column figure (all but the two-panel summary chart) each
+    panel with data keeps at least 80 % of the figure's width, and no legend sits on the data."""
+    figures, cache, specs = _figures(study, python_dir)
+    widths = []
+    for spec in specs:
+        if spec.get("kind") == "md-summary":
+            continue
+        fig = figures.draw(spec, cache)
+        fig.canvas.draw()
+        axes = [a for a in fig.axes if a.get_visible() and a.axison and a.get_lines()]
+        if len(axes) > 3 or not axes:  # small multiples sit side by side by design
+            plt_close(fig)
+            continue
+        w = min(a.get_position().width for a in axes)
+        widths.append(w)
+        expect(w >= 0.8, f"{spec['id']}: a panel keeps {w:.0%} of the figure's width")
+        expect(all(_legend_clear_of_data(fig, a) for a in axes), f"{spec['id']}: a legend sits on the data")
+        plt_close(fig)
+    print(f"{len(widths)} figures; narrowest panel {min(widths, default=0):.0%} of the figure's width")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -812,7 +835,7 @@ CHECKS = {
     "thesis-verbatim": check_thesis_verbatim, "rig-words": check_rig_words, "finding": check_finding,
     "figure-colours": check_figure_colours, "zoom": check_zoom, "like-with-like": check_like_with_like,
     "model-residual": check_model_residual, "delays": check_delays,
-    "drift-apart": check_drift_apart,
+    "drift-apart": check_drift_apart, "legend-strip": check_legend_strip,
 }
 
 
