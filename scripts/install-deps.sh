@@ -20,11 +20,12 @@ run_packages=(
   python3 python3-numpy python3-matplotlib python3-jinja2 fonts-dejavu-core
 )
 # make test adds the test frameworks, SciPy (golden data), the firmware tool chain and simavr,
-# Chromium, and what sweeps and the real-time checks use.
+# Chromium, what sweeps and the real-time checks use, and help2man (the .deb's man page).
 packages=(
   "${run_packages[@]}"
   libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3-scipy python3-pytest python3-h5py python3-distributed
+  help2man
   chromium
   gcc-avr avr-libc simavr libsimavr-dev
   rt-tests

@@ -4,11 +4,12 @@
 #      clearshape::clearshape (find_package, nothing from the source or build tree) and runs it;
 #      it sets no C++ standard: C++20 must come from the exported targets (cxx_std_20);
 #   2. the same example built with the installed pkg-config file only, and run;
-#   3. the installed Python module imports from the prefix and designs a shaper.
+#   3. the installed Python module imports from the prefix and designs a shaper, and its package
+#      metadata answers importlib.metadata.version("clearshape") with the CLI's version.
 # Usage: install_test.sh BUILD_DIR SOURCE_DIR PYTHON
 set -euo pipefail
 build=$1 source=$2 python=$3
-work=$(mktemp -d /tmp/clearshape-install-test.XXXXXX)
+work=$(mktemp -d "${TMPDIR:-/tmp}/clearshape-install-test.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 prefix=$work/prefix
 example=$source/examples/02_design_shapers.cpp
@@ -17,7 +18,8 @@ cmake --install "$build" --prefix "$prefix" > "$work/install.log"
 for f in bin/clearshape lib/cmake/clearshape/clearshapeConfig.cmake \
          lib/cmake/clearshape/clearshapeConfigVersion.cmake lib/cmake/clearshape/clearshapeTargets.cmake \
          lib/pkgconfig/clearshape.pc lib/libclearshape_core.a lib/libclearshape_study.a \
-         include/clearshape/shaping/design.hpp include/clearshape/core/version.hpp; do
+         include/clearshape/shaping/design.hpp include/clearshape/core/version.hpp \
+         share/doc/clearshape/copyright share/man/man1/clearshape.1.gz; do
   [[ -e $prefix/$f ]] || { echo "install_test: $f was not installed" >&2; exit 1; }
 done
 # The exported targets must not point back into the source or build tree.
@@ -51,5 +53,10 @@ assert clearshape.__file__.startswith('$prefix'), clearshape.__file__
 s = clearshape.design('zvd', frequency_hz=3.32, zeta=0.288)
 assert abs(clearshape.residual_vibration(s, 3.32, 0.288)) < 1e-12
 print('installed python module:', clearshape.__file__, s)
+import importlib.metadata as md
+cli = '$("$prefix/bin/clearshape" --version)'
+assert md.version('clearshape') == clearshape.__version__ and cli == 'clearshape ' + clearshape.__version__, (md.version('clearshape'), clearshape.__version__, cli)
+assert str(md.distribution('clearshape').locate_file('clearshape')).startswith('$prefix')
+print('installed python metadata:', md.version('clearshape'))
 "
 echo "install_test: ok ($prefix)"
