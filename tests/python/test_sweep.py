@@ -407,3 +407,26 @@ def test_an_unreachable_scheduler_exits_1_naming_it(sweep_file, tmp_path):
     assert r.returncode == 1, r.stderr
     assert f"--scheduler {address}: " in r.stderr and "Traceback" not in r.stderr
     assert not list((tmp_path / "x" / ".sweep").iterdir())  # nothing was stored
+
+
+# Issue 23: without matplotlib a sweep with `plot = [...]` ran every point, then died with a
+# raw ModuleNotFoundError. The imports a sweep needs are checked before any point runs (exit 1,
+# naming the Debian package); without `plot` matplotlib is not needed at all.
+def test_a_missing_matplotlib_is_named_before_any_point_runs(sweep_file, tmp_path):
+    fake = tmp_path / "no_matplotlib" / "matplotlib"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("raise ImportError(\"No module named 'matplotlib'\", name='matplotlib')\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(fake.parent), os.environ.get("PYTHONPATH", "")]))
+    run = [sys.executable, "-m", "clearshape.sweep", "--quiet", "--workers", "1"]
+    r = subprocess.run([*run, str(sweep_file), "--out", str(tmp_path / "plot")], capture_output=True, text=True,
+                       env=env, timeout=60)
+    assert r.returncode == 1, r.stderr
+    assert "matplotlib is missing" in r.stderr and "install Debian's python3-matplotlib" in r.stderr
+    assert "Traceback" not in r.stderr and not (tmp_path / "plot").exists()
+    unplotted = tmp_path / "unplotted.toml"
+    unplotted.write_text(SWEEP.replace('plot = ["frequency_error", "contact_damping"]\n', "")
+                         .replace("samples = 2", "samples = 1"))
+    r = subprocess.run([*run, str(unplotted), "--out", str(tmp_path / "table")], capture_output=True, text=True,
+                       env=env, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "table" / "results.h5").exists() and not (tmp_path / "table" / "improvement_map.png").exists()

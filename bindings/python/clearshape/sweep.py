@@ -143,6 +143,29 @@ def _run_dask(pending, settings, scheduler, retries, digest, on_done, fn):
             client.close()
 
 
+class MissingDependency(RuntimeError):
+    """A Python package the sweep needs is not installed (exit 1), found before any point runs."""
+
+
+_DEBIAN = {"h5py": "python3-h5py", "matplotlib": "python3-matplotlib", "distributed": "python3-distributed"}
+
+
+def _check_imports(settings, scheduler):
+    """h5py always (results.h5), matplotlib when `plot` is set, distributed for an address."""
+    import importlib
+
+    needed = ["h5py"] + (["matplotlib"] if settings["plot"] else []) + (
+        ["distributed"] if isinstance(scheduler, str) else [])
+    for name in needed:
+        try:
+            importlib.import_module(name)
+        except ImportError as e:
+            why = {"h5py": "results.h5", "matplotlib": f"plot = {list(settings['plot'])}: improvement_map.png",
+                   "distributed": f"--scheduler {scheduler}"}[name]
+            raise MissingDependency(f"{name} is missing ({e}); it is needed for {why}: install Debian's "
+                                    f"{_DEBIAN[name]}") from e
+
+
 def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, quiet=False,
               batch_function=run_batch, max_points=MAX_POINTS):
     """Runs (or resumes) a sweep into folder `out`; returns a summary dict.
@@ -152,13 +175,15 @@ def run_sweep(sweep, out, scheduler=None, workers=None, retries=2, fresh=False, 
     batch_function(points, settings) evaluates one task (default sweep_run.run_batch; the tests
     pass one that fails to exercise the retries). Raises SweepError (a ValueError) for a bad
     sweep file, RuntimeError when tasks still failed after their retries (their points are
-    kept for the next run) and DaskError (a RuntimeError) when the scheduler cannot be reached
-    or fails. A sweep of more than `max_points` points is refused (SweepError, with
+    kept for the next run), DaskError (a RuntimeError) when the scheduler cannot be reached
+    or fails, and MissingDependency (a RuntimeError) before any point runs when h5py, matplotlib
+    (`plot` set) or distributed (an address) is not installed. A sweep of more than `max_points` points is refused (SweepError, with
     its estimate) before the output folder is made.
     """
     if not isinstance(sweep, Sweep):
         sweep = Sweep.load(sweep)
     sweep.check_size(max_points)
+    _check_imports(sweep.settings, scheduler)
     if not quiet:
         print(f"clearshape sweep: {sweep.describe_estimate()}", file=sys.stderr, flush=True)
     store.refuse_input_as_output(sweep.path, out)
@@ -237,14 +262,6 @@ def main(argv=None):
         ap.error(f"--retries = {a.retries} is out of range; allowed: [0, 100]")
     if a.scheduler is not None and not a.scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
         ap.error(f"--scheduler = {a.scheduler} must be an address such as tcp://HOST:8786")
-    try:
-        import h5py  # noqa: F401 — results.h5
-        if a.scheduler is not None:
-            import distributed  # noqa: F401
-    except ImportError as e:
-        print(f"clearshape sweep: error: {e.name} is missing; install Debian's "
-              f"{'python3-h5py' if e.name == 'h5py' else 'python3-distributed'}", file=sys.stderr)
-        return 1
     for signo in (signal.SIGTERM, signal.SIGHUP):  # end the pool's workers too, then exit by the signal
         signal.signal(signo, _raise_terminated)
     try:
