@@ -51,8 +51,12 @@ double tool_residual_m(const ArmTrace& trace, double from_s) {
 
 MovePlay play_move(const ArmModel& arm, const PointToPoint& move, const MoveShaping& shaping,
                    const MovePlayOptions& options) {
+  return play_move_with(arm, move, joint_shapers(arm, move.to_rad, shaping), options);
+}
+
+MovePlay play_move_with(const ArmModel& arm, const PointToPoint& move, std::span<const shaping::Shaper> shapers,
+                        const MovePlayOptions& options) {
   const JointTrajectory planned = plan_move(arm, move.from_rad, move.to_rad, options.limits, options.sample_time_s);
-  const std::vector<shaping::Shaper> shapers = joint_shapers(arm, move.to_rad, shaping);
   const JointTrajectory shaped = shape_trajectory(planned, shapers);
   ArmSimulationOptions o;
   o.duration_s = shaped.time_s.back() + options.settle_s;
@@ -82,7 +86,11 @@ std::vector<BenchmarkDesign> run_benchmark(const ArmModel& arm, std::span<const 
   if (designs.empty()) throw InvalidArgument("run_benchmark: no designs; allowed: at least one (the first is the reference)");
   std::vector<BenchmarkDesign> out;
   for (const MoveShaping& d : designs) {
-    BenchmarkDesign b{d, {}, 0.0, 0.0};
+    const std::string name = d.schedule == ShaperSchedule::none
+                                 ? "unshaped"
+                                 : fmt::format("{} {}{}", shaping::to_string(d.method), to_string(d.schedule),
+                                               d.every_mode ? " every-mode" : "");
+    BenchmarkDesign b{name, d, {}, 0.0, 0.0};
     for (const PointToPoint& m : moves) {
       b.moves.push_back(play_move(arm, m, d, options));
       b.total_residual_m += b.moves.back().residual_m;

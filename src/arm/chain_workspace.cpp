@@ -11,8 +11,7 @@ namespace clearshape::arm {
 
 struct ChainWorkspace::Impl {
   explicit Impl(const RigidChain& c)
-      : owner(c),
-        chain(c.data().chain),
+      : chain(c.data().chain),
         tip_offset(c.data().tip_offset),
         gravity(c.gravity_m_s2().x(), c.gravity_m_s2().y(), c.gravity_m_s2().z()),
         dynamics(chain, gravity),
@@ -24,8 +23,9 @@ struct ChainWorkspace::Impl {
         tau(chain.getNrOfJoints()),
         mass(chain.getNrOfJoints()),
         wrenches(chain.getNrOfSegments(), KDL::Wrench::Zero()) {}
-  RigidChain owner;  // keeps the shared KDL chain alive
-  const KDL::Chain& chain;
+  // A copy per workspace: KDL's Joint caches its last pose in mutable members (joint.hpp), so a
+  // chain shared by simulations on several threads would be a data race.
+  KDL::Chain chain;
   KDL::Frame tip_offset;
   KDL::Vector gravity;
   KDL::ChainDynParam dynamics;

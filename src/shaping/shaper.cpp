@@ -1,5 +1,6 @@
 #include "clearshape/shaping/shaper.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -62,6 +63,22 @@ bool Shaper::is_positive() const noexcept {
     if (p.amplitude < 0.0) return false;
   }
   return true;
+}
+
+Shaper positive_shaper_on_slots(std::string method, std::span<const double> slot_times_s,
+                                std::span<const double> weights) {
+  if (weights.size() != slot_times_s.size() || slot_times_s.empty()) {
+    throw_invalid("weights size", static_cast<double>(weights.size()),
+                  fmt::format("{} (one per slot, at least one)", slot_times_s.size()));
+  }
+  double sum = 0.0;
+  for (const double x : weights) sum += std::max(0.0, x);
+  std::vector<Impulse> impulses;
+  for (std::size_t k = 0; k < slot_times_s.size(); ++k) {
+    const double a = sum > 0.0 ? std::max(0.0, weights[k]) / sum : (k == 0 ? 1.0 : 0.0);
+    if (a > 0.0) impulses.push_back({slot_times_s[k], a});
+  }
+  return Shaper(std::move(method), std::move(impulses));
 }
 
 }  // namespace clearshape::shaping

@@ -125,15 +125,7 @@ struct Problem {
 };
 
 shaping::Shaper shaper_of(const std::vector<double>& slot_times_s, const double* x) {
-  std::vector<shaping::Impulse> impulses;
-  double sum = 0.0;
-  for (std::size_t k = 0; k < slot_times_s.size(); ++k) sum += std::max(0.0, x[k]);
-  for (std::size_t k = 0; k < slot_times_s.size(); ++k) {
-    const double a = sum > 0.0 ? std::max(0.0, x[k]) / sum : (k == 0 ? 1.0 : 0.0);
-    if (a > 0.0) impulses.push_back({slot_times_s[k], a});
-  }
-  if (impulses.empty()) impulses.push_back({0.0, 1.0});
-  return shaping::Shaper("clearance-aware", std::move(impulses));
+  return shaping::positive_shaper_on_slots("clearance-aware", slot_times_s, std::span<const double>(x, slot_times_s.size()));
 }
 
 // MD of every case for `shaper`, in parallel: thread j takes cases j, j + T, j + 2T, …

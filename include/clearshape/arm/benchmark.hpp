@@ -6,6 +6,7 @@
 // ends, combined as √(MD_x² + MD_y²).
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -49,14 +50,19 @@ struct MovePlay {
   long contact_onsets = 0;      ///< flank contacts over the run
 };
 
-/// Plans `move` (plan_move), shapes it (joint_shapers at the move's end pose, shape_trajectory),
-/// and simulates the arm through its drives (drive_commands, simulate_arm).
+/// Plans `move` (plan_move), shapes each joint with its shaper (shape_trajectory), and simulates
+/// the arm through its drives (drive_commands, simulate_arm).
+MovePlay play_move_with(const ArmModel& arm, const PointToPoint& move, std::span<const shaping::Shaper> shapers,
+                        const MovePlayOptions& options);
+
+/// play_move_with the shapers of `shaping` (joint_shapers at the move's end pose).
 MovePlay play_move(const ArmModel& arm, const PointToPoint& move, const MoveShaping& shaping,
                    const MovePlayOptions& options);
 
 /// The benchmark's result for one way of shaping: the residual of every move, and over the
 /// benchmark 1 − Σ residual / Σ residual unshaped.
 struct BenchmarkDesign {
+  std::string name;  ///< e.g. "zvd fixed", "zvd end_pose every-mode", "clearance-aware"
   MoveShaping shaping;
   std::vector<MovePlay> moves;
   double total_residual_m = 0.0;

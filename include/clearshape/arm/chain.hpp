@@ -4,8 +4,9 @@
 //   M(q) q̈ + C(q, q̇) q̇ + g(q) = τ
 // M by KDL's composite-rigid-body solver, C q̇ + g by its recursive Newton–Euler solver with
 // q̈ = 0 (Featherstone, Rigid Body Dynamics Algorithms, 2008, §5.3 and §6.2).
-// A RigidChain is an immutable design: copies share the KDL chain; the solvers and their
-// workspaces live in a ChainWorkspace (a state, one per simulation).
+// A RigidChain is an immutable design: copies share the KDL chain; the solvers, their workspaces
+// and a private copy of the KDL chain (KDL's joints cache their last pose) live in a
+// ChainWorkspace (a state, one per simulation), so simulations may run on several threads.
 #include <array>
 #include <memory>
 #include <string>

@@ -49,4 +49,10 @@ class Shaper {
   std::vector<Impulse> impulses_;
 };
 
+/// A positive shaper on a slot grid, as a search over amplitudes builds it: a_k = max(0, x_k) /
+/// Σ max(0, x), the zero ones dropped; all zero: a unit impulse at the first slot. `weights` has
+/// one value per slot (checked).
+Shaper positive_shaper_on_slots(std::string method, std::span<const double> slot_times_s,
+                                std::span<const double> weights);
+
 }  // namespace clearshape::shaping
