@@ -26,6 +26,7 @@ Outputs: <id>.png (150 dpi) and <id>.pdf with fixed metadata: the same inputs gi
 """
 from __future__ import annotations
 
+import json
 import math
 import re
 import textwrap
@@ -589,6 +590,75 @@ WORSE_COLOUR = "#B3003C"
 WORSE_HATCH = "xxx"
 
 
+def _sample_sd(values) -> float | None:
+    v = [float(x) for x in values or [] if isinstance(x, (int, float))]
+    return float(np.std(v, ddof=1)) if len(v) > 1 else None
+
+
+def with_trial_spreads(spec: dict, results: dict) -> dict:
+    """The summary spec with each bar's ±1 s.d. over its trials (ours_without_sd, thesis_with_sd, …), from
+    the trial table the row names in results.json: the column whose trial mean is the bar's value."""
+    tables = {t.get("id"): t for t in results.get("tables", []) or [] if isinstance(t, dict)}
+    rows = []
+    for r in spec.get("rows") or []:
+        r = dict(r)
+        for side in ("ours", "thesis"):
+            for key in ("without", "with"):
+                bar = r.get(f"{side}_{key}")
+                for c in (tables.get(r.get("table")) or {}).get("columns", []):
+                    vals = [x for x in c.get(side) or [] if isinstance(x, (int, float))]
+                    # the thesis's printed mean is its trials' mean to its printed digits
+                    tol = 1e-6 if side == "ours" else 0.02
+                    if bar is not None and vals and math.isclose(sum(vals) / len(vals), bar, rel_tol=tol):
+                        r[f"{side}_{key}_sd"] = _sample_sd(vals)
+                        break
+        rows.append(r)
+    return {**spec, "rows": rows}
+
+
+def summary_title(spec: dict) -> str:
+    """The summary's title names each panel's quantity in its own unit (a "%" title stood over the
+    degrees of the left panel): mean deviation in the study's unit, improvement in %."""
+    unit = roles.pretty_unit(spec.get("unit") or "")
+    table = f"Table {spec['thesis_table']}: " if spec.get("thesis_table") else ""
+    return (f"{table}Eq. 5.1 mean deviation without and with shaping (left, {unit}, ±1 s.d.) and the "
+            "improvement by shaping (right, %, 95 % bootstrap interval), clearshape beside the thesis")
+
+
+def summary_slots(rows: list[dict], w: float):
+    """Bar positions of the summary's left panel: (x, row, side, without/with) per bar and (x, label) per
+    tick. Rows of one table (several shapers on one input, as the speed study's 5.1) share its unshaped
+    pair, drawn once, then one pair per shaper labelled by the shaper; a table of one row keeps its four
+    bars under the input's label."""
+    slots, ticks, x = [], [], 0.0
+    groups: dict = {}
+    for i, r in enumerate(rows):
+        groups.setdefault(r.get("table"), []).append(i)
+    for members in groups.values():
+        if len(members) == 1:
+            i = members[0]
+            slots += [(x + (j - 1.5) * w, i, side, key) for j, (side, key) in
+                      enumerate((("ours", "without"), ("thesis", "without"), ("ours", "with"), ("thesis", "with")))]
+            ticks.append((x, f"{wrap_tick(rows[i]['label'])}\n{rows[i].get('table')}" if rows[i].get("table")
+                          else rows[i]["label"]))
+            x += 1.0
+            continue
+        first = members[0]
+        slots += [(x - 0.5 * w, first, "ours", "without"), (x + 0.5 * w, first, "thesis", "without")]
+        ticks.append((x, f"without IS\n{rows[first].get('table')}"))
+        for i in members:
+            x += 2.6 * w
+            slots += [(x - 0.5 * w, i, "ours", "with"), (x + 0.5 * w, i, "thesis", "with")]
+            ticks.append((x, roles.label_for(rows[i].get("role")) or rows[i]["label"]))
+        x += 1.0
+    return slots, ticks
+
+
+def wrap_tick(label: str, width: int = 12) -> str:
+    """A tick label on lines of at most `width` characters, so neighbours never overlap."""
+    return "\n".join(textwrap.wrap(label, width)) if "\n" not in label else label
+
+
 def _draw_md_summary(axes, spec: dict) -> None:
     """Left: Eq. 5.1 means without/with shaping per table (ours solid, thesis hatched). Right:
     improvement % per table, ours beside the thesis's."""
@@ -599,20 +669,31 @@ def _draw_md_summary(axes, spec: dict) -> None:
     x = np.arange(len(rows))
     w = 0.2
     shaped_colours = [roles.style_for(roles.normalise_role(r.get("role") or "zvdd"))["color"] for r in rows]
+    slots, ticks = summary_slots(rows, w)
     for j, (side, key) in enumerate((("ours", "without"), ("thesis", "without"), ("ours", "with"), ("thesis", "with"))):
-        vals = [r.get(f"{side}_{key}") for r in rows]
+        mine = [(pos, i) for pos, i, sd_, k in slots if (sd_, k) == (side, key)]
+        vals = [rows[i].get(f"{side}_{key}") for _, i in mine]
         vals = [np.nan if v is None else v for v in vals]
-        colours = [WITHOUT_BAR_COLOUR] * len(rows) if key == "without" else shaped_colours
+        colours = [WITHOUT_BAR_COLOUR if key == "without" else shaped_colours[i] for _, i in mine]
         kw = ({"color": colours, "edgecolor": "#333333"} if side == "ours" else
               {"color": "white", "edgecolor": colours, "hatch": "////"})
-        ax.bar(x + (j - 1.5) * w, vals, w, label=f"{'without' if key == 'without' else 'with'} shaping — "
-               f"{'clearshape' if side == 'ours' else 'thesis'}", zorder=3, linewidth=0.8, **kw)
-    ax.set_xticks(x, [r["label"] for r in rows])
+        # ±1 s.d. over the trials; on the log axis the lower bar stops at a tenth of the mean
+        sd = [rows[i].get(f"{side}_{key}_sd") for _, i in mine]
+        err = np.array([[min(d, 0.9 * v), d] if d is not None and np.isfinite(v) else [np.nan, np.nan]
+                        for d, v in zip(sd, vals)]).T
+        ax.bar([pos for pos, _ in mine], vals, w, label=f"{'without' if key == 'without' else 'with'} shaping — "
+               f"{'clearshape' if side == 'ours' else 'thesis'}", zorder=3, linewidth=0.8,
+               yerr=err if np.isfinite(err).any() else None,
+               error_kw={"ecolor": "#1a1a1a", "capsize": 1.8, "elinewidth": 0.7, "zorder": 4}, **kw)
+    ax.set_xticks([t for t, _ in ticks], [wrap_tick(lab) for _, lab in ticks])
     ax.grid(axis="x", visible=False)
     ax.set_ylabel(roles.label_with_unit(f"mean deviation, Eq. 5.1 ({spec.get('unit', '')})"))
     values = [v for r in rows for v in (r.get("ours_without"), r.get("thesis_without"),
                                          r.get("ours_with"), r.get("thesis_with")) if v is not None and v > 0]
-    top = np.nanmax(values)
+    tops = [r[f"{k}"] + (r.get(f"{k}_sd") or 0.0) for r in rows for k in ("ours_without", "thesis_without",
+                                                                          "ours_with", "thesis_with")
+            if r.get(k) is not None and r[k] > 0]
+    top = max(tops)  # the highest bar with its error bar
     if min(values) < top / 10:  # shaped bars a tenth of the unshaped: a log axis keeps both readable
         ax.set_yscale("log")
         ax.set_ylim(min(values) / 2, 2 * top)
@@ -628,7 +709,11 @@ def _draw_md_summary(axes, spec: dict) -> None:
                    zorder=3, linewidth=0.8, yerr=err if np.isfinite(err).any() else None,
                    error_kw={"ecolor": "#1a1a1a", "capsize": 2.5, "elinewidth": 0.9, "zorder": 4})
     ax2.bar(x + 0.18, th, 0.36, label="thesis", zorder=3, linewidth=0.8, **roles.THESIS_BAR)
-    ax2.set_xticks(x, [r["label"] for r in rows])
+    shared = {r.get("table") for r in rows if sum(q.get("table") == r.get("table") for q in rows) > 1}
+    # the narrower panel names each bar by its table (the left panel gives the input beside it) or, where
+    # one table holds several shapers, by the shaper
+    ax2.set_xticks(x, [roles.label_for(r.get("role")) if r.get("table") in shared else str(r.get("table") or r["label"])
+                       for r in rows])
     ax2.grid(axis="x", visible=False)
     # The axis holds every bar and interval: an improvement below 0 (worse than unshaped) is drawn below
     # the zero line, cross-hatched in the worse colour and labelled, never cut off.
@@ -650,10 +735,6 @@ def _draw_md_summary(axes, spec: dict) -> None:
         ax2.set_ylim(lo - 2.2 * pad, ax2.get_ylim()[1])
     ax2.set_ylabel("improvement by shaping (%)")
     ax2.legend(fontsize=7, loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=2, borderaxespad=0.0)
-    for a in (ax, ax2):
-        for lab in a.get_xticklabels():
-            lab.set_rotation(20)
-            lab.set_ha("right")
 
 
 # Share of the figure's width the plot keeps beside its y label: a legend strip may be no wider.
@@ -698,6 +779,7 @@ def draw(spec: dict, cache: CsvCache, index: int = 0):
     kind = str(spec.get("kind", "time-series")).lower()
     panels = panels_of(spec)
     if kind == "md-summary":
+        spec = {**spec, "title": summary_title(spec)}
         fig, axes = plt.subplots(1, 2, figsize=(7.6, 3.6), gridspec_kw={"width_ratios": [3, 2]})
         _draw_md_summary(axes, spec)
         panels, axes = [], []
@@ -764,8 +846,12 @@ def draw_all(study_dir: Path, specs: list[dict], out_dir: Path | None = None, lo
     study_dir = Path(study_dir)
     out_dir = Path(out_dir) if out_dir else study_dir / "figures"
     cache = CsvCache(study_dir)
+    results_path = study_dir / "results.json"
+    results = json.loads(results_path.read_text(encoding="utf-8")) if results_path.exists() else {}
     records = []
     for i, spec in enumerate(specs):
+        if str(spec.get("kind")) == "md-summary":
+            spec = with_trial_spreads(spec, results)
         fid = figure_id(spec, i)
         rec = {"id": fid, "spec": spec, "png": None, "pdf": None, "error": None}
         try:

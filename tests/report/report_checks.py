@@ -228,10 +228,9 @@ def check_md_summary(study: Path, python_dir: Path, **_) -> None:
     fig = figures.draw({"id": "md-summary", "kind": "md-summary", "unit": "deg_s", "title": "t", "rows": rows}, None)
     ax, ax2 = fig.axes[:2]
     lab = _lab
-    bars = [p for p in ax.patches]
-    n = len(rows)
-    without = [to_rgb(p.get_facecolor()[:3]) for p in bars[:n]]
-    shaped = [to_rgb(p.get_facecolor()[:3]) for p in bars[2 * n:3 * n]]
+    by_label = {c.get_label(): list(c) for c in ax.containers}  # one table's unshaped pair is drawn once
+    without = [to_rgb(p.get_facecolor()[:3]) for p in by_label["without shaping — clearshape"]]
+    shaped = [to_rgb(p.get_facecolor()[:3]) for p in by_label["with shaping — clearshape"]]
     d = min(math.dist(lab(w), lab(s)) for w in without for s in shaped)
     print(f"smallest CIELAB ΔE between a 'without' and a shaped bar: {d:.1f}")
     expect(d >= 40, f"a shaped bar's colour is close to the 'without' colour (ΔE {d:.1f})")
@@ -826,6 +825,84 @@ def check_legend_strip(study: Path, python_dir: Path, **_) -> None:
     print(f"{len(widths)} figures; narrowest panel {min(widths, default=0):.0%} of the figure's width")
 
 
+def _summary_specs(study: Path, results: dict, python_dir: Path):
+    figures, cache, specs = _figures(study, python_dir)
+    spread = getattr(figures, "with_trial_spreads", lambda s, _: s)  # a renderer without it draws none
+    return figures, [spread(s, results) for s in specs if s.get("kind") == "md-summary"]
+
+
+def check_summary_bars(study: Path, results: dict, python_dir: Path, **_) -> None:
+    """22.10: the summary chart's mean-deviation bars carry ±1 s.d. over their trials (recomputed here from
+    results.json's trial values), shaped bars a tenth of the unshaped ones stand on a log axis, and the
+    title names each panel's unit instead of one "%" over degrees."""
+    import numpy as np  # noqa: E402
+    figures, specs = _summary_specs(study, results, python_dir)
+    tables = {t["id"]: t for t in results.get("tables", [])}
+    n_err = 0
+    for spec in specs:
+        fig = figures.draw(spec, None)
+        ax = fig.axes[0]
+        spans = sorted(round(float(abs(seg[1][1] - seg[0][1])), 9) for c in ax.collections for seg in c.get_segments())
+        for r in spec["rows"]:
+            for key, col in (("without", "none"), ("with", None)):
+                t = tables.get(r["table"], {})
+                vals = next((c["ours"] for c in t.get("columns", []) if c.get("ours") and
+                             abs(np.mean(c["ours"]) - r[f"ours_{key}"]) <= 1e-9 * r[f"ours_{key}"]), None)
+                if not vals or len(vals) < 2:
+                    continue
+                sd, v = float(np.std(vals, ddof=1)), r[f"ours_{key}"]
+                want = round(min(sd, 0.9 * v) + sd, 9)
+                expect(any(abs(x - want) <= 1e-6 * want for x in spans),
+                       f"{spec['id']} {r['label']}: no ±1 s.d. error bar ({sd:.3g}) on the {key}-shaping bar")
+                n_err += 1
+        lows = [r["ours_with"] for r in spec["rows"] if r.get("ours_with")]
+        highs = [r["ours_without"] for r in spec["rows"] if r.get("ours_without")]
+        if lows and highs and min(lows) < max(highs) / 10:
+            expect(ax.get_yscale() == "log", f"{spec['id']}: shaped bars on a linear axis")
+        title = fig._suptitle.get_text() if fig._suptitle else ""
+        unit = figures.roles.pretty_unit(spec.get("unit") or "")
+        expect(unit in title and "%" in title, f"{spec['id']}: the title does not name both panels' units: {title!r}")
+        plt_close(fig)
+    print(f"{len(specs)} summary charts, {n_err} error bars compared with the trials' s.d.")
+    expect(n_err > 0 or not specs, "no summary bar with trials to compare")
+
+
+def check_tick_labels(study: Path, results: dict, python_dir: Path, **_) -> None:
+    """22.10: no two tick labels of a figure overlap, and the summary chart of a table with several shapers
+    (the speed study's 5.1 with ZV, ZVD, ZVDD) draws its unshaped pair once, names the shaped bars by the
+    shaper, never "5.1 ZV"."""
+    figures, cache, specs = _figures(study, python_dir)
+    overlaps = []
+    for spec in specs:
+        fig = figures.draw(spec, cache)
+        fig.canvas.draw()
+        r = fig.canvas.get_renderer()
+        for ax in fig.axes:
+            if not ax.get_visible():
+                continue
+            for labels in (ax.get_xticklabels(), ax.get_yticklabels()):
+                boxes = [(t.get_text(), t.get_window_extent(r)) for t in labels if t.get_text() and t.get_visible()]
+                boxes = [(a, b) for a, b in boxes if ax.bbox.x0 - 2 <= (b.x0 + b.x1) / 2 <= ax.bbox.x1 + 2
+                         or labels is ax.get_yticklabels()]
+                for (ta, a), (tb, b) in zip(boxes, boxes[1:]):
+                    if a.overlaps(b):
+                        overlaps.append(f"{spec['id']}: {ta!r} / {tb!r}")
+        plt_close(fig)
+    rows = [{"table": "5.1", "label": f"5.1 {k.upper()}", "role": k, "ours_without": 0.6, "thesis_without": 0.39,
+             "ours_with": w, "thesis_with": w + 0.03, "ours_improvement": 100 * (1 - w / 0.6), "thesis_improvement": None}
+            for k, w in (("zv", 0.19), ("zvd", 0.16), ("zvdd", 0.14))]
+    fig = figures.draw({"id": "speed", "kind": "md-summary", "unit": "deg_s", "title": "t", "rows": rows}, None)
+    ax = fig.axes[0]
+    without = [p for p in ax.patches if p.get_height() == 0.6]
+    ticks = [t.get_text() for a in fig.axes[:2] for t in a.get_xticklabels()]
+    print(f"overlapping tick labels: {overlaps[:4] or 'none'}; one table of 3 shapers: {len(without)} unshaped "
+          f"bar(s), ticks {ticks}")
+    expect(not overlaps, f"tick labels overlap: {overlaps[:4]}")
+    expect(len(without) == 1, f"the unshaped bar of one table is drawn {len(without)} times")
+    expect(not any(re.match(r"^\d+\.\d+ [A-Z]", t) for t in ticks), f"ticks read like '5.1 ZV': {ticks}")
+    plt_close(fig)
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -836,6 +913,7 @@ CHECKS = {
     "figure-colours": check_figure_colours, "zoom": check_zoom, "like-with-like": check_like_with_like,
     "model-residual": check_model_residual, "delays": check_delays,
     "drift-apart": check_drift_apart, "legend-strip": check_legend_strip,
+    "summary-bars": check_summary_bars, "tick-labels": check_tick_labels,
 }
 
 
