@@ -110,6 +110,35 @@ def fmt(v, digits: int = 4) -> str:
     return minus(s)
 
 
+def column_format(values, extra_decimals: int = 0):
+    """One number format for a column of one quantity (issue 22.11: 0.38 beside 0.3845 read as different
+    precisions): fixed decimals giving the largest value 4 significant digits (plus `extra_decimals`), or
+    ×10ⁿ for every value when the smallest would print as 0 in those decimals."""
+    v = [abs(float(x)) for x in values if isinstance(x, (int, float)) and not isinstance(x, bool) and x]
+    if not v:
+        return fmt
+    decimals = 3 - math.floor(math.log10(max(v))) + extra_decimals
+    if max(v) >= 1e5 or decimals > 6 or round(min(v), max(decimals, 0)) == 0:
+        return lambda x: fmt(x) if x is None or x == 0 else _sci(float(x))
+    decimals = max(decimals, 0)
+    return lambda x: "—" if x is None else minus(f"{float(x):.{decimals}f}")
+
+
+def printed_format(printed: list, extra_decimals: int = 0):
+    """The format of the thesis's printed digits ("0.270": 3 decimals; "1.56×10⁻⁴": ×10ⁿ), with
+    `extra_decimals` more, for a number computed from them (the s.d. of its trials)."""
+    texts = [str(x) for x in printed if x]
+    if not texts or any("×" in x for x in texts):
+        return lambda x: fmt(x) if x is None or x == 0 else _sci(float(x), 3)
+    decimals = max(len(x.split(".")[1]) if "." in x else 0 for x in texts) + extra_decimals
+    return lambda x: "—" if x is None else minus(f"{float(x):.{decimals}f}")
+
+
+def _sci(v: float, digits: int = 4) -> str:
+    mant, exp = f"{v:.{digits - 1}e}".split("e")
+    return minus(f"{mant}×10{str(int(exp)).translate(_SUP)}")
+
+
 def minus(s: str) -> str:
     """A number's sign as the typographic minus (U+2212), the same in every cell."""
     return s.replace("-", "−")
@@ -457,12 +486,13 @@ def render_trial_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
     for _ in cols:
         out.append('<th scope="col">clearshape</th><th scope="col" class="thesis">thesis</th>')
     out.append("</tr></thead><tbody>")
+    ours_fmt = {id(c): column_format(list(c.ours) + [c.ours_mean]) for c in cols}
     for i in range(n):
         out.append(f'<tr><th scope="row">{i + 1}</th>')
         for c in cols:
             o = c.ours[i] if i < len(c.ours) else None
             th = c.thesis[i] if i < len(c.thesis) else None
-            out.append(f"<td>{fmt(o) if i < len(c.ours) else ''}</td><td class=\"thesis\">"
+            out.append(f"<td>{ours_fmt[id(c)](o) if i < len(c.ours) else ''}</td><td class=\"thesis\">"
                        f"{thesis_num(th, c.thesis_text(i)) if i < len(c.thesis) else ''}</td>")
         out.append("</tr>")
     out.append("</tbody><tfoot>")
@@ -476,10 +506,13 @@ def render_trial_table(t: tbl.Table, comps: list[tbl.Comparison]) -> str:
         m = by.get((id(c), "mean"))
         om = m.ours if m else (c.ours_mean if c.ours_mean is not None else tbl.mean_sd(c.ours)[0])
         tm = c.thesis_mean
-        means.append(f"<td>{fmt(om)}</td><td class=\"thesis\">{thesis_num(tm, c.thesis_mean_printed)}</td>")
+        means.append(f"<td>{ours_fmt[id(c)](om)}</td><td class=\"thesis\">{thesis_num(tm, c.thesis_mean_printed)}</td>")
         recomputed_means.append(recomputed_cell(tm, tbl.mean_sd(c.thesis)[0], c.thesis_mean_printed))
         osd = c.ours_sd if c.ours_sd is not None else tbl.mean_sd(c.ours)[1]
-        sds.append(f"<td>{fmt(osd)}</td><td class=\"thesis\">{fmt(tbl.mean_sd(c.thesis)[1])}</td>")
+        # s.d. in its column's decimals (the thesis's printed ones), one more digit
+        tsd = tbl.mean_sd(c.thesis)[1]
+        sds.append(f"<td>{column_format(list(c.ours) + [om], 1)(osd)}</td><td class=\"thesis\">"
+                   f"{printed_format(c.thesis_printed, 1)(tsd)}</td>")
         deltas.append(f'<td colspan="2" class="delta">{fmt_signed(m.diff) if m else "—"}'
                       f'{(" (" + fmt_pct(m.rel) + ")") if m and m.rel is not None else ""}</td>')
         verdicts.append(verdict_cell(m.agrees if m else None, 2, ours_better(m)))

@@ -208,6 +208,18 @@ def mean_sd(values):
     return m, s
 
 
+_SUP = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079")
+
+
+def g3(v: float) -> str:
+    """3 significant digits as the tables print numbers: ×10ⁿ, never "e-05", and the minus sign U+2212."""
+    s = f"{v:.3g}"
+    if "e" in s:
+        mant, exp = s.split("e")
+        s = f"{mant}×10{str(int(exp)).translate(_SUP)}"
+    return s.replace("-", "\u2212")
+
+
 def verdict(ours, thesis, spread=None, spread_name="", rel_tol=DEFAULT_REL_TOLERANCE) -> dict:
     """Difference, relative difference and agrees/differs with the criterion used."""
     if thesis is None:
@@ -220,13 +232,13 @@ def verdict(ours, thesis, spread=None, spread_name="", rel_tol=DEFAULT_REL_TOLER
     if spread:
         ok = abs(diff) <= spread
         return {"diff": diff, "rel": rel, "agrees": ok,
-                "criterion": f"|Δ| = {abs(diff):.3g} {'≤' if ok else '>'} {spread_name} ({spread:.3g})"}
+                "criterion": f"|Δ| = {g3(abs(diff))} {'≤' if ok else '>'} {spread_name} ({g3(spread)})"}
     if rel is None:
         return {"diff": diff, "rel": None, "agrees": False,
-                "criterion": f"the thesis value is 0: no relative criterion, |Δ| = {abs(diff):.3g}"}
+                "criterion": f"the thesis value is 0: no relative criterion, |Δ| = {g3(abs(diff))}"}
     ok = abs(rel) <= rel_tol
     return {"diff": diff, "rel": rel, "agrees": ok,
-            "criterion": f"|Δ| = {100 * abs(rel):.3g} % of the thesis value, {'≤' if ok else '>'} {100 * rel_tol:g} %"}
+            "criterion": f"|Δ| = {g3(100 * abs(rel))} % of the thesis value, {'≤' if ok else '>'} {100 * rel_tol:g} %"}
 
 
 def standard_error_of_difference(ours: list, thesis: list):

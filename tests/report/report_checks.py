@@ -903,6 +903,39 @@ def check_tick_labels(study: Path, results: dict, python_dir: Path, **_) -> None
     plt_close(fig)
 
 
+def _number_format(cell: str):
+    """("sci",) for a ×10ⁿ number, ("fixed", decimals) for a plain one, None for no number."""
+    m = re.match(r"^[+−-]?(\d+)(?:\.(\d+))?(×10)?", cell.strip())
+    if not m:
+        return None
+    return ("sci",) if m.group(3) else ("fixed", len(m.group(2) or ""))
+
+
+def check_number_formats(html: str, **_) -> None:
+    """22.11: one number format per column — in a trial table each clearshape column's trials and mean
+    print with the same decimals or all as ×10ⁿ (0.38 stood above 0.3845) — and one minus sign: no table
+    cell holds a hyphen-minus before a number or an "e-05" exponent."""
+    mixed, hyphens, columns = [], [], 0
+    for t in tables_of(html):
+        for row in t["rows"]:
+            for _, text, _ in row:
+                if re.search(r"(?<![\w.])-\d|\de[-+]?\d", text):
+                    hyphens.append(f"{t['id'] or t['class']}: {text[:50]!r}")
+        if "trials" not in t["class"]:
+            continue
+        body = [r for r in t["rows"] if r and (r[0][1].isdigit() or r[0][1] == "mean")]
+        width = max((len(r) for r in body), default=0)
+        for j in range(1, width, 2):  # clearshape, thesis, clearshape, thesis, …
+            looks = {_number_format(r[j][1]) for r in body if j < len(r) and r[j][1] not in ("", "—")} - {None}
+            columns += 1
+            if len(looks) > 1:
+                mixed.append(f"{t['id']} column {(j + 1) // 2}: {sorted(looks)}")
+    print(f"{columns} clearshape trial columns; mixed formats: {mixed[:3] or 'none'}; hyphen-minus or e-notation "
+          f"cells: {hyphens[:3] or 'none'}")
+    expect(not mixed, f"columns printed in more than one format: {mixed[:4]}")
+    expect(not hyphens, f"cells with '-' or 'e-' in a number: {hyphens[:4]}")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -914,6 +947,7 @@ CHECKS = {
     "model-residual": check_model_residual, "delays": check_delays,
     "drift-apart": check_drift_apart, "legend-strip": check_legend_strip,
     "summary-bars": check_summary_bars, "tick-labels": check_tick_labels,
+    "number-formats": check_number_formats,
 }
 
 
