@@ -159,7 +159,7 @@ def fmt_pct(rel) -> str:
 
 def thesis_num(v, text: str | None = None) -> str:
     """A thesis number as the thesis printed it (results.json carries its digits: 0.270, 1.56×10⁻⁴)."""
-    return esc(text) if text else fmt(v)
+    return minus(esc(text)) if text else fmt(v)  # the printed digits, with the page's one minus sign
 
 
 WORSE_MARK = '<span class="worse-mark" title="worse than unshaped">▼ worse than unshaped</span>'

@@ -547,9 +547,13 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
     unit = _unit_of(ylab)
     ax.axvspan(float(start_s), float(t[-1]), color="#F2F2F2", zorder=0, linewidth=0,
                label="steady state (enters Eq. 5.1)")
-    ax.axhspan(mean - md, mean + md, color="#0072B2", alpha=0.13, linewidth=0, label=f"M ± MD, MD = {md:.3g} {unit}")
+    ax.axhspan(mean - md, mean + md, color=roles.style_for("mean")["color"], alpha=0.13, linewidth=0,
+               label=f"M ± MD, MD = {md:.3g} {unit}")
     role, source = roles.infer_role(_y_column(s))  # md_signal_zvdd@link-mode → the ZVDD colour
-    ax.plot(t, y, label=plain_label(s.get("label") or "response"), **roles.style_for(role or "unshaped", 0, source))
+    label = plain_label(s.get("label") or "response")
+    if role in roles.SHAPER_LABELS and roles.SHAPER_LABELS[role].lower() not in label.lower():
+        label = f"{label} ({roles.SHAPER_LABELS[role]})"  # the design its colour stands for
+    ax.plot(t, y, label=label, **roles.style_for(role or "unshaped", 0, source))
     ax.axhline(mean, label=f"steady-state mean M = {mean:.4g} {unit}", **roles.style_for("mean"))
     if band:
         ax.axhline(mean - float(band), color="#7A7A7A", linewidth=0.7, linestyle=":",

@@ -30,7 +30,7 @@ ROLE_STYLES: dict[str, dict] = {
     "measured": {"color": "#404040", "linestyle": "-", "linewidth": 1.2, "zorder": 3},
     "model": {"color": "#7B3FA0", "linestyle": (0, (5, 1.5)), "linewidth": 1.4, "zorder": 4},
     "thesis": {"color": "#9E9E9E", "linestyle": ":", "linewidth": 1.2, "zorder": 2},
-    "mean": {"color": "#0072B2", "linestyle": (0, (6, 2)), "linewidth": 1.2, "zorder": 6},
+    "mean": {"color": "#332288", "linestyle": (0, (6, 2)), "linewidth": 1.2, "zorder": 6},  # no design's colour
     "trial": {"color": "#404040", "linestyle": "-", "linewidth": 0.8, "zorder": 2},
     "marker": {"color": "#D55E00", "linestyle": "none", "linewidth": 1.0, "zorder": 7},
 }
@@ -49,7 +49,15 @@ SHAPER_LABELS = {
     "thesis": "thesis", "mean": "mean",
 }
 
-_FALLBACK = ["#0072B2", "#D55E00", "#009E73", "#E69F00", "#CC79A7", "#56B4E9", "#8C564B", "#7F7F7F"]
+# Curves that are no design (inputs of one figure, unnamed signals): colours no design uses (Tol's indigo
+# and brown) told apart by line style, so a blue or vermillion curve always means MZV or "without IS".
+_FALLBACK = [("#332288", "-"), ("#661100", (0, (5, 2))), ("#332288", (0, (1, 1.5))), ("#661100", (0, (3, 1, 1, 1))),
+             ("#332288", (0, (5, 2))), ("#661100", "-"), ("#332288", (0, (3, 1, 1, 1))), ("#661100", (0, (1, 1.5)))]
+
+
+def design_colours() -> set:
+    """The colours reserved for the designs (each shaper and the unshaped response), in lower-case hex."""
+    return {st["color"].lower() for r, st in ROLE_STYLES.items() if r in SHAPER_ORDER}
 
 
 def normalise_role(role: str | None) -> str:
@@ -78,7 +86,8 @@ def style_for(role: str | None, index: int = 0, source: str = "") -> dict:
             if source == "drive-model":  # thin dashes over the unshaped line it often coincides with
                 st["zorder"], st["linewidth"] = 3.5, 1.0
         return st
-    return {"color": _FALLBACK[index % len(_FALLBACK)], "linestyle": "-", "linewidth": 1.2, "zorder": 3}
+    colour, linestyle = _FALLBACK[index % len(_FALLBACK)]
+    return {"color": colour, "linestyle": linestyle, "linewidth": 1.2, "zorder": 3}
 
 
 def label_for(role: str | None) -> str:

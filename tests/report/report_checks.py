@@ -531,7 +531,7 @@ def check_thesis_verbatim(study: Path, results: dict, html: str, **_) -> None:
                 expect(len(tp) == len(th), f"{key}: no thesis_printed digits")
                 body = _table_html(html, t["id"])
                 for text in tp:
-                    expect(f'class="thesis">{text}<' in body, f"{key}: thesis {text} not shown as printed")
+                    expect(f'class="thesis">{text.replace("-", "−")}<' in body, f"{key}: thesis {text} not shown as printed")
                 decimals = {len(x.split(".")[1]) for x in tp if x and "." in x and "×" not in x}
                 expect(len(decimals) <= 1, f"{key}: one column printed with {decimals} decimals")
     for t in results.get("tables", []):
@@ -804,12 +804,12 @@ def check_drift_apart(study: Path, html: str, python_dir: Path, **_) -> None:
 
 def check_legend_strip(study: Path, python_dir: Path, **_) -> None:
     """22.10: legends do not shrink the plots (rig figures' axes were 51 % of the figure's width, a
-    legend beside them): in every single-column figure (all but the two-panel summary chart) each
+    legend beside them): in every single-column figure (all but the summary and sensitivity panels) each
     panel with data keeps at least 80 % of the figure's width, and no legend sits on the data."""
     figures, cache, specs = _figures(study, python_dir)
     widths = []
     for spec in specs:
-        if spec.get("kind") == "md-summary":
+        if spec.get("kind") in ("md-summary", "sensitivity"):  # side-by-side panels by design (own checks)
             continue
         fig = figures.draw(spec, cache)
         fig.canvas.draw()
@@ -936,6 +936,43 @@ def check_number_formats(html: str, **_) -> None:
     expect(not hyphens, f"cells with '-' or 'e-' in a number: {hyphens[:4]}")
 
 
+def check_design_colours(study: Path, python_dir: Path, **_) -> None:
+    """22.10: one colour per design across every figure (roles.py's fixed design → colour map): in no figure
+    do two labelled curves share colour and line style, and a design's colour is drawn only for that design
+    (two inputs of one figure were MZV blue and "without IS" vermillion)."""
+    figures, cache, specs = _figures(study, python_dir)
+    from matplotlib.colors import to_hex  # noqa: E402
+    roles = figures.roles
+    owner = {roles.ROLE_STYLES[r]["color"].lower(): r for r in roles.SHAPER_ORDER if r in roles.ROLE_STYLES}
+    names = {r: {r, roles.SHAPER_LABELS.get(r, r).lower()} | ({"unshaped", "without"} if r == "unshaped" else set())
+             for r in owner.values()}
+    clashes, borrowed, curves = [], [], 0
+    for spec in specs:
+        fig = figures.draw(spec, cache)
+        for ax in fig.axes:
+            looks = {}
+            leg = ax.get_legend()
+            context = " ".join([ax.get_title("left"), ax.get_title(), leg.get_title().get_text() if leg else ""])
+            for ln in ax.get_lines():
+                lab = ln.get_label()
+                if lab.startswith("_") or len(ln.get_xdata()) < 3:
+                    continue
+                curves += 1
+                colour = to_hex(ln.get_color()).lower()
+                look = (colour, str(ln.get_linestyle()))
+                if look in looks and looks[look] != lab:
+                    clashes.append(f"{spec['id']}: {looks[look]!r} and {lab!r}")
+                looks.setdefault(look, lab)
+                role = owner.get(colour)
+                if role and not any(n in f"{lab} {context}".lower() for n in names[role]):
+                    borrowed.append(f"{spec['id']}: {lab!r} in {role}'s colour")
+        plt_close(fig)
+    print(f"{len(specs)} figures, {curves} labelled curves; clashes {clashes[:3] or 'none'}; design colours on "
+          f"other curves {borrowed[:3] or 'none'}")
+    expect(not clashes, f"curves that look alike: {clashes[:4]}")
+    expect(not borrowed, f"a design's colour on another curve: {borrowed[:4]}")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -947,7 +984,7 @@ CHECKS = {
     "model-residual": check_model_residual, "delays": check_delays,
     "drift-apart": check_drift_apart, "legend-strip": check_legend_strip,
     "summary-bars": check_summary_bars, "tick-labels": check_tick_labels,
-    "number-formats": check_number_formats,
+    "number-formats": check_number_formats, "design-colours": check_design_colours,
 }
 
 
