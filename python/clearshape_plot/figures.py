@@ -843,6 +843,23 @@ def save(fig, out_dir: Path, fid: str) -> dict:
     return {"png": png, "pdf": pdf}
 
 
+def zoom_note(fig, spec: dict, cache: CsvCache) -> str:
+    """The caption's note on a time axis zoomed to the move and its ringing (_active_window): which part of
+    the record is drawn and where the whole record is, so no reader takes the window for the record."""
+    if str(spec.get("kind", "time-series")).lower() not in LINE_KINDS or not fig.axes:
+        return ""
+    panel = panels_of(spec)[0]
+    s = (panel.get("series") or [None])[0]
+    if s is None or _x_column(panel, s) != "time_s":
+        return ""
+    x = cache.column(_file(panel, s), "time_s")
+    lo, hi = fig.axes[0].get_xlim()
+    if hi - lo >= 0.9 * (float(x[-1]) - float(x[0])):
+        return ""
+    return (f"Time axis zoomed to the move and its ringing: {lo:.2f}–{hi:.2f} s of the {float(x[0]):.3g}–"
+            f"{float(x[-1]):.3g} s record (the whole record: {_file(panel, s)})")
+
+
 def draw_all(study_dir: Path, specs: list[dict], out_dir: Path | None = None, log=print) -> list[dict]:
     """Draws every figure; one failed figure does not stop the others. Returns one record per
     figure: id, spec, png, pdf, error (None when drawn)."""
@@ -863,6 +880,8 @@ def draw_all(study_dir: Path, specs: list[dict], out_dir: Path | None = None, lo
             rec.update(save(fig, out_dir, fid))
             if str(spec.get("kind")) in ("mean-deviation", "mean_deviation"):
                 rec["caption"] = drift_caption(panels_of(spec)[0], cache)
+            else:
+                rec["caption"] = zoom_note(fig, spec, cache)
         except (StudyDataError, KeyError, ValueError, TypeError, IndexError) as e:
             plt.close("all")
             msg = f"missing field {e}" if isinstance(e, KeyError) else str(e)

@@ -973,6 +973,29 @@ def check_design_colours(study: Path, python_dir: Path, **_) -> None:
     expect(not borrowed, f"a design's colour on another curve: {borrowed[:4]}")
 
 
+def check_zoom_note(study: Path, html: str, python_dir: Path, **_) -> None:
+    """22.10: a time axis zoomed to the move says so: the figure's caption gives the drawn window (the axis's
+    limits, to 0.01 s) and the whole record's span and file."""
+    figures, cache, specs = _figures(study, python_dir)
+    notes = 0
+    for spec in specs:
+        if spec.get("kind", "time-series") != "time-series" or spec.get("x", {}).get("column") != "time_s":
+            continue
+        fig = figures.draw(spec, cache)
+        lo, hi = fig.axes[0].get_xlim()
+        x = cache.column(spec["file"], "time_s")
+        plt_close(fig)
+        if hi - lo >= 0.9 * (float(x[-1]) - float(x[0])):
+            continue
+        at = html.find(f'href="figures/{spec["id"]}.pdf"')  # the figure's own caption links its files
+        cap = html[html.rfind("<figcaption>", 0, at):at] if at >= 0 else ""
+        want = f"{lo:.2f}–{hi:.2f} s of the {float(x[0]):.3g}–{float(x[-1]):.3g} s record"
+        expect(want in cap and spec["file"] in cap, f"{spec['id']}: the caption does not say '{want}' ({spec['file']})")
+        notes += 1
+    print(f"{notes} zoomed time axes, each with its window and record in the caption")
+    expect(notes > 0, "no zoomed time axis to check")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -985,6 +1008,7 @@ CHECKS = {
     "drift-apart": check_drift_apart, "legend-strip": check_legend_strip,
     "summary-bars": check_summary_bars, "tick-labels": check_tick_labels,
     "number-formats": check_number_formats, "design-colours": check_design_colours,
+    "zoom-note": check_zoom_note,
 }
 
 
