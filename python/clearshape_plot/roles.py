@@ -51,8 +51,8 @@ SHAPER_LABELS = {
 
 # Curves that are no design (inputs of one figure, unnamed signals): colours no design uses (Tol's indigo
 # and brown) told apart by line style, so a blue or vermillion curve always means MZV or "without IS".
-_FALLBACK = [("#332288", "-"), ("#661100", (0, (5, 2))), ("#332288", (0, (1, 1.5))), ("#661100", (0, (3, 1, 1, 1))),
-             ("#332288", (0, (5, 2))), ("#661100", "-"), ("#332288", (0, (3, 1, 1, 1))), ("#661100", (0, (1, 1.5)))]
+_FALLBACK = [("#332288", "-"), ("#661100", "--"), ("#332288", ":"), ("#661100", "-."),
+             ("#332288", "--"), ("#661100", "-"), ("#332288", "-."), ("#661100", ":")]
 
 
 def design_colours() -> set:
