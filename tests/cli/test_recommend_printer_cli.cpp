@@ -78,7 +78,9 @@ TEST(RecommendPrinterCli, WeighSmoothingKlipperPicksByTheScore) {
   EXPECT_NE(j["reason"].get<std::string>().find("Klipper's pick"), std::string::npos) << j["reason"];
   const std::string pick = j["recommendation"]["name"];
   for (const auto& c : j["candidates"]) {
-    if (c["name"] == pick) EXPECT_NEAR(c["smoothing_mm"].get<double>(), smoothing(c["impulses"], 5000.0, 8.0), 1e-9);
+    if (c["name"] == pick) {
+      EXPECT_NEAR(c["smoothing_mm"].get<double>(), smoothing(c["impulses"], 5000.0, 8.0), 1e-9);
+    }
   }
 }
 
