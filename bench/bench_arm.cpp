@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "clearshape/arm/simulation.hpp"
+#include "benchmark_main.hpp"
 
 namespace arm = clearshape::arm;
 namespace plant = clearshape::plant;
@@ -96,9 +97,5 @@ int main(int argc, char** argv) {
       return 0;
     }
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return run_google_benchmarks(argc, argv);
 }

@@ -16,6 +16,7 @@
 #include "clearshape/arm/trajectory.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/metrics/mean_deviation.hpp"
+#include "benchmark_main.hpp"
 
 namespace arm = clearshape::arm;
 
@@ -118,9 +119,5 @@ int main(int argc, char** argv) {
       return 0;
     }
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return run_google_benchmarks(argc, argv);
 }

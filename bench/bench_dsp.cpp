@@ -18,6 +18,7 @@
 #include "clearshape/dsp/encoder_speed.hpp"
 #include "clearshape/dsp/sosfilt.hpp"
 #include "clearshape/dsp/welch.hpp"
+#include "benchmark_main.hpp"
 
 namespace dsp = clearshape::dsp;
 
@@ -107,9 +108,5 @@ int main(int argc, char** argv) {
       return ok ? 0 : 1;
     }
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return run_google_benchmarks(argc, argv);
 }

@@ -22,6 +22,7 @@
 #include "clearshape/ident/modes.hpp"
 #include "clearshape/ident/process_fit.hpp"
 #include "clearshape/lti/simulate.hpp"
+#include "benchmark_main.hpp"
 
 namespace ident = clearshape::ident;
 namespace lti = clearshape::lti;
@@ -151,9 +152,5 @@ int main(int argc, char** argv) {
     const std::string_view a = argv[i];
     if (a.rfind("--dump=", 0) == 0) return dump(std::string(a.substr(7)));
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return run_google_benchmarks(argc, argv);
 }

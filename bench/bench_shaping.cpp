@@ -19,6 +19,7 @@
 #include "clearshape/core/series.hpp"
 #include "clearshape/shaping/apply.hpp"
 #include "clearshape/shaping/streaming.hpp"
+#include "benchmark_main.hpp"
 
 namespace sh = clearshape::shaping;
 
@@ -146,9 +147,5 @@ int main(int argc, char** argv) {
     const std::string_view arg = argv[i];
     if (arg.starts_with(kDump)) return dump_offline(std::string(arg.substr(kDump.size())));
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return run_google_benchmarks(argc, argv);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -132,24 +133,34 @@ nlohmann::ordered_json exponent_check_json(const ClearanceRunsFitResult& fit) {
           {"chi2", fit.exponent_chi2}, {"significantly_better", fit.exponent_free_better}};
 }
 
+namespace {
+
+// One fitted parameter in a fit-clearance document (the play in degrees).
+json parameter_entry(const ClearanceParameter& q, json std_value, const char* std_kind) {
+  const bool angle = q.name == "play";
+  return {{"value", angle ? rad_to_deg(q.value) : q.value},
+          {"unit", clearance_parameter_unit(q.name)},
+          {"start", angle ? rad_to_deg(q.start) : q.start},
+          {"free", q.free},
+          {"std", std::move(std_value)},
+          {"std_kind", std_kind},
+          {"identifiable", q.identifiable},
+          {"at_bound", q.at_bound}};
+}
+
+}  // namespace
+
 json fit_clearance_document(const ClearanceFitProblem& fp, const ClearanceFitResult& fit) {
   json doc = io::make_document();
   doc["command"] = "fit-clearance";
   json params = json::object();
   json warnings = json::array();
   for (const auto& q : fit.parameters) {
-    const bool angle = q.name == "play";
-    params[q.name] = {{"value", angle ? rad_to_deg(q.value) : q.value},
-                      {"unit", clearance_parameter_unit(q.name)},
-                      {"start", angle ? rad_to_deg(q.start) : q.start},
-                      {"free", q.free},
-                      {"std", std::isfinite(q.std_error) ? json(q.std_error) : json(nullptr)},
-                      {"std_kind", q.name == "exponent" ? "absolute"
-                                   : q.name == "coulomb" || q.name == "viscous" || q.name == "restitution"
-                                       ? "relative (of the value)"
-                                                                                : "relative (of log value)"},
-                      {"identifiable", q.identifiable},
-                      {"at_bound", q.at_bound}};
+    params[q.name] = parameter_entry(q, std::isfinite(q.std_error) ? json(q.std_error) : json(nullptr),
+                                     q.name == "exponent" ? "absolute"
+                                     : q.name == "coulomb" || q.name == "viscous" || q.name == "restitution"
+                                         ? "relative (of the value)"
+                                         : "relative (of log value)");
     if (q.free && q.at_bound) warnings.push_back(fmt::format("{} ended on its bound", q.name));
     if (q.free && !q.identifiable) warnings.push_back(fmt::format("{} is not identifiable from this record (1σ too large or not finite)", q.name));
   }
@@ -182,15 +193,8 @@ json fit_clearance_runs_document(const ClearanceRunsFitProblem& rp, const Cleara
   json params = json::object();
   json warnings = json::array();
   for (const auto& q : fit.parameters) {
-    const bool angle = q.name == "play";
-    params[q.name] = {{"value", angle ? rad_to_deg(q.value) : q.value},
-                      {"unit", clearance_parameter_unit(q.name)},
-                      {"start", angle ? rad_to_deg(q.start) : q.start},
-                      {"free", q.free},
-                      {"std", q.free ? num(q.std_error) : json(nullptr)},
-                      {"std_kind", q.name == "exponent" ? "absolute" : "relative (1σ / value)"},
-                      {"identifiable", q.identifiable},
-                      {"at_bound", q.at_bound}};
+    params[q.name] = parameter_entry(q, q.free ? num(q.std_error) : json(nullptr),
+                                     q.name == "exponent" ? "absolute" : "relative (1σ / value)");
     if (q.free && !q.identifiable) warnings.push_back(fmt::format("{} is not identifiable from these runs (1σ too large or not finite)", q.name));
   }
   if (!fit.converged) warnings.push_back(fmt::format("the search did not converge ({})", fit.termination));

@@ -26,27 +26,20 @@ Klipper's parse_log, bins up to 200 Hz, full precision) as klipper_pick_<input>_
 Klipper's PSD format (with its `shapers:` marker, so Klipper would read it as normalised).
 """
 import contextlib
-import hashlib
 import io
 import json
 import os
 import subprocess
 import sys
 
-EXPECTED = {
-    "scripts/calibrate_shaper.py": "2b78173855a55a8968dfef8421551b630ad478df89df21e8444f42d5e0d49d44",
-    "klippy/extras/shaper_calibrate.py": "695d35f2d1f261109cbed3a8185a900bcce75f7cef1740920fec8a338701138c",
-    "klippy/extras/shaper_defs.py": "1d8627c8864f6ff683a160fece2197e00b1d4acb12bdd1d743a6a73b6b3f05fe",
-}
+import klipper_checkout  # tests/golden: the pinned commit and its sha256
+
+KLIPPER_FILES = klipper_checkout.SHA256
 MAX_FREQ_HZ = 200.0  # Klipper's MAX_FREQ, the bins calibrate_shaper scores
 
 
 def load_klipper(root):
-    for rel, digest in EXPECTED.items():
-        with open(os.path.join(root, rel), "rb") as f:
-            got = hashlib.sha256(f.read()).hexdigest()
-        if got != digest:
-            sys.exit(f"{rel}: sha256 {got}, expected {digest} (another Klipper commit)")
+    klipper_checkout.verify(root, KLIPPER_FILES)
     sys.path.insert(0, os.path.join(root, "scripts"))
     import matplotlib
     matplotlib.use("Agg")

@@ -17,25 +17,19 @@ design frequency (20, 35.5, 50, 72.3, 110 Hz) and design damping (0.1, and 0.05 
 with Klipper's impulses (amplitudes and times, ';'-separated, full precision) and its figures.
 """
 import csv
-import hashlib
 import os
 import sys
 
-EXPECTED = {
-    "klippy/extras/shaper_calibrate.py": "695d35f2d1f261109cbed3a8185a900bcce75f7cef1740920fec8a338701138c",
-    "klippy/extras/shaper_defs.py": "1d8627c8864f6ff683a160fece2197e00b1d4acb12bdd1d743a6a73b6b3f05fe",
-}
+import klipper_checkout  # tests/golden: the pinned commit and its sha256
+
+KLIPPER_FILES = ["klippy/extras/shaper_calibrate.py", "klippy/extras/shaper_defs.py"]
 SHAPERS = ["zv", "mzv", "ei", "2hump_ei", "3hump_ei"]
 FREQUENCIES_HZ = [20.0, 35.5, 50.0, 72.3, 110.0]
 SETTINGS = [(5000.0, 5.0), (2000.0, 0.0), (10000.0, 10.0)]  # (accel mm/s², scv mm/s)
 
 
 def load_klipper(root):
-    for rel, digest in EXPECTED.items():
-        with open(os.path.join(root, rel), "rb") as f:
-            got = hashlib.sha256(f.read()).hexdigest()
-        if got != digest:
-            sys.exit(f"{rel}: sha256 {got}, expected {digest} (another Klipper commit)")
+    klipper_checkout.verify(root, KLIPPER_FILES)
     sys.path.insert(0, os.path.join(root, "klippy"))
     sys.path.insert(0, os.path.join(root, "klippy", "extras"))
     import importlib
