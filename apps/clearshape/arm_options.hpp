@@ -56,5 +56,7 @@ arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& mov
 
 /// Registers `arm modes` under `arm` (cmd_arm_modes.cpp).
 void setup_arm_modes(CLI::App& arm);
+/// Registers `arm study` under `arm` (cmd_arm_study.cpp).
+void setup_arm_study(CLI::App& arm);
 
 }  // namespace clearshape::cli

@@ -195,12 +195,13 @@ void setup_simulate(CLI::App& parent) {
 }
 
 const bool registered = register_command(
-    {"arm", "A multi-joint arm with play in every joint: simulate, modes at a pose, shaped moves", 95,
+    {"arm", "A multi-joint arm with play in every joint: simulate, modes at a pose, shaped moves, the study", 95,
      [](CLI::App& sub) {
        sub.require_subcommand(1);
        setup_simulate(sub);
        setup_arm_modes(sub);
        setup_move(sub);
+       setup_arm_study(sub);
      }});
 
 }  // namespace

@@ -37,7 +37,7 @@ std::vector<PointToPoint> pick_and_place_moves(const ArmModel& arm, std::size_t 
 double tool_residual_m(const ArmTrace& trace, double from_s) {
   if (trace.time_s.size() < 2) throw InvalidArgument("tool_residual_m: the trace has fewer than 2 samples");
   double sum = 0.0;
-  for (Eigen::Index axis = 0; axis < 2; ++axis) {
+  for (Eigen::Index axis = 0; axis < 3; ++axis) {  // every coordinate: a vertical arm moves in x–z
     UniformSeries s{trace.time_s.front(), trace.time_s[1] - trace.time_s[0], {}};
     s.values.reserve(static_cast<std::size_t>(trace.tool_position_m.rows()));
     for (Eigen::Index k = 0; k < trace.tool_position_m.rows(); ++k) s.values.push_back(trace.tool_position_m(k, axis));

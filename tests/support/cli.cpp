@@ -12,12 +12,14 @@
 
 namespace clearshape::testing {
 
-CliResult run_cli(const std::string& arguments) {
+CliResult run_cli(const std::string& arguments) { return run_shell(std::string(CLEARSHAPE_CLI) + " " + arguments); }
+
+CliResult run_shell(const std::string& shell_command) {
   namespace fs = std::filesystem;
   static int counter = 0;
   const fs::path err_file = fs::temp_directory_path() /
                             ("clearshape_cli_err_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  const std::string command = std::string(CLEARSHAPE_CLI) + " " + arguments + " 2>" + err_file.string();
+  const std::string command = shell_command + " 2>" + err_file.string();
   CliResult result;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return result;

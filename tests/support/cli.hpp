@@ -12,5 +12,7 @@ struct CliResult {
 
 /// Runs `clearshape <arguments>` through /bin/sh (arguments are not escaped: quote them).
 CliResult run_cli(const std::string& arguments);
+/// Runs any shell command the same way (stdout and stderr apart).
+CliResult run_shell(const std::string& command);
 
 }  // namespace clearshape::testing

@@ -3,7 +3,7 @@
 // moves across the workspace, each played through the arm's drives with its joints' commands
 // shaped one way or another, and judged by the tool tip's residual vibration — Eq. 5.1 (the
 // thesis's mean deviation, metrics/mean_deviation.hpp) on each tool coordinate after the command
-// ends, combined as √(MD_x² + MD_y²).
+// ends, combined as √(MD_x² + MD_y² + MD_z²) (a horizontal arm's z, a vertical arm's y stay still).
 #include <cstdint>
 #include <span>
 #include <string>
@@ -32,7 +32,7 @@ struct PointToPoint {
 std::vector<PointToPoint> pick_and_place_moves(const ArmModel& arm, std::size_t count, std::uint64_t seed = 1,
                                                double margin = 0.1);
 
-/// Eq. 5.1 of the tool's x and y from `from_s` on, combined √(MD_x² + MD_y²) (m).
+/// Eq. 5.1 of the tool's x, y and z from `from_s` on, combined √(MD_x² + MD_y² + MD_z²) (m).
 double tool_residual_m(const ArmTrace& trace, double from_s);
 
 struct MovePlayOptions {
