@@ -3,12 +3,15 @@
 
     /usr/bin/python3 python/plot_recommend.py <data.json> <out.png>
 
-<data.json> is written by the command: the measured spectra (frequency_hz, power, label), the
-modes (frequency_hz, frequency_std_hz), and every candidate's worst-case residual vibration
-V(f) (max over the test damping ratios and frequency scales) on a frequency grid, with its
-fitted design frequency, remaining vibration and delay. As Klipper's calibrate_shaper graph:
-the spectrum on the left axis, the shapers' vibration-reduction curves on the right; the
-recommended shaper is drawn thick. Style: python/clearshape_plot (the study's figures); PNG
+<data.json> is written by the command (study::recommend_plot_data; fields in docs/recommend.md):
+the measured spectra (frequency_hz, power, label, power_unit, a Klipper file's axes, the PSD the
+recommended shaper leaves), the modes (frequency_hz, frequency_std_hz), every candidate's
+worst-case residual vibration V(f) (max over the test damping ratios and frequency scales) on a
+frequency grid with its fitted design frequency, remaining vibration and delay, and the design
+offsets. As Klipper's calibrate_shaper graph: the spectrum (and X, Y, Z) on the left axis, the
+PSD after the recommended shaper dashed, the shapers' vibration-reduction curves on the right;
+the recommended shaper is drawn thick; why a design frequency sits away from its mode is written
+under the axes. Style: python/clearshape_plot (the study's figures); PNG
 metadata fixed, so the same data give the same bytes. Exit 0 drawn, 2 bad input.
 """
 from __future__ import annotations
@@ -29,16 +32,44 @@ from clearshape_plot import roles  # noqa: E402
 from clearshape_plot.figures import PNG_METADATA, use_style  # noqa: E402
 
 SPECTRUM_COLOURS = ["#404040", "#7B3FA0", "#0072B2", "#D55E00"]
+# Klipper's graph: X red, Y green, Z blue, the sum purple.
+AXIS_STYLE = {"x": ("X", "#D62728"), "y": ("Y", "#2CA02C"), "z": ("Z", "#1F77B4"), "xyz": ("X+Y+Z", "#7B3FA0")}
+
+
+def axis_key(column: str) -> str:
+    return column.split("_")[-1]
+
+
+def draw_spectrum(ax, i: int, s: dict):
+    axes = s.get("axes") or []
+    colour = SPECTRUM_COLOURS[i % len(SPECTRUM_COLOURS)]
+    name = Path(str(s["label"]).split(" (")[0]).name
+    for a in axes:
+        label, c = AXIS_STYLE.get(axis_key(str(a["column"])), (str(a["column"]), colour))
+        analysed = a["column"] == s.get("column")
+        if analysed:
+            colour = c
+        ax.plot(s["frequency_hz"], a["power"], color=c, linewidth=1.6 if analysed else 0.9, alpha=1.0 if analysed else 0.8,
+                label=f"{label} {name}" + (" (analysed)" if analysed else ""), zorder=3 if analysed else 2)
+    if not axes:
+        ax.plot(s["frequency_hz"], s["power"], color=colour, linewidth=1.6, label=f"PSD {s['label']}", zorder=3)
+    if s.get("power_after_shaper") is not None:
+        ax.plot(s["frequency_hz"], s["power_after_shaper"], color=colour, linewidth=1.4, linestyle=(0, (5, 2.5)),
+                label=f"after the recommended shaper ({name}, P·V²)", zorder=5)
+
+
+def power_unit(data: dict) -> str:
+    units = sorted({str(s.get("power_unit") or "unit²/Hz") for s in data["spectra"]})
+    return units[0] if len(units) == 1 else " | ".join(units)
 
 
 def draw(data: dict):
     use_style()
     fig, ax = plt.subplots(figsize=(7.2, 5.4))
     for i, s in enumerate(data["spectra"]):
-        ax.plot(s["frequency_hz"], s["power"], color=SPECTRUM_COLOURS[i % len(SPECTRUM_COLOURS)], linewidth=1.6,
-                label=f"PSD {s['label']}", zorder=3)
+        draw_spectrum(ax, i, s)
     ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel("power spectral density (unit²/Hz)")
+    ax.set_ylabel(f"power spectral density ({power_unit(data)})")
     ax.set_ylim(bottom=0.0)
     for k, m in enumerate(data["modes"]):
         f, sd = float(m["frequency_hz"]), float(m["frequency_std_hz"])
@@ -70,8 +101,12 @@ def draw(data: dict):
     right.set_ylabel("residual vibration V (worst case)")
     lines, labels = ax.get_legend_handles_labels()
     more, more_labels = right.get_legend_handles_labels()
-    ax.legend(lines + more, labels + more_labels, loc="upper center", bbox_to_anchor=(0.5, -0.13), fontsize=6.5,
+    ax.legend(lines + more, labels + more_labels, loc="upper center", bbox_to_anchor=(0.5, -0.19), fontsize=6.5,
               ncol=2)
+    offsets = [str(d["reason"]) for d in data.get("design_offsets") or []]
+    if offsets:  # one line each: why a design frequency sits more than 1σ from its mode
+        ax.text(-0.08, -0.12, "\n".join(textwrap.shorten(o, 185, placeholder=" …") for o in offsets),
+                transform=ax.transAxes, fontsize=5.4, color="#444444", va="top")
     reason = str(data.get("reason") or "")
     ax.set_title("Recommended input shaper", loc="left")
     if reason:
@@ -91,7 +126,7 @@ def main(argv=None) -> int:
     except (OSError, ValueError, KeyError, TypeError) as e:
         print(f"plot_recommend: {argv[0]}: {e}", file=sys.stderr)
         return 2
-    fig.savefig(argv[1], dpi=150, metadata=PNG_METADATA)
+    fig.savefig(argv[1], dpi=150, metadata=PNG_METADATA, bbox_inches="tight")  # the legend and notes whole
     plt.close(fig)
     return 0
 

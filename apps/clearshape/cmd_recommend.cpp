@@ -310,7 +310,7 @@ void run_recommend(const RecommendState& st) {
   const auto& r = report.recommendation;
   if (!r.chosen) fmt::print(stderr, "clearshape recommend: warning: no recommendation: {}\n", r.reason);
   if (!r.warning.empty()) fmt::print(stderr, "clearshape recommend: warning: {}\n", r.warning);
-  if (!st.plot.empty()) write_recommend_plot(st.plot, report.spectra, r);
+  if (!st.plot.empty()) write_recommend_plot(st.plot, report);
   if (st.json) {
     print_json(study::recommend_document(q, report));
   } else {

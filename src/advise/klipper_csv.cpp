@@ -1,5 +1,6 @@
 #include "klipper_csv.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -102,6 +103,7 @@ KlipperPsd parse_klipper_psd(std::string_view text, const std::string& source) {
     const auto fields = split_commas(s);
     if (!header) {
       expect_header(fields, names, source, line);
+      p.normalized = std::find(fields.begin(), fields.end(), "shapers:") != fields.end();
       header = true;
       return;
     }

@@ -16,6 +16,9 @@ struct KlipperRaw {
 struct KlipperPsd {
   std::vector<double> frequency_hz;
   std::array<std::vector<double>, 4> psd;    ///< x, y, z, xyz
+  /// The header has Klipper's "shapers:" columns: calibrate_shaper wrote the PSD already divided
+  /// by (f + 0.1 Hz) (shaper_calibrate.py, normalize_to_frequencies).
+  bool normalized = false;
 };
 
 /// Throws InputError (source, line, field) for a bad header, a short row, a non-numeric or

@@ -302,10 +302,11 @@ void evaluate(CandidateResult& c, const Evaluator& ev, const RecommendOptions& o
   c.klipper_score = klipper_score(c.smoothing_mm, c.remaining_worst);
 }
 
-// A candidate's frequency scan, kept for Klipper's choice (single-mode candidates only).
+// A candidate's frequency scan, kept for Klipper's choice (single-mode candidates only), and the
+// candidate as a function of each design frequency (a convolution's other factor held at its fit).
 struct ScanFit {
   std::vector<ScanPoint> points;
-  std::function<shaping::Shaper(double)> remake;
+  std::vector<std::function<shaping::Shaper(double)>> factors;
 };
 
 // Klipper's choice across candidates, in their order (shaper_calibrate.py, find_best_shaper).
@@ -324,7 +325,7 @@ std::size_t klipper_best(std::vector<CandidateResult>& c, const std::vector<Scan
       if (!(p.remaining < c[*best].remaining_worst && p.smoothing_mm < c[*best].smoothing_mm)) continue;
       CandidateResult moved = c[i];
       moved.design_frequency_hz = {p.frequency_hz};
-      moved.shaper = fits[i].remake(p.frequency_hz);
+      moved.shaper = fits[i].factors.front()(p.frequency_hz);
       evaluate(moved, ev, o);
       if (!moved.within_budget) continue;
       c[i] = std::move(moved);
@@ -359,6 +360,83 @@ void choose_as_klipper(Recommendation& r, const std::vector<ScanFit>& fits, cons
                             "record the response to broadband excitation again", upper(p.name), percent(p.remaining_worst),
                             percent(o.max_remaining));
   }
+}
+
+// The parts of a design frequency's offset from its mode, largest first, as one line.
+std::string offset_reason(const DesignOffset& d, const Recommendation& r, const RecommendOptions& o, const std::string& label) {
+  const auto [lo, hi] = std::minmax_element(r.test_damping_ratios.begin(), r.test_damping_ratios.end());
+  std::string other;
+  for (const auto& m : r.modes) {
+    if (m.frequency_hz != d.mode_frequency_hz) other = fmt::format("another mode at {:.4g} Hz", m.frequency_hz);
+  }
+  const std::string uncertainty = r.frequency_scales.size() > 1 ? fmt::format(" and the mode's frequency ± {:g}σ", o.frequency_sigmas) : "";
+  const std::string selection = o.weigh_smoothing        ? "for Klipper's lowest score (smoothing) among the near-best frequencies"
+                                : o.update_grid_hz > 0.0 ? fmt::format("on the {:g} Hz update grid", o.update_grid_hz)
+                                                         : "for the joint fit of the convolution's two factors";
+  std::vector<std::pair<double, std::string>> parts{
+      {d.spectrum_hz, fmt::format("where the spectrum itself leaves least (ζ {:.3g}, no uncertainty: {})", r.design_damping,
+                                  other.empty() ? "its power above the threshold is not centred on the mode's line" : other)},
+      {d.near_best_hz, fmt::format("for the shortest shaper within {:g} × the least + {:g} points", o.near_best_factor,
+                                   100.0 * o.near_best_offset)},
+      {d.worst_case_hz, fmt::format("for the worst case over ζ {:.3g}–{:.3g}{}", *lo, *hi, uncertainty)},
+      {d.selection_hz, selection}};
+  std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return std::abs(a.first) > std::abs(b.first); });
+  std::string line = fmt::format("{} at {:.4g} Hz is {:.2f}σ {} the mode at {:.4g} ± {:.2g} Hz:", label, d.design_frequency_hz,
+                                 std::abs(d.offset_sigmas), d.offset_sigmas > 0.0 ? "above" : "below", d.mode_frequency_hz,
+                                 d.mode_frequency_std_hz);
+  const char* sep = " ";
+  for (const auto& [hz, why] : parts) {
+    if (std::abs(hz) < 0.1 * d.mode_frequency_std_hz) continue;  // a part under 0.1σ explains nothing
+    line += fmt::format("{}{:+.3g} Hz {}", sep, hz, why);
+    sep = "; ";
+  }
+  return line;
+}
+
+// The mode a design frequency is compared with: a convolution factor's own, else the nearest.
+const ModeEstimate& mode_of(const Recommendation& r, std::size_t factor, std::size_t factors, double design_hz) {
+  if (factors > 1 && factor < r.modes.size()) return r.modes[factor];
+  return *std::min_element(r.modes.begin(), r.modes.end(), [&](const ModeEstimate& a, const ModeEstimate& b) {
+    return std::abs(a.frequency_hz - design_hz) < std::abs(b.frequency_hz - design_hz);
+  });
+}
+
+// Each design frequency of the chosen candidate more than 1σ from its mode, its offset split by
+// re-scanning with the delay rule's frequency choice (scan()): the least at the design ζ alone
+// (the spectrum), the shortest near-best there, the same on the worst case, and the design itself.
+std::vector<DesignOffset> design_offsets(const Recommendation& r, const ScanFit& fit, const Evaluator& ev, const RecommendOptions& o) {
+  const CandidateResult& c = r.candidates[*r.chosen];
+  const std::vector<double> design{r.design_damping}, unit_scale{1.0};
+  const Evaluator nominal{ev.bins, design, unit_scale, ev.printer};
+  RecommendOptions plain = o;
+  plain.weigh_smoothing = false;
+  std::vector<DesignOffset> out;
+  const std::size_t n = std::min(c.design_frequency_hz.size(), fit.factors.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    DesignOffset d;
+    d.factor = i;
+    d.design_frequency_hz = c.design_frequency_hz[i];
+    const ModeEstimate& mode = mode_of(r, i, n, d.design_frequency_hz);
+    d.mode_frequency_hz = mode.frequency_hz;
+    d.mode_frequency_std_hz = mode.frequency_std_hz;
+    const double offset = d.design_frequency_hz - d.mode_frequency_hz;
+    if (!(std::abs(offset) > d.mode_frequency_std_hz)) continue;
+    d.offset_sigmas = d.mode_frequency_std_hz > 0.0 ? offset / d.mode_frequency_std_hz : std::copysign(HUGE_VAL, offset);
+    const std::vector<double> grid = scan_grid(o, r.modes[std::min(i, r.modes.size() - 1)].frequency_hz);
+    const ScanResult at_design = scan(grid, fit.factors[i], nominal, plain, d.mode_frequency_hz);
+    const ScanResult worst = scan(grid, fit.factors[i], ev, plain, d.mode_frequency_hz);
+    d.spectrum_hz = at_design.least_hz - d.mode_frequency_hz;
+    d.near_best_hz = at_design.selected_hz - at_design.least_hz;
+    d.worst_case_hz = worst.selected_hz - at_design.selected_hz;
+    d.selection_hz = d.design_frequency_hz - worst.selected_hz;
+    const double parts[4] = {std::abs(d.spectrum_hz), std::abs(d.near_best_hz), std::abs(d.worst_case_hz), std::abs(d.selection_hz)};
+    static const char* const kCauses[4] = {"spectrum", "near_best", "worst_case", "selection"};
+    const auto largest = std::max_element(parts, parts + 4) - parts;
+    d.cause = largest == 0 && r.modes.size() > 1 ? "second_mode" : kCauses[largest];
+    d.reason = offset_reason(d, r, o, upper(c.name) + (n > 1 ? fmt::format(" (factor {})", i + 1) : ""));
+    out.push_back(std::move(d));
+  }
+  return out;
 }
 
 }  // namespace
@@ -423,7 +501,7 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
         c.shaper = make(s.selected_hz);
         if (o.update_grid_hz > 0.0) c.designed = scaled(p1, s.selected_hz);
         fit.points = s.points;
-        fit.remake = [p1, &o](double f) { return applied(scaled(p1, f), o); };
+        fit.factors = {[p1, &o](double f) { return applied(scaled(p1, f), o); }};
       } else {
         const ModeEstimate& m2 = modes[1];
         const double zeta2 = std::clamp(m2.damping_ratio, 0.0, 0.9);
@@ -448,6 +526,8 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
         c.shaper = applied(shaping::convolve(scaled(p1, f1), scaled(p2, f2)), o);
         if (o.update_grid_hz > 0.0) c.designed = shaping::convolve(scaled(p1, f1), scaled(p2, f2));
         c.note = fmt::format("second factor designed at ζ = {:.4g}", zeta2);
+        fit.factors = {[p1, p2, f2, &o](double f) { return applied(shaping::convolve(scaled(p1, f), scaled(p2, f2)), o); },
+                       [p1, p2, f1, &o](double f) { return applied(shaping::convolve(scaled(p1, f1), scaled(p2, f)), o); }};
       }
       evaluate(c, ev, o);
     } catch (const InvalidArgument& e) {
@@ -463,6 +543,7 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
   if (o.update_grid_hz > 0.0) mark_duplicates(r.candidates, o.update_grid_hz);
   choose(r, o);
   if (o.weigh_smoothing && r.chosen) choose_as_klipper(r, fits, ev, o);
+  if (r.chosen) r.design_offsets = design_offsets(r, fits[*r.chosen], ev, o);
   return r;
 }
 

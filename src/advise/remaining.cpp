@@ -83,4 +83,15 @@ std::vector<double> worst_response(const shaping::Shaper& shaper, const std::vec
   return out;
 }
 
+std::vector<double> power_after_shaper(const shaping::Shaper& shaper, const std::vector<double>& frequency_hz,
+                                       const std::vector<double>& power, const std::vector<double>& damping_ratios,
+                                       const std::vector<double>& frequency_scales) {
+  if (power.size() != frequency_hz.size()) {
+    throw InvalidArgument(fmt::format("power_after_shaper: {} powers for {} frequencies", power.size(), frequency_hz.size()));
+  }
+  std::vector<double> out = worst_response(shaper, frequency_hz, damping_ratios, frequency_scales);
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = power[k] * out[k] * out[k];  // |residual/unshaped|² of power
+  return out;
+}
+
 }  // namespace clearshape::advise

@@ -1,6 +1,7 @@
 #include "clearshape/advise/spectrum_input.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cctype>
 #include <cmath>
@@ -78,6 +79,10 @@ void add_into(std::vector<double>& sum, const std::vector<double>& x) {
   for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += x[k];
 }
 
+// The unit of a Klipper accelerometer's PSD: its samples are in mm/s² (Klipper's Measuring
+// Resonances); calibrate_shaper's files with shaper columns hold the PSD ÷ (f + 0.1 Hz).
+std::string klipper_unit(bool normalized) { return normalized ? "(mm/s²)²/Hz²" : "(mm/s²)²/Hz"; }
+
 MeasuredSpectrum load_table(const SpectrumRequest& r, const std::string& text, const std::string& source) {
   if (r.column.empty()) {
     throw InvalidArgument(fmt::format("--column: {} is a table; name the column to analyse (e.g. --column gyro_deg_s)", source));
@@ -90,6 +95,7 @@ MeasuredSpectrum load_table(const SpectrumRequest& r, const std::string& text, c
   const std::string column = t.find(r.column) ? r.column : t.names[static_cast<std::size_t>(std::stoul(r.column)) - 1];
   MeasuredSpectrum s = spectrum_of_series(cut(y, dt, w, source, column, t.line_of_row(w.first)), r.segment_s);
   s.column = column;
+  s.power_unit = psd_unit_of_column(column);
   return s;
 }
 
@@ -99,21 +105,20 @@ MeasuredSpectrum load_klipper_raw(const SpectrumRequest& r, const std::string& t
   // Klipper takes the mean rate N / (t_last − t_first) and treats the samples as uniform.
   const double dt = (raw.time_s.back() - raw.time_s.front()) / static_cast<double>(raw.time_s.size());
   const auto w = window(r, raw.time_s.size(), dt);
-  MeasuredSpectrum s;
-  if (axis < 3) {
-    s = spectrum_of_series(cut(raw.accel[axis], dt, w, source, std::string("accel_") + "xyz"[axis], 0), r.segment_s);
-  } else {
-    for (std::size_t a = 0; a < 3; ++a) {
-      MeasuredSpectrum part = spectrum_of_series(cut(raw.accel[a], dt, w, source, std::string("accel_") + "xyz"[a], 0), r.segment_s);
-      if (a == 0) {
-        s = std::move(part);
-      } else {
-        add_into(s.power, part.power);
-      }
-    }
+  std::array<MeasuredSpectrum, 3> parts;
+  for (std::size_t a = 0; a < 3; ++a) {
+    parts[a] = spectrum_of_series(cut(raw.accel[a], dt, w, source, std::string("accel_") + "xyz"[a], 0), r.segment_s);
+  }
+  MeasuredSpectrum s = parts[axis < 3 ? axis : 0];
+  for (std::size_t a = 0; a < 3; ++a) s.axes.push_back({std::string("accel_") + "xyz"[a], parts[a].power});
+  s.axes.push_back({"xyz", parts[0].power});
+  for (std::size_t a = 1; a < 3; ++a) add_into(s.axes.back().power, parts[a].power);
+  if (axis == 3) {
+    s.power = s.axes.back().power;
     s.series.reset();  // no single record for the free-decay fit
   }
   s.column = axis < 3 ? std::string("accel_") + "xyz"[axis] : "xyz";
+  s.power_unit = klipper_unit(false);
   return s;
 }
 
@@ -123,13 +128,36 @@ MeasuredSpectrum load_klipper_psd(const SpectrumRequest& r, const std::string& t
   detail::KlipperPsd p = detail::parse_klipper_psd(text, source);
   MeasuredSpectrum s;
   s.frequency_hz = std::move(p.frequency_hz);
-  s.power = std::move(p.psd[axis]);
+  s.power = p.psd[axis];
+  for (std::size_t a = 0; a < 4; ++a) s.axes.push_back({a < 3 ? std::string("psd_") + "xyz"[a] : "psd_xyz", std::move(p.psd[a])});
+  s.power_unit = klipper_unit(p.normalized);
   s.resolution_hz = (s.frequency_hz.back() - s.frequency_hz.front()) / static_cast<double>(s.frequency_hz.size() - 1);
   s.column = axis < 3 ? std::string("psd_") + "xyz"[axis] : "psd_xyz";
   return s;
 }
 
 }  // namespace
+
+std::string psd_unit_of_column(std::string_view column) {
+  // docs/design.md §4: a plain header with unit suffixes (time_s, command_deg, gyro_deg_s, input_v).
+  static const std::vector<std::pair<std::string_view, std::string_view>> kSuffixes{
+      {"_deg_s2", "deg/s²"}, {"_rad_s2", "rad/s²"}, {"_mm_s2", "mm/s²"}, {"_m_s2", "m/s²"}, {"_deg_s", "deg/s"},
+      {"_rad_s", "rad/s"},   {"_mm_s", "mm/s"},     {"_m_s", "m/s"},     {"_n_m", "N·m"},   {"_rpm", "rpm"},
+      {"_deg", "deg"},       {"_rad", "rad"},       {"_mm", "mm"},       {"_m", "m"},       {"_v", "V"},
+      {"_a", "A"},           {"_g", "g"},           {"_n", "N"},         {"_counts", "counts"}, {"_lsb", "LSB"}};
+  const std::string name = lower(column);
+  std::string_view unit;
+  std::size_t matched = 0;
+  for (const auto& [suffix, u] : kSuffixes) {
+    if (suffix.size() > matched && name.size() > suffix.size() && name.ends_with(suffix)) {
+      unit = u;
+      matched = suffix.size();
+    }
+  }
+  if (unit.empty()) return fmt::format("(unit of {})²/Hz", column);
+  const bool compound = unit.find_first_of("/·") != std::string_view::npos;
+  return compound ? fmt::format("({})²/Hz", unit) : fmt::format("{}²/Hz", unit);
+}
 
 std::string_view to_string(InputFormat format) noexcept {
   switch (format) {

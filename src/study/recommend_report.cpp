@@ -106,7 +106,8 @@ ojson inputs_json(const std::vector<advise::MeasuredSpectrum>& spectra) {
                       {"window_s", s.series ? ojson({s.series->start_s, s.series->end_s()}) : ojson(nullptr)},
                       {"segments", s.segments},
                       {"resolution_hz", s.resolution_hz},
-                      {"bins", s.frequency_hz.size()}});
+                      {"bins", s.frequency_hz.size()},
+                      {"power_unit", s.power_unit}});
   }
   return inputs;
 }
@@ -144,6 +145,46 @@ ojson model_json(const RecommendRequest& request, const std::optional<MovePredic
           {"unshaped_md", pred->unshaped_md}};
 }
 
+ojson design_offsets_json(const std::vector<advise::DesignOffset>& offsets) {
+  ojson out = ojson::array();
+  for (const auto& d : offsets) {
+    out.push_back({{"factor", d.factor},
+                   {"design_frequency_hz", d.design_frequency_hz},
+                   {"mode_frequency_hz", d.mode_frequency_hz},
+                   {"mode_frequency_std_hz", d.mode_frequency_std_hz},
+                   {"offset_sigmas", number_or_null(d.offset_sigmas)},
+                   {"spectrum_hz", d.spectrum_hz},
+                   {"near_best_hz", d.near_best_hz},
+                   {"worst_case_hz", d.worst_case_hz},
+                   {"selection_hz", d.selection_hz},
+                   {"cause", d.cause},
+                   {"reason", d.reason}});
+  }
+  return out;
+}
+
+// One measured spectrum for the figure, up to f_max: its curve, its unit, a Klipper file's axes
+// and, with a pick, the PSD the pick leaves (advise::power_after_shaper).
+ojson plot_spectrum(const advise::MeasuredSpectrum& s, const advise::Recommendation& r, double f_max) {
+  std::size_t n = 0;
+  while (n < s.frequency_hz.size() && s.frequency_hz[n] <= f_max) ++n;
+  const std::vector<double> f(s.frequency_hz.begin(), s.frequency_hz.begin() + static_cast<std::ptrdiff_t>(n));
+  const auto head = [n](const std::vector<double>& v) { return std::vector<double>(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n)); };
+  ojson axes = ojson::array();
+  for (const auto& a : s.axes) axes.push_back({{"column", a.column}, {"power", head(a.power)}});
+  ojson after = nullptr;
+  if (r.chosen) {
+    after = advise::power_after_shaper(*r.candidates[*r.chosen].shaper, f, head(s.power), r.test_damping_ratios, r.frequency_scales);
+  }
+  return {{"label", std::filesystem::path(s.source).filename().string() + " (" + s.column + ")"},
+          {"column", s.column},
+          {"power_unit", s.power_unit.empty() ? advise::psd_unit_of_column(s.column) : s.power_unit},
+          {"frequency_hz", f},
+          {"power", head(s.power)},
+          {"axes", axes},
+          {"power_after_shaper", after}};
+}
+
 ojson recommendation_json(const advise::Recommendation& r, const std::optional<MovePrediction>& pred, double grid_hz) {
   if (!r.chosen) return nullptr;
   const auto& c = r.candidates[*r.chosen];
@@ -154,7 +195,8 @@ ojson recommendation_json(const advise::Recommendation& r, const std::optional<M
           {"remaining_worst", c.remaining_worst},
           {"warning", r.warning.empty() ? ojson(nullptr) : ojson(r.warning)},
           {"predicted_md", pred ? ojson(*pred->md[*r.chosen]) : ojson(nullptr)},
-          {"shape_command", shape_command(c, r, grid_hz)}};
+          {"shape_command", shape_command(c, r, grid_hz)},
+          {"design_offsets", design_offsets_json(r.design_offsets)}};
   if (r.printer_figures) {
     j["smoothing_mm"] = c.smoothing_mm;
     j["max_accel_mm_s2"] = number_or_null(c.max_accel_mm_s2);
@@ -260,6 +302,44 @@ ojson recommend_document(const RecommendRequest& request, const RecommendReport&
   doc["recommendation"] = recommendation_json(r, pred, o.update_grid_hz);
   doc["reason"] = r.reason;
   doc["plot"] = request.plot.empty() ? ojson(nullptr) : ojson(request.plot);
+  return doc;
+}
+
+ojson recommend_plot_data(const RecommendReport& report) {
+  const auto& r = report.recommendation;
+  double top = 0.0, f_max = 0.0;
+  for (const auto& m : r.modes) top = std::max(top, m.frequency_hz);
+  for (const auto& s : report.spectra) f_max = std::max(f_max, s.frequency_hz.back());
+  f_max = std::min(f_max, 3.0 * top);
+  ojson doc;
+  ojson spectra = ojson::array();
+  for (const auto& s : report.spectra) spectra.push_back(plot_spectrum(s, r, f_max));
+  doc["spectra"] = spectra;
+  doc["after_shaper"] = "P(f) * V(f)^2, V the recommended shaper's worst case over the test damping ratios and frequency scales";
+  std::vector<double> grid;
+  for (int k = 0; k <= 600; ++k) grid.push_back(f_max * k / 600.0);
+  doc["frequency_hz"] = grid;
+  ojson cands = ojson::array();
+  for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+    const auto& c = r.candidates[i];
+    if (!c.available || !c.shaper) continue;
+    cands.push_back({{"name", c.name},
+                     {"design_frequency_hz", c.design_frequency_hz},
+                     {"remaining_worst", c.remaining_worst},
+                     {"duration_s", c.duration_s},
+                     {"chosen", r.chosen && *r.chosen == i},
+                     {"response", advise::worst_response(*c.shaper, grid, r.test_damping_ratios, r.frequency_scales)}});
+    if (r.printer_figures) {  // Klipper's legend: smoothing and max acceleration (advise/smoothing.hpp)
+      cands.back()["smoothing_mm"] = c.smoothing_mm;
+      cands.back()["max_accel_mm_s2"] = number_or_null(c.max_accel_mm_s2);
+    }
+  }
+  doc["candidates"] = cands;
+  ojson modes = ojson::array();
+  for (const auto& m : r.modes) modes.push_back({{"frequency_hz", m.frequency_hz}, {"frequency_std_hz", m.frequency_std_hz}});
+  doc["modes"] = modes;
+  doc["design_offsets"] = design_offsets_json(r.design_offsets);
+  doc["reason"] = r.reason;
   return doc;
 }
 

@@ -94,6 +94,24 @@ struct CandidateResult {
   double klipper_score = 0.0;                  ///< smoothing_mm · (v^1.5 + 0.2 v + 0.01), v = remaining_worst
 };
 
+/// Why a design frequency of the recommended candidate sits more than 1σ from its mode (the
+/// nearest mode; a convolution's factor: the mode it is designed for) (docs/recommend.md, "Why a
+/// design frequency sits away from the mode"). The offset is split in four by re-scanning the
+/// candidate's frequency (a convolution's other factor held at its fit):
+/// design − mode = spectrum_hz + near_best_hz + worst_case_hz + selection_hz.
+struct DesignOffset {
+  std::size_t factor = 0;               ///< which design frequency (1: a convolution's second factor)
+  double design_frequency_hz = 0.0;
+  double mode_frequency_hz = 0.0, mode_frequency_std_hz = 0.0;
+  double offset_sigmas = 0.0;           ///< (design − mode) / σ
+  double spectrum_hz = 0.0;     ///< the least on the spectrum at the design ζ, scale 1 only, − the mode
+  double near_best_hz = 0.0;    ///< the shortest near-best frequency there − that least
+  double worst_case_hz = 0.0;   ///< the same rule on the worst case over the test ζ and scales − that
+  double selection_hz = 0.0;    ///< the design − that: Klipper's score, the update grid, a convolution's joint fit
+  std::string cause;  ///< the largest part: "spectrum" ("second_mode" with two modes), "near_best", "worst_case", "selection"
+  std::string reason;           ///< one line, for the figure and the JSON
+};
+
 struct Recommendation {
   std::vector<ModeEstimate> modes;
   std::vector<double> test_damping_ratios;
@@ -103,6 +121,7 @@ struct Recommendation {
   std::optional<std::size_t> chosen;          ///< index into candidates
   std::string reason;
   std::string warning;                        ///< non-empty: the pick leaves more than max_remaining
+  std::vector<DesignOffset> design_offsets;   ///< the chosen candidate's frequencies > 1σ off their mode
   bool weighed_smoothing = false;             ///< the pick followed Klipper's score (weigh_smoothing)
   /// Printer data (a Klipper file among the spectra) or weigh_smoothing: the output shows the
   /// candidates' smoothing and max acceleration.

@@ -41,4 +41,11 @@ std::vector<double> worst_response(const shaping::Shaper& shaper, const std::vec
                                    const std::vector<double>& damping_ratios,
                                    const std::vector<double>& frequency_scales);
 
+/// The PSD the shaper leaves: P(f) · V(f)², V the worst_response over the damping ratios and
+/// scales (V is the ratio of residual to unshaped vibration amplitude, Eq. 2.19, so power scales
+/// with its square; Klipper's graph draws P·V, the weighting of its remaining-vibration score).
+std::vector<double> power_after_shaper(const shaping::Shaper& shaper, const std::vector<double>& frequency_hz,
+                                       const std::vector<double>& power, const std::vector<double>& damping_ratios,
+                                       const std::vector<double>& frequency_scales);
+
 }  // namespace clearshape::advise

@@ -24,12 +24,24 @@ std::string_view to_string(InputFormat format) noexcept;
 /// "freq,psd_x" → Klipper PSD, anything else → a clearshape table.
 InputFormat detect_format(std::string_view text) noexcept;
 
+/// One axis of a Klipper file on the spectrum's frequency grid.
+struct AxisSpectrum {
+  std::string column;          ///< "psd_x", "psd_y", "psd_z", "psd_xyz" (raw files: accel_x … xyz)
+  std::vector<double> power;
+};
+
 struct MeasuredSpectrum {
   std::string source;             ///< file name (for messages and the JSON)
   InputFormat format = InputFormat::table;
   std::string column;             ///< what was analysed ("gyro_deg_s", "accel_x", "psd_xyz", …)
   std::vector<double> frequency_hz;
-  std::vector<double> power;      ///< one-sided PSD, unit²/Hz
+  std::vector<double> power;      ///< one-sided PSD, in power_unit
+  /// The PSD's unit: Klipper's accelerations give (mm/s²)²/Hz; a table's column the square of the
+  /// unit its name's suffix declares (psd_unit_of_column).
+  std::string power_unit;
+  /// Klipper files: every axis's PSD and their sum (x, y, z, xyz, as Klipper's graph draws them),
+  /// whichever column is analysed; empty for a table.
+  std::vector<AxisSpectrum> axes;
   std::size_t segments = 0;       ///< Welch segments averaged (0: a PSD file, unknown)
   double resolution_hz = 0.0;     ///< fs / segment length (a PSD file: its bin spacing)
   std::optional<UniformSeries> series;  ///< the analysed time record (not for a PSD file)
@@ -46,6 +58,11 @@ struct SpectrumRequest {
   std::optional<double> to_s;       ///< window end
   double segment_s = 0.0;           ///< Welch segment length; 0 = automatic (see spectrum_of_series)
 };
+
+/// The unit of a column's PSD from its name's unit suffix (docs/design.md §4): "gyro_deg_s" →
+/// "(deg/s)²/Hz", "accel_m_s2" → "(m/s²)²/Hz", "input_v" → "V²/Hz"; a name without a known suffix
+/// → "(unit of NAME)²/Hz".
+std::string psd_unit_of_column(std::string_view column);
 
 /// Reads one recording and returns its spectrum. Throws InputError (file, line, field) for bad
 /// content, InvalidArgument for a bad column, window or segment.

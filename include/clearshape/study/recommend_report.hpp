@@ -67,6 +67,11 @@ RecommendReport recommend(const RecommendRequest& request);
 /// candidates, model, recommendation, reason, plot).
 nlohmann::ordered_json recommend_document(const RecommendRequest& request, const RecommendReport& report);
 
+/// The data of `recommend --plot`'s figure (python/plot_recommend.py; docs/recommend.md): each
+/// spectrum with its unit, a Klipper file's axes and the PSD the pick leaves; every candidate's
+/// worst-case V(f); the modes; the design offsets and the reason.
+nlohmann::ordered_json recommend_plot_data(const RecommendReport& report);
+
 /// A ready `clearshape shape` line for a candidate of `recommendation`.
 std::string shape_command(const advise::CandidateResult& candidate, const advise::Recommendation& recommendation,
                           double grid_hz);
