@@ -87,6 +87,7 @@ def residual_figure(doc: dict, path: Path) -> None:
     mm = [d["total_residual_mm"] for d in designs]
     colours = ["0.5"] + ["tab:red" if d["worse_than_unshaped"] else "tab:blue" for d in designs[1:]]
     fig, ax = plt.subplots(figsize=(7, 3.6))
+    ax.set_axisbelow(True)
     bars = ax.bar(names, mm, color=colours)
     for bar, d in zip(bars, designs):
         text = "reference" if d is designs[0] else f"{100 * d['improvement']:.1f} % removed"
@@ -174,8 +175,15 @@ def warnings(doc: dict) -> list[str]:
         worse = [(m["index"], m["designs"][name]["residual_mm"], m["designs"][ref]["residual_mm"]) for m in doc["moves"]
                  if m["designs"][name]["residual_mm"] > m["designs"][ref]["residual_mm"]]
         if worse:
-            listed = "; ".join(f"move {i}: {s:.4f} mm against {u:.4f} mm" for i, s, u in worse)
+            listed = "; ".join(f"move {i}: {s:.3g} mm against {u:.3g} mm" for i, s, u in worse)
             out.append(f"{name} is worse than unshaped on {len(worse)} of {len(doc['moves'])} moves ({listed}).")
+    designed = [(m["index"], m["clearance_aware_design"]["worst_ratio"]) for m in doc["moves"]
+                if m.get("clearance_aware_design", {}).get("worse_than_unshaped")]
+    if designed:
+        listed = "; ".join(f"move {i}: {r:.2f} times unshaped" for i, r in designed)
+        out.append(f"clearance-aware: its design leaves more than unshaped from at least one of its start places in the "
+                   f"plays on {len(designed)} of {len(doc['moves'])} moves — {listed}; the benchmark above plays every move from the middle of "
+                   f"the plays.")
     return out
 
 

@@ -3,7 +3,8 @@
 # the simulated thesis rig in both operation modes, on the worn-coupling rig (docs/worn-coupling.md)
 # and on the large-play rig (clearshape study;
 # docs/large-play.md), then the figures and the self-contained report of each study
-# (python/render_study.py, Debian's python3-matplotlib).
+# (python/render_study.py, Debian's python3-matplotlib); then the arm studies of issue 24
+# (clearshape arm study; docs/arm.md) and their reports (python/render_arm_study.py).
 # Finished runs are reused by a second `make run` (out/thesis-*/runs/); tables on stdout go to
 # out/thesis-*/tables.md as well.
 set -euo pipefail
@@ -11,10 +12,12 @@ build_dir="${1:-build}"
 exe="$build_dir/bin/clearshape"
 mkdir -p out
 studies=(thesis-position thesis-speed worn-coupling-position large-play-position)
+arm_studies=(arm-scara2 arm-vertical2)
 # A study's report (one single-threaded Python process) is drawn while the next study runs.
 render=()
 [[ -f python/render_study.py ]] && render=(/usr/bin/python3 python/render_study.py)
 pids=()
+drawn=()  # the study of each pid
 trap 'for p in "${pids[@]}"; do kill "$p" 2> /dev/null || true; done' EXIT  # a study failed
 for s in "${studies[@]}"; do
   "$exe" study "studies/$s.toml" --out "out/$s" > /dev/null
@@ -25,11 +28,20 @@ for s in "${studies[@]}"; do
   if (( ${#render[@]} > 0 )); then
     "${render[@]}" "out/$s" > /dev/null &
     pids+=($!)
+    drawn+=("$s")
+  fi
+done
+for s in "${arm_studies[@]}"; do
+  "$exe" arm study "studies/$s.toml" --out "out/$s" > /dev/null
+  if (( ${#render[@]} > 0 )); then
+    /usr/bin/python3 python/render_arm_study.py "out/$s" > /dev/null &
+    pids+=($!)
+    drawn+=("$s")
   fi
 done
 reports=()
 for i in "${!pids[@]}"; do
-  s=${studies[$i]}
+  s=${drawn[$i]}
   if ! wait "${pids[$i]}"; then
     echo "clearshape: warning: some figures of out/$s failed to draw; report.html names them" >&2
   fi
@@ -37,11 +49,11 @@ for i in "${!pids[@]}"; do
 done
 pids=()
 echo
-for s in "${studies[@]}"; do
+for s in "${studies[@]}" "${arm_studies[@]}"; do
   echo "$s: tables out/$s/tables.md, data out/$s/results.json"
 done
 if (( ${#reports[@]} > 0 )); then
   for r in "${reports[@]}"; do echo "Report: $r"; done
 else
-  echo "Report: out/<study>/tables.md for ${studies[*]}"
+  echo "Report: out/<study>/tables.md for ${studies[*]} ${arm_studies[*]}"
 fi
