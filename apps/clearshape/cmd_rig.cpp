@@ -4,6 +4,7 @@
 //   probe   handshake, firmware version, capabilities, self-test, the board's counters
 //   stream  log the sensors for --duration s (no commands; servo off unless --servo-on)
 //   run     one run of a command signal, optionally shaped online, logged to a CSV + sidecar
+//   calibrate  excite, record, recommend and export in one command (cmd_rig_calibrate.cpp)
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,11 +26,13 @@
 #include "clearshape/io/interrupt.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
+#include "clearshape/rig/board_run.hpp"
 #include "clearshape/rig/realtime.hpp"
 #include "clearshape/rig/serial_rig.hpp"
 #include "clearshape/rig/wire_protocol.h"
 #include "clearshape/shaping/design.hpp"
 #include "clearshape/signal/signal.hpp"
+#include "cmd_rig_calibrate.hpp"
 #include "command.hpp"
 #include "rig_serial_options.hpp"
 #include "run_json.hpp"
@@ -40,43 +43,6 @@ namespace rig = clearshape::rig;
 using json = nlohmann::ordered_json;
 
 namespace {
-
-std::string capability_names(std::uint32_t caps) {
-  const std::pair<std::uint32_t, const char*> names[] = {
-      {CS_CAP_ENCODER_QUADRATURE, "encoder-quadrature"}, {CS_CAP_PULSE_AB, "pulse-ab"},
-      {CS_CAP_DAC_MCP4725, "dac-mcp4725"},               {CS_CAP_GYRO_ITG3205, "gyro-itg3205"},
-      {CS_CAP_SERVO_ON, "servo-on"},                     {CS_CAP_WATCHDOG, "watchdog"}};
-  std::string out;
-  for (const auto& [bit, name] : names) {
-    if (caps & bit) out += (out.empty() ? "" : ", ") + std::string(name);
-  }
-  return out.empty() ? "none" : out;
-}
-
-json board_json(const rig::SerialRig& r) {
-  const rig::BoardInfo& b = r.board();
-  json j = {{"firmware_version", b.firmware_version()},
-            {"wire_version", b.wire_version},
-            {"capabilities", b.capabilities},
-            {"capability_names", capability_names(b.capabilities)},
-            {"cpu_hz", b.cpu_hz},
-            {"encoder_lines_hint", b.encoder_lines_hint},
-            {"port", r.options().port},
-            {"backend", std::string(r.backend())}};
-  if (b.selftest) {
-    j["selftest"] = {{"gyro_who_am_i", b.selftest->gyro_who_am_i},
-                     {"gyro_ok", b.selftest->gyro_ok},
-                     {"dac_ok", b.selftest->dac_ok},
-                     {"gyro_raw_at_rest", b.selftest->gyro_raw_at_rest},
-                     {"gyro_at_rest_deg_s", b.selftest->gyro_raw_at_rest / r.options().gyro_sensitivity_lsb_per_dps}};
-  }
-  return j;
-}
-
-json board_stats_json(const rig::BoardStats& s) {
-  return {{"samples_sent", s.samples_sent}, {"samples_dropped", s.samples_dropped}, {"rx_corrupted", s.rx_corrupted},
-          {"watchdog_trips", s.watchdog_trips}, {"late_ticks", s.late_ticks}};
-}
 
 // --- probe -----------------------------------------------------------------------------------
 
@@ -96,8 +62,8 @@ void probe(const ProbeState& st) {
   if (st.json) {
     auto doc = cs::io::make_document();
     doc["command"] = "rig probe";
-    doc["board"] = board_json(r);
-    doc["board_stats"] = board_stats_json(stats);
+    doc["board"] = rig::board_json(r);
+    doc["board_stats"] = rig::board_stats_json(stats);
     doc["selftest_passed"] = ok;
     cs::cli::print_json(doc);
   } else {
@@ -105,7 +71,7 @@ void probe(const ProbeState& st) {
     fmt::print("{:<16}{} ({})\n", "port", o.port, r.backend());
     fmt::print("{:<16}{}\n", "firmware", b.firmware_version());
     fmt::print("{:<16}v{}\n", "wire protocol", b.wire_version);
-    fmt::print("{:<16}{} (0x{:02x})\n", "capabilities", capability_names(b.capabilities), b.capabilities);
+    fmt::print("{:<16}{} (0x{:02x})\n", "capabilities", rig::capability_names(b.capabilities), b.capabilities);
     fmt::print("{:<16}{:g} MHz\n", "cpu", b.cpu_hz / 1e6);
     fmt::print("{:<16}{}\n", "encoder lines", b.encoder_lines_hint == 0 ? std::string("unknown") : std::to_string(b.encoder_lines_hint));
     fmt::print("{:<16}gyro WHO_AM_I 0x{:02x} {}, DAC {}, gyro at rest {} LSB ({:.3g} deg/s)\n", "self-test",
@@ -199,260 +165,26 @@ RunPlan plan(const RunState& st, const std::string& name, bool is_run) {
   return p;
 }
 
-// --- run: the real-time loop on the board, its records collected by the logging thread ------------
+// --- write: the CSV with its sidecar, stdout, the verdict -----------------------------------------
 
-// Collected by the logging thread (it may allocate; the loop never waits for it).
-struct Columns {
-  std::vector<double> time_s, command, shaped, applied, counts, motor_deg, gyro_raw, gyro_deg_s, flags, latency_s;
-  rig::Measurement last{};
-
-  void reserve(std::size_t n) {
-    for (auto* v : {&time_s, &command, &shaped, &applied, &counts, &motor_deg, &gyro_raw, &gyro_deg_s, &flags,
-                    &latency_s}) {
-      v->reserve(n);
-    }
-  }
-  void add(const rig::LogRecord& rec, bool position) {
-    if (rec.read_status != cs::Status::ok) return;
-    const rig::Measurement& m = rec.measurement;
-    time_s.push_back(m.time_s);
-    command.push_back(rec.command);
-    shaped.push_back(rec.command_shaped);
-    applied.push_back(position ? cs::rad_to_deg(m.command_applied) : m.command_applied);
-    counts.push_back(static_cast<double>(m.encoder_counts));
-    motor_deg.push_back(m.motor_angle_deg());
-    gyro_raw.push_back(m.gyro_raw);
-    gyro_deg_s.push_back(m.gyro_rate_deg_s());
-    flags.push_back(m.flags);
-    latency_s.push_back(rec.latency_s);
-    last = m;
-  }
-};
-
-struct Outcome {
-  rig::RunStatistics stats;
-  rig::SerialRigStats link;
-  std::string stop_problem;  ///< empty when the board confirmed STOP
-  std::vector<std::string> warnings;
-  /// What the board counted during the run (its STATS before and after); empty when unknown.
-  std::optional<rig::BoardStats> board_during_run;
-  /// Why the record is not complete (the loop's stop, the rig's degradation); empty: complete.
-  std::vector<std::string> degraded;
-  int interrupted_by = 0;  ///< the signal that ended the run (0: none)
-  bool complete() const { return degraded.empty(); }
-};
-
-// Samples carrying each MeasurementFlag (rig/types.hpp), from the record's flags column.
-json flag_counts_json(const std::vector<double>& flags) {
-  const std::pair<rig::MeasurementFlag, const char*> names[] = {
-      {rig::MeasurementFlag::gyro_saturated, "gyro_saturated"}, {rig::MeasurementFlag::command_limited, "command_limited"},
-      {rig::MeasurementFlag::overrun, "overrun"},               {rig::MeasurementFlag::command_rejected, "command_rejected"},
-      {rig::MeasurementFlag::watchdog, "watchdog"},             {rig::MeasurementFlag::sensor_error, "sensor_error"},
-      {rig::MeasurementFlag::samples_lost, "samples_lost"},     {rig::MeasurementFlag::commands_lost, "commands_lost"}};
-  json j = json::object();
-  for (const auto& [flag, name] : names) {
-    j[name] = std::count_if(flags.begin(), flags.end(), [flag](double f) {
-      return (static_cast<std::uint32_t>(f) & rig::bit(flag)) != 0;
-    });
-  }
+json configuration_json(const rig::SerialRigOptions& o, const RunState& st) {
+  json j = rig::board_configuration_json(o);
+  j["duration_s"] = st.duration_s;
+  j["realtime_scheduling"] = !st.no_realtime;
   return j;
 }
 
-// What the board counted during the run (after − before; the counters are cumulative since reset).
-json board_delta_json(const Outcome& out) {
-  return out.board_during_run ? board_stats_json(*out.board_during_run) : json(nullptr);
-}
-
-// A run whose samples the watchdog flagged did not follow its command there (docs/hardware.md).
-void warn_watchdog(const Columns& c, bool is_run, Outcome& out) {
-  const auto held = [](double f) { return (static_cast<std::uint32_t>(f) & rig::bit(rig::MeasurementFlag::watchdog)) != 0; };
-  const auto first = std::find_if(c.flags.begin(), c.flags.end(), held);
-  if (!is_run || first == c.flags.end()) return;
-  const auto k = static_cast<std::size_t>(first - c.flags.begin());
-  out.warnings.push_back(fmt::format(
-      "the board's watchdog held the command safe on {} sample(s), the first at t = {:.3f} s: the record does not "
-      "follow the command there (flags bit 16; a host that stalled longer than --watchdog-ms)",
-      std::count_if(c.flags.begin(), c.flags.end(), held), c.time_s[k]));
-  fmt::print(stderr, "clearshape: warning: {}\n", out.warnings.back());
-}
-
-// Host frames the board rejected during the run (RX overruns when COMMANDs arrive in a burst after
-// a host stall, docs/hardware.md "COMMAND bursts"): those commands never reached the drive.
-void warn_rejected_frames(Outcome& out) {
-  if (!out.board_during_run) {
-    out.warnings.push_back("the board's counters could not be read before and after the run");
-    fmt::print(stderr, "clearshape: warning: {}\n", out.warnings.back());
-    return;
-  }
-  const std::uint32_t n = out.board_during_run->rx_corrupted;
-  if (n == 0) return;
-  out.warnings.push_back(fmt::format(
-      "the board rejected {} host frame(s) during the run (its receive buffer overran under a burst of COMMANDs): "
-      "those commands were not applied; the command_applied column is what the drive received", n));
-  fmt::print(stderr, "clearshape: warning: {}\n", out.warnings.back());
-}
-
-Outcome run_on_board(const RunState& st, const std::string& name, bool is_run, const RunPlan& p, rig::SerialRig& r,
-                     Columns& c) {
-  const rig::SerialRigOptions& o = p.options;
-  rig::CommandSource source(p.command, o.mode);
-  if (p.shaper) source.set_shaper(*p.shaper, r.sample_time_s());
-  Outcome out;
-  rig::RealtimeOptions ro;
-  ro.realtime_scheduling = !st.no_realtime;
-  ro.write_commands = is_run;
-  ro.stop_flag = &cs::io::interrupt_requested();  // SIGINT/SIGTERM/SIGHUP: the loop ends, STOP is sent
-  ro.warn = [&out](const std::string& w) {
-    out.warnings.push_back(w);
-    fmt::print(stderr, "clearshape: warning: {}\n", w);
-  };
-  r.configure();
-  fmt::print(stderr, "clearshape rig {}: {} firmware {} ({}), {} mode at {:g} Hz, {:g} s\n", name, o.port,
-             r.board().firmware_version(), r.backend(), rig::to_string(o.mode), o.sample_rate_hz, st.duration_s);
-  rig::RealtimeRunner runner(r, source, ro);
-  c.reserve(p.samples);
-  const bool position = p.position();
-  const auto sink = [&](const rig::LogRecord& rec) { c.add(rec, position); };
-  const bool tty = isatty(fileno(stderr)) != 0;
-  int status_calls = 0;
-  const auto status = [&](const rig::RunStatistics& s) {
-    // ~5 Hz on a terminal (one line, rewritten); once a second otherwise.
-    if (!tty && (status_calls++ % 5) != 0) return;
-    const rig::SerialRigStats link = r.stats();
-    fmt::print(stderr, "{}t {:7.2f}/{:g} s  samples {}  lost {}  corrupted {}  late {}  overruns {}  motor {:9.3f} deg  "
-                       "gyro {:8.2f} deg/s{}",
-               tty ? "\r" : "", c.last.time_s, st.duration_s, s.samples, link.samples_lost, link.frames_corrupted,
-               link.samples_late, s.overruns, c.last.motor_angle_deg(), c.last.gyro_rate_deg_s(), tty ? "" : "\n");
-  };
-  out.stats = runner.run(p.samples, sink, status);
-  if (tty) fmt::print(stderr, "\n");
-  out.link = r.stats();
-  out.stop_problem = r.last_stop_problem();
-  out.board_during_run = r.board_during_run();
-  out.interrupted_by = cs::io::pending_interrupt();
-  if (!out.stats.stopped_by.empty()) {
-    out.degraded.push_back(out.interrupted_by != 0 ? fmt::format("interrupted by {} at t = {:.3f} s",
-                                                                 cs::io::interrupt_name(out.interrupted_by), c.last.time_s)
-                                                   : out.stats.stopped_by);
-  }
-  for (std::string& why : r.degradation()) out.degraded.push_back(std::move(why));
-  r.cleanup();
-  warn_watchdog(c, is_run, out);
-  warn_rejected_frames(out);
-  return out;
-}
-
-// --- write: the CSV with its sidecar, stdout, the verdict -----------------------------------------
-
-struct Table {
-  std::vector<std::string> names;
-  std::vector<const std::vector<double>*> columns;
-};
-
-Table table(const Columns& c, const RunPlan& p, bool is_run) {
-  const std::string u = p.position() ? "deg" : "v";
-  Table t{{"time_s"}, {&c.time_s}};
-  if (is_run) {
-    t.names.push_back("command_" + u);
-    t.columns.push_back(&c.command);
-    if (p.shaper) {
-      t.names.push_back("command_shaped_" + u);
-      t.columns.push_back(&c.shaped);
-    }
-  }
-  for (const auto& [col, v] : std::initializer_list<std::pair<std::string, const std::vector<double>*>>{
-           {"command_applied_" + u, &c.applied}, {"encoder_counts", &c.counts},  {"motor_deg", &c.motor_deg},
-           {"gyro_raw", &c.gyro_raw},            {"gyro_deg_s", &c.gyro_deg_s}, {"flags", &c.flags},
-           {"latency_s", &c.latency_s}}) {
-    t.names.push_back(col);
-    t.columns.push_back(v);
-  }
-  return t;
-}
-
-json statistics_json(const Outcome& out, const Columns& c, const rig::SerialRigOptions& o) {
-  const rig::RunStatistics& s = out.stats;
-  const rig::SerialRigStats& link = out.link;
-  return {{"cycles", s.cycles},
-          {"samples", s.samples},
-          {"samples_lost", s.samples_lost},
-          {"frames_corrupted", s.frames_corrupted},
-          {"samples_late", s.samples_late},
-          {"late_tolerance_s", o.late_tolerance_s},
-          {"max_lateness_s", link.max_lateness_s},
-          {"overruns", s.overruns},
-          {"read_failures", s.read_failures},
-          {"write_failures", s.write_failures},
-          {"log_dropped", s.log_dropped},
-          {"ring_overflows", link.ring_overflows},
-          {"commands_sent", link.commands_sent},
-          {"commands_coalesced", s.commands_coalesced},
-          {"commands_dropped", link.commands_dropped},
-          {"board_tx_overflows", link.board_tx_overflows},
-          {"commands_rejected", link.commands_rejected},
-          {"watchdog_samples", link.watchdog_samples},
-          {"rx_rejected_samples", link.rx_rejected_samples},
-          {"latency_p50_s", s.latency_p50_s},
-          {"latency_p99_s", s.latency_p99_s},
-          {"latency_max_s", s.latency_max_s},
-          {"latency_overflows", s.latency_overflows},
-          {"sched_fifo", s.sched_fifo},
-          {"memory_locked", s.memory_locked},
-          {"stopped_by", s.stopped_by.empty() ? json(nullptr) : json(s.stopped_by)},
-          {"stop_confirmed", out.stop_problem.empty()},
-          {"flagged_samples", flag_counts_json(c.flags)},
-          {"board_during_run", board_delta_json(out)}};
-}
-
-json units_json(const rig::SerialRigOptions& o) {
-  const bool position = o.mode == rig::CommandMode::position;
-  return {{"time_s", "s (board tick × sample time)"},
-          {"command", position ? "deg (motor-angle target)" : "V (driver speed input)"},
-          {"command_applied", position ? "deg (pulses emitted × 360 / pulses_per_rev)" : "V (DAC code)"},
-          {"encoder_counts", fmt::format("counts ({} per revolution)", o.counts_per_rev)},
-          {"motor_deg", "deg"},
-          {"gyro_raw", fmt::format("LSB ({} LSB per deg/s)", o.gyro_sensitivity_lsb_per_dps)},
-          {"gyro_deg_s", "deg/s"},
-          {"flags", "rig::MeasurementFlag bits (rig/types.hpp)"},
-          {"latency_s", "s (cycle deadline → command written)"}};
-}
-
-json configuration_json(const rig::SerialRigOptions& o, const RunState& st) {
-  return {{"mode", std::string(rig::to_string(o.mode))},
-          {"sample_rate_hz", o.sample_rate_hz},
-          {"update_rate_hz", o.update_rate_hz},
-          {"max_pulse_rate_hz", o.max_pulse_rate_hz},
-          {"baud", o.baud},
-          {"gyro_fs_sel", o.gyro_fs_sel},
-          {"gyro_dlpf_cfg", o.gyro_dlpf_cfg},
-          {"watchdog_ms", o.watchdog_ms},
-          {"counts_per_rev", o.counts_per_rev},
-          {"pulses_per_rev", o.pulses_per_rev},
-          {"servo_on", o.servo_on},
-          {"duration_s", st.duration_s},
-          {"realtime_scheduling", !st.no_realtime}};
-}
-
-// Where the record goes: --output when it is complete; otherwise `<stem>.incomplete.csv` beside
-// it, so a failed run never replaces a previous good record of the same name.
-std::filesystem::path record_path(const RunState& st, const Outcome& out) {
-  if (out.complete()) return st.output;
-  std::filesystem::path p = st.output;
-  const std::string ext = p.extension().string();
-  p.replace_filename(p.stem().string() + ".incomplete" + (ext.empty() ? std::string(".csv") : ext));
-  return p;
-}
-
 void write_files(const std::filesystem::path& csv, const std::string& name, const RunState& st, const RunPlan& p,
-                 const rig::SerialRig& r, const Table& t, const Outcome& out, const json& statistics) {
+                 const rig::SerialRig& r, const rig::RecordColumns& t, const rig::BoardRunOutcome& out,
+                 const json& statistics) {
   auto doc = cs::io::make_document();
   doc["command"] = "rig " + name;
   doc["csv"] = csv.string();
   doc["complete"] = out.complete();
   doc["degraded"] = out.degraded;
   doc["columns"] = t.names;
-  doc["units"] = units_json(p.options);
-  doc["rig"] = {{"kind", "physical"}, {"board", board_json(r)}};
+  doc["units"] = rig::record_units_json(p.options);
+  doc["rig"] = {{"kind", "physical"}, {"board", rig::board_json(r)}};
   doc["configuration"] = configuration_json(p.options, st);
   doc["signal"] = p.signal;
   doc["shaper"] = p.shaper_json;
@@ -468,7 +200,7 @@ void write_files(const std::filesystem::path& csv, const std::string& name, cons
 }
 
 void print_summary(const std::filesystem::path& csv, const RunState& st, const std::string& name, const RunPlan& p,
-                   const Outcome& out, const json& statistics) {
+                   const rig::BoardRunOutcome& out, const json& statistics) {
   const rig::RunStatistics& s = out.stats;
   if (st.json) {
     auto doc = cs::io::make_document();
@@ -492,7 +224,7 @@ void print_summary(const std::filesystem::path& csv, const RunState& st, const s
 // A record that is not complete (a stop, an interrupt, lost or late samples, commands that did not
 // reach the drive) is a failure: exit 1, naming why and where it was written instead.
 void check_outcome(const std::filesystem::path& csv, const std::string& name, const RunState& st, const RunPlan& p,
-                   const Outcome& out) {
+                   const rig::BoardRunOutcome& out) {
   if (!out.stop_problem.empty()) {
     fmt::print(stderr, "clearshape: warning: STOP was not confirmed: {}; switch the drive off by hand\n",
                out.stop_problem);
@@ -510,20 +242,40 @@ void check_outcome(const std::filesystem::path& csv, const std::string& name, co
   throw cs::RuntimeError(what);
 }
 
+// The options of the board run: the plan's command, warnings and progress on stderr.
+rig::BoardRunOptions board_run_options(const RunState& st, const std::string& name, bool is_run, const RunPlan& p,
+                                       const rig::SerialRig& r) {
+  rig::BoardRunOptions o;
+  o.command = p.command;
+  o.shaper = p.shaper;
+  o.write_commands = is_run;
+  o.realtime_scheduling = !st.no_realtime;
+  o.stop_flag = &cs::io::interrupt_requested();  // SIGINT/SIGTERM/SIGHUP: the loop ends, STOP is sent
+  o.warn = [](const std::string& w) { fmt::print(stderr, "clearshape: warning: {}\n", w); };
+  o.configured = [&st, name](const rig::SerialRig& b) {
+    const rig::SerialRigOptions& so = b.options();
+    fmt::print(stderr, "clearshape rig {}: {} firmware {} ({}), {} mode at {:g} Hz, {:g} s\n", name, so.port,
+               b.board().firmware_version(), b.backend(), rig::to_string(so.mode), so.sample_rate_hz, st.duration_s);
+  };
+  o.progress = cs::cli::board_progress_printer(r, st.duration_s);
+  return o;
+}
+
 void execute(const RunState& st, const std::string& name, bool is_run) {
   const RunPlan p = plan(st, name, is_run);
   // From here until the record is written, SIGINT/SIGTERM/SIGHUP/SIGPIPE end the loop instead of
   // the process: the board is sent STOP (servo off) on every way out, then the signal ends it.
   cs::io::DeferredInterrupts interrupts;
-  Outcome out;
+  rig::BoardRunOutcome out;
   std::filesystem::path csv;
   {
     rig::SerialRig r(p.options);  // its destructor sends STOP if an exception leaves it active
-    Columns c;
-    out = run_on_board(st, name, is_run, p, r, c);
-    const Table t = table(c, p, is_run);
-    const json statistics = statistics_json(out, c, p.options);
-    csv = record_path(st, out);
+    rig::BoardRecord c;
+    out = rig::run_on_board(r, board_run_options(st, name, is_run, p, r), c);
+    cs::cli::end_progress_line();
+    const rig::RecordColumns t = rig::record_columns(c, p.options.mode, is_run, p.shaper.has_value());
+    const json statistics = rig::run_statistics_json(out, c, p.options);
+    csv = rig::record_path_for(st.output, out.complete());
     write_files(csv, name, st, p, r, t, out, statistics);
     print_summary(csv, st, name, p, out, statistics);
   }
@@ -578,9 +330,10 @@ void setup(CLI::App& sub) {
         "      --shaper-frequency-hz 3.32 --shaper-zeta 0.288 --duration 3 -o zvdd.csv");
     p->callback([st] { execute(*st, "run", true); });
   }
+  cs::cli::add_rig_calibrate(sub);
 }
 
 const bool registered = cs::cli::register_command(
-    {"rig", "The physical rig over a serial port: probe, stream the sensors, run a command", 45, setup});
+    {"rig", "The physical rig over a serial port: probe, stream the sensors, run a command, calibrate a shaper", 45, setup});
 
 }  // namespace

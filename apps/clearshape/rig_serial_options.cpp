@@ -1,6 +1,10 @@
 #include "rig_serial_options.hpp"
 
+#include <unistd.h>
+
 #include <charconv>
+#include <cstdio>
+#include <memory>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -113,6 +117,24 @@ void parse_serial_rig_spec(const std::string& spec, rig::SerialRigOptions& optio
   }
   if (rest.empty()) fail();
   options.port = rest;
+}
+
+std::function<void(const rig::RunStatistics&, const rig::BoardRecord&)> board_progress_printer(
+    const rig::SerialRig& rig, double duration_s) {
+  const bool tty = isatty(fileno(stderr)) != 0;
+  auto calls = std::make_shared<int>(0);
+  return [&rig, duration_s, tty, calls](const rig::RunStatistics& s, const rig::BoardRecord& c) {
+    if (!tty && ((*calls)++ % 5) != 0) return;  // ~5 Hz on a terminal (one line, rewritten); 1 Hz otherwise
+    const rig::SerialRigStats link = rig.stats();
+    fmt::print(stderr, "{}t {:7.2f}/{:g} s  samples {}  lost {}  corrupted {}  late {}  overruns {}  motor {:9.3f} deg  "
+                       "gyro {:8.2f} deg/s{}",
+               tty ? "\r" : "", c.last.time_s, duration_s, s.samples, link.samples_lost, link.frames_corrupted,
+               link.samples_late, s.overruns, c.last.motor_angle_deg(), c.last.gyro_rate_deg_s(), tty ? "" : "\n");
+  };
+}
+
+void end_progress_line() {
+  if (isatty(fileno(stderr)) != 0) fmt::print(stderr, "\n");
 }
 
 }  // namespace clearshape::cli

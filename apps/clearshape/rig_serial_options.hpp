@@ -1,10 +1,12 @@
 #pragma once
 // The serial-rig options shared by `clearshape rig probe|stream|run` and `study --rig serial:PORT`:
 // one flag per field of rig::SerialRigOptions that a user chooses.
+#include <functional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "clearshape/rig/board_run.hpp"
 #include "clearshape/rig/serial_rig.hpp"
 
 namespace clearshape::cli {
@@ -36,5 +38,12 @@ struct SerialCliOptions {
 /// port, baud and the late-sample tolerance in `options`. Throws InvalidArgument naming --rig
 /// and the accepted forms.
 void parse_serial_rig_spec(const std::string& spec, rig::SerialRigOptions& options);
+
+/// A run's progress on stderr for rig::BoardRunOptions::progress: one line rewritten about 5 times a
+/// second on a terminal, once a second otherwise (time, samples, lost/corrupted/late, motor, gyro).
+std::function<void(const rig::RunStatistics&, const rig::BoardRecord&)> board_progress_printer(
+    const rig::SerialRig& rig, double duration_s);
+/// Ends the rewritten progress line (a newline on a terminal).
+void end_progress_line();
 
 }  // namespace clearshape::cli

@@ -65,7 +65,7 @@ std::string option_of_key(std::string_view key) {
 
 }  // namespace
 
-std::vector<double> parse_levels(const std::string& text) {
+std::vector<double> parse_levels(const std::string& text, std::string_view option) {
   std::vector<double> levels;
   std::size_t pos = 0;
   while (pos <= text.size()) {
@@ -76,9 +76,9 @@ std::vector<double> parse_levels(const std::string& text) {
     double value = 0.0;
     const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
     if (item.empty() || ec != std::errc() || end != item.data() + item.size()) {
-      throw InvalidArgument(fmt::format("--levels = '{}': item '{}' is not a number; allowed: "
+      throw InvalidArgument(fmt::format("{} = '{}': item '{}' is not a number; allowed: "
                                         "a comma-separated list of numbers, e.g. 1,2,3",
-                                        text, item));
+                                        option, text, item));
     }
     levels.push_back(value);
     pos = comma + 1;

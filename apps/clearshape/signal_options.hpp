@@ -2,6 +2,7 @@
 // The command-signal options shared by `clearshape signal` and `clearshape simulate`: one flag
 // per parameter of clearshape/signal/parameters.hpp, checked against the chosen signal type.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -38,7 +39,7 @@ class SignalOptions {
   CLI::Option* sweep_option_ = nullptr;
 };
 
-/// "1, 2,3" → {1, 2, 3}; anything else throws InvalidArgument naming --levels and the item.
-std::vector<double> parse_levels(const std::string& text);
+/// "1, 2,3" → {1, 2, 3}; anything else throws InvalidArgument naming `option` and the item.
+std::vector<double> parse_levels(const std::string& text, std::string_view option = "--levels");
 
 }  // namespace clearshape::cli
