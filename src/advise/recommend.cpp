@@ -155,9 +155,12 @@ ScanResult scan(const std::vector<double>& grid, Make&& make, const Evaluator& e
   return r;
 }
 
-std::vector<double> damping_set(const std::vector<ModeEstimate>& modes, const RecommendOptions& o, double design) {
+// The test damping ratios. Printer data (a Klipper file) also covers Klipper's 0.075–0.15
+// (shaper_calibrate.py, TEST_DAMPING_RATIOS): a PSD file's 1.5–3 Hz bins leave a printer's lines
+// two or three bins wide, too few to exclude them (docs/recommend.md, "On real printers' spectra").
+std::vector<double> damping_set(const std::vector<ModeEstimate>& modes, const RecommendOptions& o, double design, bool printer) {
   if (!o.test_damping_ratios.empty()) return o.test_damping_ratios;
-  double lo = 1.0, hi = 0.0;
+  double lo = printer ? 0.075 : 1.0, hi = printer ? 0.15 : 0.0;
   for (const auto& m : modes) {
     const double half = std::max(2.0 * m.damping_ratio_std, 0.25 * m.damping_ratio);
     lo = std::min(lo, m.damping_ratio - half);
@@ -456,7 +459,8 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
   r.modes = modes;
   const ModeEstimate& m1 = modes.front();
   r.design_damping = std::clamp(o.design_damping.value_or(m1.damping_ratio), 0.0, 0.9);
-  r.test_damping_ratios = damping_set(modes, o, r.design_damping);
+  const bool printer = std::any_of(spectra.begin(), spectra.end(), [](const MeasuredSpectrum& s) { return s.format != InputFormat::table; });
+  r.test_damping_ratios = damping_set(modes, o, r.design_damping, printer);
   double u = 0.0;
   for (const auto& m : modes) u = std::max(u, o.frequency_sigmas * m.frequency_std_hz / m.frequency_hz);
   u = std::min(u, 0.3);
@@ -471,9 +475,7 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
   const Evaluator ev{bins, r.test_damping_ratios, r.frequency_scales, o.smoothing};
 
   const std::vector<std::string> names = o.candidates.empty() ? default_candidates(modes.size()) : o.candidates;
-  r.printer_figures = o.weigh_smoothing || std::any_of(spectra.begin(), spectra.end(), [](const MeasuredSpectrum& s) {
-                        return s.format != InputFormat::table;
-                      });
+  r.printer_figures = o.weigh_smoothing || printer;
   std::vector<ScanFit> fits;
   for (const std::string& name : names) {
     CandidateResult c;
