@@ -101,11 +101,11 @@ def draw(data: dict):
     right.set_ylabel("residual vibration V (worst case)")
     lines, labels = ax.get_legend_handles_labels()
     more, more_labels = right.get_legend_handles_labels()
-    ax.legend(lines + more, labels + more_labels, loc="upper center", bbox_to_anchor=(0.5, -0.19), fontsize=6.5,
+    ax.legend(lines + more, labels + more_labels, loc="upper center", bbox_to_anchor=(0.5, -0.21), fontsize=6.5,
               ncol=2)
     offsets = [str(d["reason"]) for d in data.get("design_offsets") or []]
     if offsets:  # one line each: why a design frequency sits more than 1σ from its mode
-        ax.text(-0.08, -0.12, "\n".join(textwrap.shorten(o, 185, placeholder=" …") for o in offsets),
+        ax.text(-0.08, -0.145, "\n".join(textwrap.shorten(o, 185, placeholder=" …") for o in offsets),
                 transform=ax.transAxes, fontsize=5.4, color="#444444", va="top")
     reason = str(data.get("reason") or "")
     ax.set_title("Recommended input shaper", loc="left")
