@@ -121,8 +121,11 @@ for (const auto& s : c.p.rig_tests.summaries) {
                          {"thesis_figure", nullptr},
                          {"thesis_table", s.id},
                          {"kind", "md-summary"},
-                         {"title", fmt::format("{}: mean deviations without and with {} and the improvement, "
-                                               "clearshape beside the thesis", s.title, s.column)},
+                         // Each quantity in its own unit: the table's title ends in its "%", which stood over
+                         // the mean deviations' degrees (issue 22, item 10).
+                         {"title", fmt::format("Table {}'s inputs: Eq. 5.1 mean deviation ({}) without and with {} "
+                                               "and the improvement (%), clearshape beside the thesis",
+                                               s.id, md_unit, s.column)},
                          {"unit", md_unit},
                          {"rows", fig_rows}});
   }

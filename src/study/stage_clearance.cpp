@@ -30,6 +30,14 @@ namespace detail {
 
 namespace {
 
+// A torque for the report's text: 3 significant digits in N·m, mN·m or µN·m, never "4.92e-05 N·m".
+std::string torque_text(double n_m) {
+  const double a = std::abs(n_m);
+  if (a >= 1.0 || a == 0.0 || !std::isfinite(a)) return fmt::format("{:.3g} N·m", n_m);
+  if (a >= 1e-3) return fmt::format("{:.3g} mN·m", 1e3 * n_m);
+  return fmt::format("{:.3g} µN·m", 1e6 * n_m);
+}
+
 // --- Plan: the fit problem (start model, the drive's command, the mean gyro record).
 struct ClearancePlan {
   ClearanceFitProblem fp;
@@ -243,10 +251,11 @@ json clearance_table(const Context& c, const ClearanceRun& run) {
       fit.sensor_low_pass_hz > 0.0 ? fmt::format("{:g} Hz", fit.sensor_low_pass_hz) : std::string("none"));
   if (run.friction_dropped) {
     table["note"] = table["note"].get<std::string>() +
-                    fmt::format(" The joint's friction (Eq. 2.9) was fitted too (Coulomb {:.3g} N·m ± {:.0f} %, RMS {:.4g} "
+                    fmt::format(" The joint's friction (Eq. 2.9) was fitted too (Coulomb {} ± {:.0f} %, RMS {:.4g} "
                                 "deg/s), but its 1σ exceeds its value: this record does not determine it, so the model "
                                 "has none.",
-                                run.dropped_coulomb_n_m, 100.0 * run.dropped_coulomb_std, run.dropped_rms_deg_s);
+                                torque_text(run.dropped_coulomb_n_m), 100.0 * run.dropped_coulomb_std,
+                                run.dropped_rms_deg_s);
   }
   return table;
 }

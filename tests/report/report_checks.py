@@ -996,6 +996,36 @@ def check_zoom_note(study: Path, html: str, python_dir: Path, **_) -> None:
     expect(notes > 0, "no zoomed time axis to check")
 
 
+def _visible_text(html: str) -> str:
+    """The page's prose, tables and captions: no embedded images, scripts, styles or <pre> dumps."""
+    text = re.sub(r'src="data:[^"]*"', "", html)
+    text = re.sub(r"<(pre|script|style)\b.*?</\1>", "", text, flags=re.S)
+    return re.sub(r"<[^>]+>", " ", text)
+
+
+def check_study_texts(study: Path, results: dict, html: str, **_) -> None:
+    """22.10 (texts the C++ study writes): a summary figure's title names each quantity in its own unit
+    (the improvement table's "…, %" title stood over the mean deviations' degrees), and no number of
+    the page is in e-notation ("Coulomb 4.92e-05 N·m"): a unit with a prefix instead."""
+    index = json.loads((study / "figures.json").read_text(encoding="utf-8")).get("figures", [])
+    pct_titles = [t.get("title", "") for t in results.get("tables", []) if t.get("unit") == "%"]
+    summaries = [f for f in index if f.get("kind") == "md-summary"]
+    for f in summaries:
+        title, unit = f.get("title", ""), f.get("unit", "")
+        md = title.find(f"mean deviation ({unit})")
+        expect(md >= 0, f"{f['id']}: the title does not give the mean deviation's unit ({unit}): {title!r}")
+        expect("%" not in title[:max(md, 0)], f"{f['id']}: a % before the mean deviation in {title!r}")
+        expect(not any(t and t in title for t in pct_titles), f"{f['id']}: a % table's title over {unit}: {title!r}")
+    text = _visible_text(html)
+    enotation = [text[max(0, m.start() - 40):m.end() + 10] for m in re.finditer(r"(?<![\w.])\d+(?:\.\d+)?[eE][-+−]?\d+(?!\w)", text)]
+    expect(not enotation, f"numbers in e-notation: {enotation[:3]}")
+    coulomb = re.findall(r"Coulomb (\S+) (\S+) ±", text)
+    for value, unit in coulomb:
+        expect(unit in ("N·m", "mN·m", "µN·m") and re.fullmatch(r"[0-9.]+", value) is not None,
+               f"a Coulomb torque printed as {value} {unit}")
+    print(f"{len(summaries)} summary titles, {len(coulomb)} dropped Coulomb torques, {len(enotation)} e-notation numbers")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -1008,7 +1038,7 @@ CHECKS = {
     "drift-apart": check_drift_apart, "legend-strip": check_legend_strip,
     "summary-bars": check_summary_bars, "tick-labels": check_tick_labels,
     "number-formats": check_number_formats, "design-colours": check_design_colours,
-    "zoom-note": check_zoom_note,
+    "zoom-note": check_zoom_note, "study-texts": check_study_texts,
 }
 
 

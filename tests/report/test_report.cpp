@@ -331,6 +331,7 @@ REPORT_CHECK(TickLabelsApartOneUnshapedPairPerTable, "tick-labels")          // 
 REPORT_CHECK(OneNumberFormatPerColumnOneMinusSign, "number-formats")        // 22.11
 REPORT_CHECK(EachDesignsColourOnlyForThatDesign, "design-colours")          // 22.10
 REPORT_CHECK(AZoomedTimeAxisSaysWhichPartOfTheRecord, "zoom-note")          // 22.10
+REPORT_CHECK(StudyTextsGiveEachQuantityItsUnit, "study-texts")              // 22.10
 
 // Issue 22 on the what-if rigs: the quick large-play study (no thesis contact law or Eq. 4.1 figure in
 // its protocol) on its own rig and on the built-in worn-coupling rig (the thesis's drive and sensors,
