@@ -9,6 +9,7 @@
 
 #include <ceres/ceres.h>
 
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/core/error.hpp"
 #include "covariance.hpp"
 
@@ -223,17 +224,17 @@ std::vector<double> block_output(const ModalModel& model, std::size_t block, std
 ModalModel to_modal(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::RowVectorXd& c, double d,
                     const Eigen::VectorXd& x0, bool has_input) {
   const Eigen::Index n = a.rows();
-  Eigen::EigenSolver<Eigen::MatrixXd> es(a);
-  if (es.info() != Eigen::Success) throw RuntimeError("modal form: the eigen-decomposition of A failed");
+  const linalg::EigenDecomposition es = linalg::eigen(a, true);
+  if (!es.converged) throw RuntimeError("modal form: the eigen-decomposition of A failed");
   Eigen::MatrixXd t(n, n);
   std::vector<ModalBlock> blocks;
   Eigen::Index col = 0;
   for (Eigen::Index k = 0; k < n; ++k) {
-    const std::complex<double> z = es.eigenvalues()(k);
+    const std::complex<double> z = es.values(k);
     const double tol = 1e-10 * std::max(1.0, std::abs(z));
     if (z.imag() < -tol) continue;  // conjugate of a pair taken below
     ModalBlock blk;
-    const Eigen::VectorXcd v = es.eigenvectors().col(k);
+    const Eigen::VectorXcd v = es.vectors.col(k);
     if (z.imag() > tol) {
       if (col + 2 > n) break;
       blk.complex = true;

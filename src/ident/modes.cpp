@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/dsp/peaks.hpp"
 #include "clearshape/dsp/welch.hpp"
 #include "clearshape/ident/state_space_fit.hpp"
@@ -127,11 +128,11 @@ void check_free_response(const UniformSeries& response) {
 // real pole slower than the record of n samples is the constant offset when that is estimated.
 detail::ModalModel full_rate_blocks(const FreeResponseModel& era_model, std::size_t q, std::size_t n,
                                     bool estimate_offset) {
-  Eigen::EigenSolver<Eigen::MatrixXd> es(era_model.a, false);
+  const linalg::EigenDecomposition es = linalg::eigen(era_model.a);
   detail::ModalModel model;
   model.has_input = false;
-  for (Eigen::Index k = 0; k < es.eigenvalues().size(); ++k) {
-    const std::complex<double> zq = es.eigenvalues()(k);
+  for (Eigen::Index k = 0; k < es.values.size(); ++k) {
+    const std::complex<double> zq = es.values(k);
     if (std::abs(zq) == 0.0) continue;
     const std::complex<double> z = std::exp(std::log(zq) / static_cast<double>(q));
     const double tol = 1e-10 * std::max(1.0, std::abs(z));

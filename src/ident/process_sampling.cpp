@@ -6,8 +6,8 @@
 #include <string>
 
 #include <ceres/jet.h>
-#include <unsupported/Eigen/MatrixFunctions>
 
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/core/error.hpp"
 
 namespace clearshape::ident::detail {
@@ -166,7 +166,7 @@ Piece make_piece(const Realization& r, double h, bool derivatives, bool need_h) 
     return p;
   }
   const Eigen::MatrixXd gh = g * h;
-  const Eigen::MatrixXd e = gh.exp();  // Padé scaling and squaring (Higham 2005)
+  const Eigen::MatrixXd e = linalg::expm(gh);  // Padé scaling and squaring (Higham 2005)
   p.phi = e.topLeftCorner(n, n);
   p.gamma = e.block(0, n, n, 1);
   const Eigen::VectorXd j = e.block(0, n + 1, n, 1);
@@ -184,7 +184,7 @@ Piece make_piece(const Realization& r, double h, bool derivatives, bool need_h) 
     big.bottomRightCorner(m, m) = gh;
     big.block(0, m, n, n) = r.da[i] * h;
     big.block(0, m + n, n, 1) = r.db[i] * h;
-    const Eigen::MatrixXd eb = big.exp();
+    const Eigen::MatrixXd eb = linalg::expm(big);
     p.dphi[i] = eb.block(0, m, n, n);
     p.dgamma[i] = eb.block(0, m + n, n, 1);
     p.dlambda[i] = eb.block(0, m + n + 1, n, 1) / h;

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/ident/subspace.hpp"
 #include "process_detail.hpp"
@@ -106,10 +107,10 @@ std::vector<std::vector<std::complex<double>>> subspace_poles(const Experiment& 
       SubspaceOptions so;
       so.block_rows = std::max<std::size_t>(10, 2 * static_cast<std::size_t>(order));
       const SubspaceModel m = n4sid(d, static_cast<std::size_t>(order), so);
-      Eigen::EigenSolver<Eigen::MatrixXd> es(m.model.a, false);
+      const Eigen::VectorXcd values = linalg::eigen(m.model.a).values;
       std::vector<std::complex<double>> poles;
-      for (Eigen::Index k = 0; k < es.eigenvalues().size(); ++k) {
-        const std::complex<double> z = es.eigenvalues()(k);
+      for (Eigen::Index k = 0; k < values.size(); ++k) {
+        const std::complex<double> z = values(k);
         if (std::abs(z) == 0.0) continue;
         poles.push_back(std::log(z) / d.sample_time_s);  // s = ln z / T
       }

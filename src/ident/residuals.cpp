@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 
 namespace clearshape::ident {
 
@@ -113,12 +114,12 @@ void chi2_of_correlations(CorrelationTest& t, const std::vector<double>& kernel,
     for (Eigen::Index j = 0; j < size; ++j) p(i, j) = kernel[static_cast<std::size_t>(std::labs(i - j))];
   }
   const Eigen::Map<const Eigen::VectorXd> r(t.correlation.data(), size);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(p);
-  const double floor = 1e-10 * eig.eigenvalues().maxCoeff();
+  const linalg::SymmetricEigenDecomposition eig = linalg::symmetric_eigen(p);
+  const double floor = 1e-10 * eig.values.maxCoeff();
   for (Eigen::Index i = 0; i < size; ++i) {
-    const double lambda = eig.eigenvalues()(i);
+    const double lambda = eig.values(i);
     if (lambda <= floor) continue;
-    const double proj = eig.eigenvectors().col(i).dot(r);
+    const double proj = eig.vectors.col(i).dot(r);
     t.statistic += n * proj * proj / lambda;
     ++t.degrees_of_freedom;
   }

@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/ident/subspace.hpp"
 #include "decimation.hpp"
 
@@ -53,13 +54,13 @@ void check(const StabilisationOptions& o) {
 // pole λᵢ is (c wᵢ)(W⁻¹ v)ᵢ (eigenvectors W); s = ln z / T (ZOH-exact), ωn = |s|, ζ = −Re s/|s|.
 std::vector<DiagramPole> modal_poles(const Eigen::MatrixXd& a, const Eigen::RowVectorXd& c, const Eigen::VectorXd& v,
                                      double sample_time_s) {
-  Eigen::EigenSolver<Eigen::MatrixXd> es(a, true);
-  const Eigen::MatrixXcd w = es.eigenvectors();
+  const linalg::EigenDecomposition es = linalg::eigen(a, true);
+  const Eigen::MatrixXcd& w = es.vectors;
   const Eigen::VectorXcd weights = w.fullPivLu().solve(v.cast<std::complex<double>>());
   const Eigen::RowVectorXcd cw = c.cast<std::complex<double>>() * w;
   std::vector<DiagramPole> poles;
-  for (Eigen::Index k = 0; k < es.eigenvalues().size(); ++k) {
-    const std::complex<double> z = es.eigenvalues()(k);
+  for (Eigen::Index k = 0; k < es.values.size(); ++k) {
+    const std::complex<double> z = es.values(k);
     if (!(z.imag() > 1e-10 * std::max(1.0, std::abs(z))) || std::arg(z) >= kNyquistFraction * std::numbers::pi) continue;
     const std::complex<double> s = std::log(z) / sample_time_s;
     DiagramPole p;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/lti/polynomial.hpp"
 #include "clearshape/metrics/fit.hpp"
 #include "modal.hpp"
@@ -18,9 +19,8 @@ namespace {
 
 // Characteristic polynomial det(sI − M) from the eigenvalues.
 lti::Polynomial characteristic(const Eigen::MatrixXd& m) {
-  Eigen::EigenSolver<Eigen::MatrixXd> es(m, false);
-  std::vector<std::complex<double>> r;
-  for (Eigen::Index k = 0; k < es.eigenvalues().size(); ++k) r.push_back(es.eigenvalues()(k));
+  const Eigen::VectorXcd values = linalg::eigen(m).values;
+  std::vector<std::complex<double>> r(values.data(), values.data() + values.size());
   return lti::from_roots(r);
 }
 

@@ -3,14 +3,8 @@
 #include <complex>
 #include <string>
 
-#include <Eigen/Eigenvalues>
-// Eigen's MatrixFunction (behind log()) trips GCC 12's -Wnull-dereference inside Eigen itself.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wnull-dereference"
-#include <unsupported/Eigen/MatrixFunctions>
-#pragma GCC diagnostic pop
-
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 #include "hold_integrals.hpp"
 
 namespace clearshape::lti {
@@ -24,7 +18,7 @@ HoldIntegrals hold_integrals(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b,
   big.topLeftCorner(n, n) = a * h;
   big.block(0, n, n, m) = b * h;
   big.block(n, n + m, m, m).setIdentity();
-  const Eigen::MatrixXd e = big.exp();  // Padé scaling and squaring (Higham 2005)
+  const Eigen::MatrixXd e = linalg::expm(big);  // Padé scaling and squaring (Higham 2005)
   return {e.topLeftCorner(n, n), e.block(0, n, n, m), e.block(0, n + m, n, m)};
 }
 }  // namespace detail
@@ -76,16 +70,16 @@ StateSpace continuous_equivalent(const DiscreteStateSpace& model) {
   Eigen::MatrixXd aug = Eigen::MatrixXd::Identity(n + m, n + m);
   aug.topLeftCorner(n, n) = model.a;
   aug.topRightCorner(n, m) = model.b;
-  Eigen::EigenSolver<Eigen::MatrixXd> es(model.a, false);
+  const linalg::EigenDecomposition es = linalg::eigen(model.a);
   for (Eigen::Index k = 0; k < n; ++k) {
-    const std::complex<double> z = es.eigenvalues()(k);
+    const std::complex<double> z = es.values(k);
     if (std::abs(z.imag()) <= 1e-12 * std::abs(z) && z.real() <= 0.0) {
       throw RuntimeError("continuous_equivalent: discrete pole " + std::to_string(z.real()) +
                          " lies on the non-positive real axis; no real continuous model has this ZOH "
                          "equivalent (the sampling is too slow for that pole).");
     }
   }
-  const Eigen::MatrixXd l = aug.log() / model.sample_time_s;  // [A_c B_c; 0 0]
+  const Eigen::MatrixXd l = linalg::logm(aug) / model.sample_time_s;  // [A_c B_c; 0 0]
   StateSpace out;
   out.a = l.topLeftCorner(n, n);
   out.b = l.topRightCorner(n, m);

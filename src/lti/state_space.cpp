@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <string>
 
-#include <Eigen/Eigenvalues>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 
 namespace clearshape::lti {
 
@@ -67,9 +67,9 @@ std::vector<std::complex<double>> poles(const StateSpace& model) {
   validate(model, false, "poles");
   std::vector<std::complex<double>> result;
   if (model.order() == 0) return result;
-  Eigen::EigenSolver<Eigen::MatrixXd> solver(model.a, false);
-  if (solver.info() != Eigen::Success) throw RuntimeError("poles: eigenvalue computation did not converge");
-  const Eigen::VectorXcd values = solver.eigenvalues();
+  const linalg::EigenDecomposition solver = linalg::eigen(model.a);
+  if (!solver.converged) throw RuntimeError("poles: eigenvalue computation did not converge");
+  const Eigen::VectorXcd& values = solver.values;
   result.assign(values.data(), values.data() + values.size());
   std::sort(result.begin(), result.end(), pole_less);
   return result;

@@ -1,6 +1,6 @@
 #pragma once
 // Exact discretization of a continuous state-space model (matrix exponential of an augmented
-// matrix, Van Loan 1978, via Eigen unsupported MatrixFunctions), with SciPy's cont2discrete
+// matrix, Van Loan 1978, via core/linalg.hpp: Eigen unsupported MatrixFunctions), with SciPy's cont2discrete
 // conventions.
 #include <span>
 #include <vector>
