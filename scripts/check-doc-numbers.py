@@ -7,7 +7,8 @@ A quote is marked in README.md or docs/*.md by an HTML comment (invisible on the
 
 STUDY names the study folder `make run` writes (out/STUDY/results.json). PATH is a key path into
 that results.json: dot-separated keys, `name[key=value]` picks the element of a list whose `key` is
-`value`, `name[i]` the i-th element; it ends on a number or a list of numbers. FORMAT is a Python
+`value`, `name[i]` the i-th element, `name[k]` on an object its key k (one with dots: `[B.1]`); it
+ends on a number or a list of numbers. FORMAT is a Python
 format spec (`.1f`, `.4f`, `.0f`; `.2%` writes a fraction in per cent). The quoted text is the
 marker's line when it holds more than markers (a table row ending in one), else the next line that
 is not a marker (a whole code block when that line opens one). The formatted values of every PATH, in order, must be a run of
@@ -16,7 +17,7 @@ cells quote two numbers each). A value that changed, a key that is gone, a marke
 nothing fail, naming the doc's file and line:
 
     /usr/bin/python3 scripts/check-doc-numbers.py [--out out] [--results STUDY=FILE ...]
-                     [--only STUDY ...] [--docs FILE ...] [--repo DIR]
+                     [--only STUDY ...] [--docs FILE ...] [--repo DIR] [--require-all] [--lint]
 
 Markers whose study has no results.json (not run) are reported as not checked, and fail only
 with --require-all. Exit 0 when every checked quote holds, 1 when one drifted, 2 on a bad marker
@@ -51,6 +52,11 @@ def resolve(doc: dict, path: str):
             raise MarkerError(f"no key '{m.group(1)}'")
         node = node[m.group(1)]
         for sel in re.findall(r"\[([^\]]+)\]", m.group(2)):
+            if isinstance(node, dict):  # [key] on an object: a key with dots in it ("B.1")
+                if sel not in node:
+                    raise MarkerError(f"no key '{sel}' in '{m.group(1)}'")
+                node = node[sel]
+                continue
             if not isinstance(node, list):
                 raise MarkerError(f"'{seg}' selects [{sel}] from a non-list")
             if "=" in sel:
@@ -128,6 +134,24 @@ def markers(doc: Path):
             yield i + 1, m.group(1), rest
 
 
+def lint(docs: list[Path], repo: Path) -> int:
+    """Every marker parses and quotes a text with numbers in it (no results.json needed)."""
+    n, bad = 0, 0
+    for doc in docs:
+        rel = doc.relative_to(repo) if doc.is_relative_to(repo) else doc
+        for line, body, text in markers(doc):
+            n += 1
+            try:
+                parse_marker(body)
+                if not written_numbers(text):
+                    raise MarkerError("the quoted text holds no number")
+            except MarkerError as e:
+                print(f"doc-numbers: {rel}:{line}: bad marker: {e}")
+                bad += 1
+    print(f"doc-numbers: {n} markers, {bad} bad")
+    return 2 if bad else 0
+
+
 def check(docs: list[Path], repo: Path, results: dict[str, Path], only: set[str], require_all: bool) -> int:
     cache: dict[str, dict] = {}
     bad, drifted, checked, unchecked = 0, 0, 0, set()
@@ -174,6 +198,7 @@ def main(argv) -> int:
     ap.add_argument("--only", action="append", default=[], metavar="STUDY", help="check this study's quotes only")
     ap.add_argument("--docs", action="append", type=Path, default=[], help="docs to read (default README.md, docs/*.md)")
     ap.add_argument("--require-all", action="store_true", help="fail when a marked study has no results.json")
+    ap.add_argument("--lint", action="store_true", help="only parse the markers (no results.json read)")
     a = ap.parse_args(argv)
     repo = a.repo.resolve()
     out = (a.out or repo / "out").resolve()
@@ -186,6 +211,8 @@ def main(argv) -> int:
         for _, body, _ in markers(d):
             study = body.split()[0] if body.split() else ""
             results.setdefault(study, out / study / "results.json")
+    if a.lint:
+        return lint(docs, repo)
     for r in a.results:
         if "=" not in r:
             print(f"doc-numbers: --results {r}: expected STUDY=FILE", file=sys.stderr)

@@ -29,6 +29,13 @@ COLUMNS = [("none", "unshaped"), ("zvdd@link-mode", "ZVDD"), ("ei@link-mode", "E
 BEGIN, END = "<!-- large-play-table:begin -->", "<!-- large-play-table:end -->"
 
 
+def marker(out, *quotes):
+    """A doc-numbers marker (scripts/check-doc-numbers.py): the row's numbers from results.json, which
+    `make run` checks against its own out/large-play-position (the delay and contact columns come from
+    the runs' sidecars and `clearshape simulate`, and are not in results.json)."""
+    return f" <!-- doc-numbers {os.path.basename(out)} {' '.join(quotes)} -->"
+
+
 def run_study(exe, rig, out):
     args = [exe, "study", "studies/large-play-position.toml", "--out", out]
     if rig != "large-play":
@@ -67,7 +74,7 @@ def contact(exe, rig, sig, impulses, tmp):
     return side["summary"]["peak_contact_torque_n_m"], onsets
 
 
-def reach_lines(res, rig):
+def reach_lines(res, rig, out_dir):
     """The study's own "What a command can reach here" (results.json table "reach"): each input's
     90 % target (0.1 × the unshaped mean MD) against the measurement floor, Eq. 5.1 on the rest
     trials (rig_tests.floor_trials) over the window the input's trials used."""
@@ -88,9 +95,15 @@ def reach_lines(res, rig):
         t = next(x for x in res["tables"] if x["id"] == table)
         best = next((c["label"] for c in t["columns"] if c["key"] == h["best_column"]), "—")
         best_md = f"{h['best_mean']:.4f}" if h["best_mean"] is not None else "—"
+        path = f"tables[id=reach].headline[{table}]"
+        keys = [f"{path}.{k}:{spec}" for k, spec in (("unshaped_mean", ".4f"), ("unshaped_std", ".4f"), ("target", ".4f"),
+                                                      ("floor_mean", ".4f"), ("floor_std", ".4f"),
+                                                      ("floor_improvement_percent", ".0f"))]
+        if h["best_mean"] is not None:
+            keys.append(f"{path}.best_mean:.4f")
         out.append(f"| {label} | {h['unshaped_mean']:.4f} ± {h['unshaped_std']:.4f} | {h['target']:.4f} | "
                    f"{h['floor_mean']:.4f} ± {h['floor_std']:.4f} | {h['floor_improvement_percent']:.0f} % | "
-                   f"{best} | {best_md} | {h['verdict']} |")
+                   f"{best} | {best_md} | {h['verdict']} |" + marker(out_dir, *keys))
     return out
 
 
@@ -127,9 +140,12 @@ def main():
                     delay = imp[-1]["time_s"] if imp else 0.0
                     torque, impacts = contact(exe, rig, sig, imp, tmp)
                     improvement = "" if key == "none" else f"{100.0 * (1.0 - c['ours_mean'] / base):.0f} %"
+                    col = f"tables[id={table}].columns[key={key}]"
+                    quotes = [f"{col}.ours_mean:.4f", f"{col}.ours_std:.4f"]
+                    quotes += [] if key == "none" else [f"{col}.improvement_percent:.0f"]
                     lines.append(f"| {label} | {name} | {c['ours_mean']:.4f} ± {c['ours_std']:.4f} | {improvement} | "
-                                 f"{delay:.3f} | {torque:.2f} | {impacts} |")
-            lines += reach_lines(res, rig)
+                                 f"{delay:.3f} | {torque:.2f} | {impacts} |" + marker(out, *quotes))
+            lines += reach_lines(res, rig, out)
             ca = res["sections"].get("clearance_aware")
             if ca:
                 lines.append(f"\nclearance-aware on the {rig} rig: impulses "
@@ -150,7 +166,10 @@ def main():
             lm = res["sections"]["link_mode"]
             lines.append(f"Fitted on this rig: play {cl['play_deg']:.4f} deg, K {cl['stiffness_n_m_per_rad_pow_n']:.4g}, "
                          f"n {cl['exponent']:.3f}, D {cl['damping_n_m_s_per_rad']:.4g}; link mode "
-                         f"{lm.get('natural_frequency_hz', float('nan')):.3f} Hz, ζ {lm.get('damping_ratio', float('nan')):.3f}.\n")
+                         f"{lm.get('natural_frequency_hz', float('nan')):.3f} Hz, ζ {lm.get('damping_ratio', float('nan')):.3f}."
+                         + marker(out, "sections.clearance.play_deg:.4f") + marker(out, "sections.clearance.exponent:.3f")
+                         + marker(out, "sections.link_mode.natural_frequency_hz:.3f", "sections.link_mode.damping_ratio:.3f")
+                         + "\n")
     text = "\n".join(lines)
     print(text)
     if a.write:

@@ -57,3 +57,9 @@ if (( ${#reports[@]} > 0 )); then
 else
   echo "Report: out/<study>/tables.md for ${studies[*]} ${arm_studies[*]}"
 fi
+# The numbers README.md and docs/*.md quote from these studies (their doc-numbers markers) are what
+# the studies just wrote (issue 22, item 13): a drifted quote fails the run, naming the doc's line.
+if ! /usr/bin/python3 scripts/check-doc-numbers.py --out out; then
+  echo "clearshape: the docs quote numbers these studies no longer give (listed above): update the docs" >&2
+  exit 1
+fi
