@@ -98,6 +98,36 @@ DriveModel DriveModel::first_order_position(double time_constant_s, double unit)
   return position_mode(ss, unit, 0.0);
 }
 
+DriveModel::Realization DriveModel::realization() const {
+  return {mode_, a_, b_, c_angle_, c_rate_, d_rate_, delay_s_};
+}
+
+DriveModel DriveModel::from_realization(const Realization& r) {
+  const auto n = r.a.rows();
+  if (n < 1 || n > kMaxDriveOrder) {
+    throw_invalid("drive.order", static_cast<double>(n), "1…" + std::to_string(kMaxDriveOrder));
+  }
+  if (r.a.cols() != n || r.b.size() != n || r.c_angle.size() != n || r.c_rate.size() != n) {
+    throw InvalidArgument("drive realization: a must be n×n and b, c_angle, c_rate n long (n = " +
+                          std::to_string(n) + ")");
+  }
+  if (!r.a.allFinite() || !r.b.allFinite() || !r.c_angle.allFinite() || !r.c_rate.allFinite()) {
+    throw InvalidArgument("drive realization: non-finite entries");
+  }
+  require_finite("drive.d_rate", r.d_rate);
+  require_finite("drive.delay_s", r.delay_s);
+  require_non_negative("drive.delay_s", r.delay_s);
+  DriveModel m;
+  m.mode_ = r.mode;
+  m.a_ = r.a;
+  m.b_ = r.b;
+  m.c_angle_ = r.c_angle;
+  m.c_rate_ = r.c_rate;
+  m.d_rate_ = r.d_rate;
+  m.delay_s_ = r.delay_s;
+  return m;
+}
+
 double DriveModel::acceleration_rad_s2(const Eigen::Ref<const Eigen::VectorXd>& x, double u,
                                        double u_rate) const noexcept {
   double ax = 0.0;

@@ -15,6 +15,7 @@
 #include "clearshape/rig/sim_rig.hpp"
 #include "clearshape/rig/truth.hpp"
 #include "clearshape/study/record.hpp"
+#include "truth_state.hpp"
 
 namespace clearshape::python {
 namespace {
@@ -113,17 +114,7 @@ void set_contact(rg::RigTruth& t, const std::string& mode, std::optional<double>
   c.validate();
 }
 
-py::dict variation_dict(const rg::RigTruth& t) {
-  const auto& v = t.variation;
-  py::dict d;
-  d["position_gain_rel_sigma"] = v.position_gain_rel_sigma;
-  d["speed_gain_rel_sigma"] = v.speed_gain_rel_sigma;
-  d["start_latency_max_s"] = v.start_latency_max_s;
-  d["analog_noise_v"] = v.analog_noise_v;
-  d["analog_offset_sigma_v"] = v.analog_offset_sigma_v;
-  d["flank_damping_rel_sigma"] = v.flank_damping_rel_sigma;
-  return d;
-}
+py::dict variation_dict(const rg::RigTruth& t) { return variation_state(t.variation); }
 
 // Sets the σs a dict names (the others keep their values); an unknown key or a value out of
 // range changes nothing.
@@ -165,7 +156,12 @@ void bind_rig_truth(py::module_& m) {
            py::arg("damping") = py::none(), py::arg("exponent") = py::none(),
            "Changes the contact law's stiffness K (N·m/rad^n), damping D (N·m·s/rad) or exponent n for a mode.")
       .def_property("variation", &variation_dict, &set_variation,
-                    "Run-to-run variation σs (dict; rig/variation.hpp). simulate() runs the nominal rig; simulate_rig() draws them.");
+                    "Run-to-run variation σs (dict; rig/variation.hpp). simulate() runs the nominal rig; simulate_rig() draws them.")
+      // A value (docs/design.md §3): == compares every field, a pickle carries every field bit for
+      // bit (multiprocessing, Dask); mutable, so not hashable.
+      .def("__eq__", [](const rg::RigTruth& a, const rg::RigTruth& b) { return truth_state(a).equal(truth_state(b)); },
+           py::is_operator())
+      .def(py::pickle(&truth_state, &truth_from_state));
 }
 
 // The names truth(name) knows: the built-in truths (rig/builtin_truths.hpp) and the prior.
@@ -190,7 +186,8 @@ void bind_truths(py::module_& m) {
         "Names of the truths truth(name) knows: the built-in ones (thesis, large-play, …) and uncalibrated.");
   m.def("truth", &truth_of, py::arg("name"),
         "A truth by name: thesis (the calibrated thesis rig), large-play (1° steel-pin joint; docs/large-play.md), "
-        "uncalibrated (the physical prior of the calibration).");
+        "worn-coupling (1° of play, soft flank, bearing Coulomb; docs/worn-coupling.md), uncalibrated (the physical "
+        "prior of the calibration). An unknown name raises ValueError listing truth_names().");
   m.def("thesis_truth", &rg::thesis_rig_truth, "The built-in truth: the calibrated thesis rig (2β = 0.032°).");
   m.def("uncalibrated_truth", &rg::uncalibrated_thesis_rig_prior,
         "The physical prior the calibration starts from (2β = 1.0°).");

@@ -54,6 +54,20 @@ class DriveModel {
   static DriveModel first_order_position(double time_constant_s,
                                          double output_unit_rad = 0.017453292519943295);
 
+  /// The model's stored realization (the accessors below, together): from_realization() of it
+  /// rebuilds the model bit for bit (a copy sent across processes, e.g. a Python pickle).
+  struct Realization {
+    DriveMode mode = DriveMode::position;
+    Matrix a;
+    Vector b, c_angle, c_rate;
+    double d_rate = 0.0;
+    double delay_s = 0.0;
+  };
+  Realization realization() const;
+  /// Throws InvalidArgument naming the field: an order outside 1…kMaxDriveOrder, sizes that do
+  /// not match a (n×n), non-finite entries, a negative or non-finite delay.
+  static DriveModel from_realization(const Realization& r);
+
   DriveMode mode() const noexcept { return mode_; }
   int order() const noexcept { return static_cast<int>(a_.rows()); }
   double delay_s() const noexcept { return delay_s_; }
