@@ -54,6 +54,14 @@ def test_shape_and_streaming_refuse_nan_and_complex_alike_and_step_holds():
     ramp = np.linspace(0.0, 1.0, 80)
     held.process(ramp), twin.process(ramp)
     assert held.step(float("nan")) == twin.step(1.0)  # the previous input (1.0) in its place
+    # step() refuses a complex sample too (NumPy's complex scalars would truncate through float()),
+    # naming the argument, and steps nothing; real NumPy scalars are taken as floats.
+    for bad in (1 + 1j, np.complex128(1.0), np.complex64(2.0)):
+        with pytest.raises(ValueError, match=r"value = .* is complex"):
+            held.step(bad)
+    with pytest.raises(TypeError, match="value must be a real number, got str"):
+        held.step("1.0")
+    assert held.step(np.float32(1.0)) == twin.step(1.0) and held.step(np.int64(1)) == twin.step(1.0)
     assert list(clearshape.shape(s, [0.0, 1.0, 1.0], 1e-3, extend=False)) == list(clearshape.shape(s, np.array([0.0, 1.0, 1.0]), 1e-3, extend=False))
 
 

@@ -96,6 +96,22 @@ std::vector<double> shaping_input(const py::object& samples) {
   return v;
 }
 
+// One sample for StreamingShaper.step: a real number (a NaN is the C++ step's to hold); a complex
+// one (also NumPy's complex64/complex128, which float() would truncate) is refused.
+double step_input(const py::handle& value) {
+  if (PyFloat_Check(value.ptr()) || PyLong_Check(value.ptr())) return value.cast<double>();
+  if (PyComplex_Check(value.ptr()) || py::module_::import("numpy").attr("iscomplexobj")(value).cast<bool>()) {
+    throw InvalidArgument("value = " + py::str(value).cast<std::string>() +
+                          " is complex; step takes a real sample (pass value.real)");
+  }
+  const double x = PyFloat_AsDouble(value.ptr());  // float(value), without NumPy's truncating warning path
+  if (x == -1.0 && PyErr_Occurred()) {
+    PyErr_Clear();
+    throw py::type_error("value must be a real number, got " + py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+  }
+  return x;
+}
+
 py::array_t<double> shape(const sh::Shaper& shaper, const py::object& values, double sample_time_s, bool extend,
                           const std::string& discretization, std::optional<double> frequency_hz,
                           std::optional<double> zeta) {
@@ -250,7 +266,8 @@ void bind_streaming_shaper(py::module_& m) {
       .def(py::init<const sh::Shaper&, double, double>(), py::arg("shaper"), py::arg("sample_time_s"),
            py::arg("initial_value") = 0.0,
            "A streaming shaper at sample_time_s (s); the history starts at initial_value.")
-      .def("step", py::overload_cast<double>(&sh::StreamingShaper::step), py::arg("value"),
+      .def("step", [](sh::StreamingShaper& s, const py::handle& value) { return s.step(step_input(value)); },
+           py::arg("value"),
            "Pushes one input sample and returns the shaped output. A non-finite input is held as the real-time path "
            "holds it (shaping/streaming.hpp): the previous input takes its place, so the output stays finite.")
       .def("process", [](sh::StreamingShaper& s, const py::object& values) {
