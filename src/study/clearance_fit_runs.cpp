@@ -501,7 +501,7 @@ Refined refine(Fit& f, Runs& v) {
         accepted = true;
         if (gain < 1e-6 || scaled < 1e-3) {
           out.converged = true;
-          out.termination = gain < 1e-6 ? "relative decrease below 1e-6" : "step below 1e-3 of the difference steps";
+          out.termination = gain < 1e-6 ? "relative decrease below 10⁻⁶" : "step below 10⁻³ of the difference steps";
         }
       } else {
         lambda *= 10.0;

@@ -1026,6 +1026,48 @@ def check_study_texts(study: Path, results: dict, html: str, **_) -> None:
     print(f"{len(summaries)} summary titles, {len(coulomb)} dropped Coulomb torques, {len(enotation)} e-notation numbers")
 
 
+def _bootstrap_means(x, rng):
+    """Every equally likely resample mean of `x` (exact when n^n ≤ 10⁵), else 10⁵ random ones."""
+    import itertools
+    import numpy as np
+    if len(x) ** len(x) <= 100_000:
+        return np.array([np.mean(p) for p in itertools.product(x, repeat=len(x))]), True
+    return rng.choice(np.asarray(x), size=(100_000, len(x))).mean(axis=1), False
+
+
+def check_bootstrap_reference(results: dict, **_) -> None:
+    """22.4: each shaped column's 95 % interval of the improvement is the percentile bootstrap over the
+    trials (each group resampled on its own; Efron & Tibshirani 1993, §13.3), recomputed independently
+    with NumPy — exactly, over every resample, for the quick study's 3 trials — to 5 % of its width,
+    and "significant" exactly when the interval excludes 0."""
+    import numpy as np
+    rng = np.random.default_rng(22)
+    compared, worst = 0, 0.0
+    for t in _rig_trial_tables(results):
+        base = next((c for c in t["columns"] if c.get("key") == "none"), None)
+        for c in t["columns"]:
+            ci = c.get("improvement_ci95_percent")
+            if c is base or base is None or not isinstance(ci, list) or not all(isinstance(v, (int, float)) for v in ci):
+                continue
+            mu, exact_u = _bootstrap_means(base["ours"], rng)
+            mw, exact_w = _bootstrap_means(c["ours"], rng)
+            exact = exact_u and exact_w  # else both random: independent resamples, paired at random
+            stat = (100.0 * (1.0 - mw[None, :] / mu[:, None])).ravel() if exact else \
+                100.0 * (1.0 - rng.permutation(mw)[:min(len(mu), len(mw))] / mu[:min(len(mu), len(mw))])
+            lo, hi = np.percentile(stat, [2.5, 97.5])
+            off = max(abs(ci[0] - lo), abs(ci[1] - hi)) / max(hi - lo, 1e-9)
+            worst = max(worst, off)
+            compared += 1
+            # The study's 4000 resamples put a quantile within ~1 % of the width (1σ); a 90 % interval
+            # would be ~8 % off: 5 % against the exact reference, 8 % against a random one.
+            expect(off <= (0.05 if exact else 0.08),
+                   f"{t['id']} {c['key']}: interval {ci} against the reference [{lo:.3f}, {hi:.3f}]")
+            sig = c.get("improvement_significant")
+            expect(sig == (not ci[0] <= 0 <= ci[1]), f"{t['id']} {c['key']}: significant = {sig} for {ci}")
+    expect(compared > 0, "no bootstrap interval to compare")
+    print(f"{compared} intervals against the NumPy reference; worst endpoint off by {100 * worst:.1f} % of the width")
+
+
 CHECKS = {
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
@@ -1039,6 +1081,7 @@ CHECKS = {
     "summary-bars": check_summary_bars, "tick-labels": check_tick_labels,
     "number-formats": check_number_formats, "design-colours": check_design_colours,
     "zoom-note": check_zoom_note, "study-texts": check_study_texts,
+    "bootstrap-reference": check_bootstrap_reference,
 }
 
 

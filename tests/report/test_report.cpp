@@ -95,13 +95,6 @@ std::string body_attribute(const std::string& dom, const std::string& name) {
   return m[1].str();
 }
 
-std::string fmt_one_decimal(const nlohmann::json& v) {
-  if (!v.is_number()) return "—";
-  std::array<char, 32> b{};
-  std::snprintf(b.data(), b.size(), "%.1f", v.get<double>());
-  return b.data();
-}
-
 std::size_t count(const std::string& text, const std::string& needle) {
   std::size_t n = 0;
   for (auto pos = text.find(needle); pos != std::string::npos; pos = text.find(needle, pos + 1)) ++n;
@@ -332,6 +325,7 @@ REPORT_CHECK(OneNumberFormatPerColumnOneMinusSign, "number-formats")        // 2
 REPORT_CHECK(EachDesignsColourOnlyForThatDesign, "design-colours")          // 22.10
 REPORT_CHECK(AZoomedTimeAxisSaysWhichPartOfTheRecord, "zoom-note")          // 22.10
 REPORT_CHECK(StudyTextsGiveEachQuantityItsUnit, "study-texts")              // 22.10
+REPORT_CHECK(BootstrapIntervalsMatchANumPyReference, "bootstrap-reference")   // 22.4
 
 // Issue 22 on the what-if rigs: the quick large-play study (no thesis contact law or Eq. 4.1 figure in
 // its protocol) on its own rig and on the built-in worn-coupling rig (the thesis's drive and sensors,
@@ -390,30 +384,23 @@ INSTANTIATE_TEST_SUITE_P(WhatIf, ReportOtherRig,
                            return *rig.param.rig_option ? std::string("WornCoupling") : std::string("LargePlay");
                          });
 
-// Issue 22.13: the numbers docs/cli.md quotes for Table B.6 are the full position study's output (to
-// one decimal), so the page fails when the study drifts from what the documentation says. Issue
+// Issue 22.13: every number README.md and docs/*.md quote from the full position study (their
+// doc-numbers markers, e.g. docs/cli.md's Table B.6) is that study's output, checked by
+// scripts/check-doc-numbers.py as `make run` does, so the docs fail when the study drifts. Issue
 // 22.9: README's figure is that study's rig-B.1 as python/readme_figure.py draws it (make run
 // redraws it): its record (title, legend with Eq. 5.1's numbers) must match a fresh drawing.
-TEST(ReportDocs, CliAndReadmeShowTheFullStudy) {
+TEST(ReportDocs, DocsAndReadmeShowTheFullStudy) {
   const fs::path protocol = repo_root() / "studies" / "thesis-position.toml";
   if (clearshape::testing::run_cli("study --help").exit_code != 0) GTEST_SKIP() << "clearshape study is not available";
-  const std::string doc = read_file(repo_root() / "docs" / "cli.md");
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(doc, m, std::regex("improves the mean deviation by ([0-9./]+) %"))) << "docs/cli.md";
   const fs::path dir = fs::temp_directory_path() / ("clearshape_report_full_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const auto r = clearshape::testing::run_cli("study " + quote(protocol) + " --out " + quote(dir));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto results = nlohmann::json::parse(read_file(dir / "results.json"));
-  std::string ours;
-  for (const auto& t : results.at("tables")) {
-    if (t.at("id") != "B.6") continue;
-    for (const auto& v : t.at("columns").at(0).at("ours")) {
-      if (!ours.empty()) ours += '/';  // appended, not ("/" + …): GCC 12 -Wrestrict false positive
-      ours += fmt_one_decimal(v);
-    }
-  }
-  EXPECT_EQ(m[1].str(), ours) << "docs/cli.md quotes B.6 as " << m[1].str() << ", the study gives " << ours;
+  const Shell numbers = run("/usr/bin/python3 " + quote(repo_root() / "scripts" / "check-doc-numbers.py") +
+                            " --only thesis-position --results thesis-position=" + quote(dir / "results.json"));
+  EXPECT_EQ(numbers.exit_code, 0) << numbers.out;
+  EXPECT_NE(numbers.out.find(" 0 drifted"), std::string::npos) << numbers.out;
+  EXPECT_EQ(numbers.out.find(" 0 quotes checked"), std::string::npos) << "no thesis-position quote marked:\n" << numbers.out;
   const fs::path png = dir / "readme" / "step20-zvdd.png";
   const Shell f = run("/usr/bin/python3 " + quote(python_dir() / "readme_figure.py") + " " + quote(dir) + " " + quote(png));
   ASSERT_EQ(f.exit_code, 0) << f.out;
