@@ -20,12 +20,13 @@ run_packages=(
   python3 python3-numpy python3-matplotlib python3-jinja2 fonts-dejavu-core
 )
 # make test adds the test frameworks, SciPy (golden data), the firmware tool chain and simavr,
-# Chromium, what sweeps and the real-time checks use, and help2man (the .deb's man page).
+# Chromium, what sweeps and the real-time checks use, help2man (the .deb's man page) and MuJoCo
+# (the independent reference of the arm's rigid-body dynamics, tests/arm/test_mujoco.cpp).
 packages=(
   "${run_packages[@]}"
   libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3-scipy python3-pytest python3-h5py python3-distributed
-  help2man
+  help2man libmujoco-dev
   chromium
   gcc-avr avr-libc simavr libsimavr-dev
   rt-tests
