@@ -334,20 +334,16 @@ nlohmann::ordered_json shape_document(const ShapeState& st, const AppliedShaper&
   if (m == sh::Method::si) {
     doc["band"] = {{"frequency_low_hz", st.shaper.band_low_hz}, {"frequency_high_hz", st.shaper.band_high_hz}};
   }
-  nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
-  for (const sh::Impulse& p : s.impulses()) impulses.push_back({{"t", p.time_s}, {"a", p.amplitude}});
-  doc["impulses"] = impulses;
-  doc["units"] = {{"t", "s"}, {"a", "1 (fraction of the command; sum 1)"}};
+  doc["impulses"] = impulses_json(s);
+  doc["units"] = impulse_units_json("1 (fraction of the command; sum 1)");
   doc["duration_s"] = s.duration_s();
   doc["positive"] = s.is_positive();
   doc["residual_at_design"] = v_design ? nlohmann::ordered_json(*v_design) : nlohmann::ordered_json(nullptr);
   doc["insensitivity"] = band ? band_json(*band, *d.mode, kReportVtol) : nlohmann::ordered_json(nullptr);
   if (a.designed) {  // the impulses above are on the drive's update grid
-    nlohmann::ordered_json designed = nlohmann::ordered_json::array();
-    for (const sh::Impulse& p : a.designed->impulses()) designed.push_back({{"t", p.time_s}, {"a", p.amplitude}});
     doc["update_grid"] = {{"grid_hz", st.grid_hz},
                           {"update_period_s", 1.0 / st.grid_hz},
-                          {"designed_impulses", designed},
+                          {"designed_impulses", impulses_json(*a.designed)},
                           {"designed_duration_s", a.designed->duration_s()},
                           {"designed_residual_at_design",
                            d.mode ? nlohmann::ordered_json(sh::residual_vibration(*a.designed, *d.mode)) : nlohmann::ordered_json(nullptr)}};

@@ -74,6 +74,20 @@ double design_duration_bound(const ClearanceAwareOptions& o, const study::Identi
   return shaping::design(zvdd).duration_s();
 }
 
+nlohmann::ordered_json impulse_json(double time_s, double amplitude) {
+  return {{"time_s", time_s}, {"amplitude", amplitude}, {"t", time_s}, {"a", amplitude}};
+}
+
+nlohmann::ordered_json impulses_json(const shaping::Shaper& shaper) {
+  nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
+  for (const auto& p : shaper.impulses()) impulses.push_back(impulse_json(p.time_s, p.amplitude));
+  return impulses;
+}
+
+nlohmann::ordered_json impulse_units_json(const std::string& amplitude_unit) {
+  return {{"time_s", "s"}, {"amplitude", amplitude_unit}, {"t", "s"}, {"a", amplitude_unit}};
+}
+
 std::string custom_impulses_argument(const shaping::Shaper& shaper) {
   std::string out;
   for (const auto& p : shaper.impulses()) {
@@ -121,10 +135,8 @@ void run_clearance_aware(const ClearanceAwareOptions& o, double frequency_hz, do
   const std::string impulses_arg = custom_impulses_argument(r.shaper);
   if (json) {
     auto doc = design_document(o, "clearance-aware", request.max_duration_s, bound_source);
-    nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
-    for (const auto& p : r.shaper.impulses()) impulses.push_back({{"t", p.time_s}, {"a", p.amplitude}});
-    doc["impulses"] = impulses;
-    doc["units"] = {{"t", "s"}, {"a", "1 (fraction of the command; sum 1)"}};
+    doc["impulses"] = impulses_json(r.shaper);
+    doc["units"] = impulse_units_json("1 (fraction of the command; sum 1)");
     doc["custom_impulses"] = impulses_arg;  // `shape --method custom --impulses …` (and --export)
     doc["duration_s"] = r.shaper.duration_s();
     doc["positive"] = r.shaper.is_positive();

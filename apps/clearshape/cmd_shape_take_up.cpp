@@ -42,13 +42,14 @@ void run_take_up(const ClearanceAwareOptions& o, double frequency_hz, double zet
     nlohmann::ordered_json moves = nlohmann::ordered_json::array();
     for (std::size_t i = 0; i < r.moves.size(); ++i) {
       auto m = study::take_up_move_json(r.moves[i]);
+      m["impulses"] = impulses_json(r.moves[i].shaper);  // shape --json's impulse names (the study's are t/a)
       m["custom_impulses"] = custom_impulses_argument(r.moves[i].shaper);
       const double t = r.flank_keeping_move_time_s[i];
       m["flank_keeping_move_time_s"] = std::isfinite(t) ? nlohmann::ordered_json(t) : nlohmann::ordered_json(nullptr);
       moves.push_back(m);
     }
     doc["moves"] = moves;
-    doc["units"] = {{"t", "s"}, {"a", "1 (fraction of the move; sum 1)"}};
+    doc["units"] = impulse_units_json("1 (fraction of the move; sum 1)");
     doc["design_time_s"] = seconds;
     print_json(doc);
     return;

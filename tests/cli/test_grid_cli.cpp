@@ -45,18 +45,18 @@ const std::string kRecommend = "recommend --data " + golden_path("recommend_one_
 TEST(GridCli, ShapeJsonShowsTheAppliedShaperAndTheDesign) {
   const auto j = run_json("shape --method zv -f 14 -z 0 --grid-hz 30 --json");
   ASSERT_EQ(j["impulses"].size(), 2u);
-  EXPECT_DOUBLE_EQ(j["impulses"][1]["t"].get<double>(), 1.0 / 30.0);
+  EXPECT_DOUBLE_EQ(j["impulses"][1]["time_s"].get<double>(), 1.0 / 30.0);
   EXPECT_NEAR(j["residual_at_design"].get<double>(), std::abs(std::cos(M_PI * 14.0 / 30.0)), 1e-12);
   EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 1.0 / 30.0);
   EXPECT_DOUBLE_EQ(j["update_grid"]["grid_hz"].get<double>(), 30.0);
-  EXPECT_NEAR(j["update_grid"]["designed_impulses"][1]["t"].get<double>(), 1.0 / 28.0, 1e-15);
+  EXPECT_NEAR(j["update_grid"]["designed_impulses"][1]["time_s"].get<double>(), 1.0 / 28.0, 1e-15);
   EXPECT_LT(j["update_grid"]["designed_residual_at_design"].get<double>(), 1e-12);
 
   const auto on = run_json("shape --method zv -f 15 -z 0 --grid-hz 30 --json");
   const auto off = run_json("shape --method zv -f 15 -z 0 --json");
   for (int i = 0; i < 2; ++i) {
-    EXPECT_NEAR(on["impulses"][i]["t"].get<double>(), off["impulses"][i]["t"].get<double>(), 1e-12);
-    EXPECT_NEAR(on["impulses"][i]["a"].get<double>(), off["impulses"][i]["a"].get<double>(), 1e-12);
+    EXPECT_NEAR(on["impulses"][i]["time_s"].get<double>(), off["impulses"][i]["time_s"].get<double>(), 1e-12);
+    EXPECT_NEAR(on["impulses"][i]["amplitude"].get<double>(), off["impulses"][i]["amplitude"].get<double>(), 1e-12);
   }
   EXPECT_LT(on["residual_at_design"].get<double>(), 1e-12);
   EXPECT_FALSE(off.contains("update_grid"));

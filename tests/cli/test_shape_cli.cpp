@@ -42,9 +42,9 @@ TEST(ShapeCli, JsonFields) {
   EXPECT_TRUE(j.contains("schema_version"));
   EXPECT_EQ(j["method"], "zvd");
   ASSERT_EQ(j["impulses"].size(), 3u);
-  EXPECT_EQ(j["impulses"][0]["t"], 0.0);
-  EXPECT_NEAR(double(j["impulses"][0]["a"]), 0.334415, 1e-6);
-  EXPECT_NEAR(double(j["impulses"][2]["t"]), 0.100504, 1e-6);
+  EXPECT_EQ(j["impulses"][0]["time_s"], 0.0);
+  EXPECT_NEAR(double(j["impulses"][0]["amplitude"]), 0.334415, 1e-6);
+  EXPECT_NEAR(double(j["impulses"][2]["time_s"]), 0.100504, 1e-6);
   EXPECT_NEAR(double(j["duration_s"]), 0.100504, 1e-6);
   EXPECT_NEAR(double(j["insensitivity"]["width"]), 0.3402, 1e-4);
   EXPECT_EQ(j["insensitivity"]["vtol"], 0.05);
@@ -53,12 +53,40 @@ TEST(ShapeCli, JsonFields) {
   EXPECT_EQ(j["positive"], true);
 }
 
+// One impulse schema: shape --json names the impulses as simulate's sidecar does (time_s,
+// amplitude; the same numbers bit for bit), and keeps the schema-1 names t/a beside them for one
+// version (docs/cli.md).
+TEST(ShapeCli, ImpulsesAreNamedAsInSimulateWithTheOldNamesBeside) {
+  const auto r = run_cli("shape --method zvdd --frequency-hz 3.32 --zeta 0.288 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto shape = parse(r.out);
+  const auto csv = temp_path("sim.csv");
+  const auto sim = run_cli("simulate --mode speed --signal step --amplitude 1 --duration 0.05 --shaper zvdd "
+                           "--shaper-frequency-hz 3.32 --shaper-zeta 0.288 -o " + csv.string());
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  std::ifstream sidecar(fs::path(csv).replace_extension(".json"));
+  const auto expected = nlohmann::json::parse(sidecar)["configuration"]["shaper"]["impulses"];
+  ASSERT_EQ(shape["impulses"].size(), 4u);
+  ASSERT_EQ(shape["impulses"].size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const auto& p = shape["impulses"][i];
+    EXPECT_EQ(p["time_s"], expected[i]["time_s"]) << i;
+    EXPECT_EQ(p["amplitude"], expected[i]["amplitude"]) << i;
+    EXPECT_EQ(p["t"], p["time_s"]) << i;  // the transition names, the same numbers
+    EXPECT_EQ(p["a"], p["amplitude"]) << i;
+  }
+  EXPECT_EQ(shape["units"]["time_s"], "s");
+  EXPECT_EQ(shape["units"]["amplitude"], shape["units"]["a"]);
+  fs::remove(csv);
+  fs::remove(fs::path(csv).replace_extension(".json"));
+}
+
 TEST(ShapeCli, WnAndEiVtol) {
   const auto r = run_cli("shape --method ei --vtol 0.02 --wn 62.83185307179586 --zeta 0 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = parse(r.out);
   EXPECT_EQ(j["vtol"], 0.02);
-  EXPECT_NEAR(double(j["impulses"][0]["a"]), 1.02 / 4, 1e-12);  // exact undamped EI
+  EXPECT_NEAR(double(j["impulses"][0]["amplitude"]), 1.02 / 4, 1e-12);  // exact undamped EI
   EXPECT_NEAR(double(j["residual_at_design"]), 0.02, 1e-12);
 }
 
@@ -90,12 +118,12 @@ TEST(ShapeCli, CustomImpulses) {
   auto r = run_cli("shape --method custom --impulses \"0:0.5,0.05:0.5\" --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto j = parse(r.out);
-  EXPECT_EQ(j["impulses"][1]["t"], 0.05);
+  EXPECT_EQ(j["impulses"][1]["time_s"], 0.05);
   EXPECT_TRUE(j["insensitivity"].is_null());
   r = run_cli("shape --method custom --impulses \"0:1,0.05:1\" --frequency-hz 10 --zeta 0 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   j = parse(r.out);
-  EXPECT_EQ(j["impulses"][1]["a"], 0.5);  // normalised
+  EXPECT_EQ(j["impulses"][1]["amplitude"], 0.5);  // normalised
   EXPECT_NEAR(double(j["insensitivity"]["width"]), 0.0637, 1e-4);  // it is the undamped ZV
   r = run_cli("shape --method custom --impulses \"0:0.5,0.05:abc\"");
   EXPECT_EQ(r.exit_code, 2);

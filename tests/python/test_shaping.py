@@ -10,7 +10,7 @@ F_HZ, ZETA = 3.32, 0.288  # the thesis's speed-mode drive mode (Eq. 4.2)
 
 
 def cli_impulses(doc):
-    return np.array([i["t"] for i in doc["impulses"]]), np.array([i["a"] for i in doc["impulses"]])
+    return np.array([i["time_s"] for i in doc["impulses"]]), np.array([i["amplitude"] for i in doc["impulses"]])
 
 
 @pytest.mark.parametrize("method,extra_cli,extra_py", [
