@@ -162,13 +162,18 @@ std::vector<double> damping_set(const std::vector<ModeEstimate>& modes, const Re
   if (!o.test_damping_ratios.empty()) return o.test_damping_ratios;
   double lo = printer ? 0.075 : 1.0, hi = printer ? 0.15 : 0.0;
   for (const auto& m : modes) {
+    if (m.damping_ratio_range) {
+      // Shoulders: what the data cannot exclude is the band's ζ … the fit's. Not ζ ± 2σ about
+      // their geometric mean: that reaches below the peak's own half-power band, which the data
+      // does exclude (a broad spectrum's worst case then fits the shaper to a line narrower than
+      // any it holds; docs/recommend.md, "On real printers' spectra").
+      lo = std::min(lo, m.damping_ratio_range->first);
+      hi = std::max(hi, m.damping_ratio_range->second);
+      continue;
+    }
     const double half = std::max(2.0 * m.damping_ratio_std, 0.25 * m.damping_ratio);
     lo = std::min(lo, m.damping_ratio - half);
     hi = std::max(hi, m.damping_ratio + half);
-    if (m.damping_ratio_range) {  // what the data cannot exclude (shoulders: the band's ζ … the fit's)
-      lo = std::min(lo, m.damping_ratio_range->first);
-      hi = std::max(hi, m.damping_ratio_range->second);
-    }
   }
   lo = std::clamp(o.damping_low.value_or(lo), 0.001, 0.9);
   hi = std::clamp(o.damping_high.value_or(hi), lo, 0.9);
@@ -470,7 +475,8 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
   std::vector<WeightedBins> bins;
   for (const auto& s : spectra) {
     const double min_f = o.min_frequency_hz ? *o.min_frequency_hz : 2.0 * s.resolution_hz;
-    bins.push_back(weighted_bins(s, o.threshold_fraction, min_f));
+    bins.push_back(weighted_bins(scored_spectrum(s), o.threshold_fraction, min_f));
+    r.klipper_normalized = r.klipper_normalized || s.klipper_normalizes;
   }
   const Evaluator ev{bins, r.test_damping_ratios, r.frequency_scales, o.smoothing};
 

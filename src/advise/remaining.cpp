@@ -48,6 +48,28 @@ WeightedBins weighted_bins(const MeasuredSpectrum& spectrum, double threshold_fr
   return b;
 }
 
+std::vector<double> klipper_normalized_power(const std::vector<double>& frequency_hz, const std::vector<double>& power) {
+  if (power.size() != frequency_hz.size()) {
+    throw InvalidArgument(fmt::format("klipper_normalized_power: {} powers for {} frequencies", power.size(), frequency_hz.size()));
+  }
+  constexpr double kLowHz = 2.0 * 5.0;  // 2 × Klipper's MIN_FREQ (shaper_calibrate.py)
+  std::vector<double> out(power.size());
+  for (std::size_t k = 0; k < power.size(); ++k) {
+    const double f = frequency_hz[k] + 0.1;  // "avoid division by zero" (shaper_calibrate.py)
+    out[k] = power[k] / f;
+    if (frequency_hz[k] < kLowHz) out[k] *= std::exp(1.0 - (kLowHz / f) * (kLowHz / f));  // low-frequency noise removed
+  }
+  return out;
+}
+
+MeasuredSpectrum scored_spectrum(const MeasuredSpectrum& spectrum) {
+  if (!spectrum.klipper_normalizes) return spectrum;
+  MeasuredSpectrum out = spectrum;
+  out.power = klipper_normalized_power(spectrum.frequency_hz, spectrum.power);
+  out.klipper_normalizes = false;
+  return out;
+}
+
 double remaining_vibration(const shaping::Shaper& shaper, const WeightedBins& bins, double damping_ratio, double frequency_scale) {
   const double sum = shaper.amplitude_sum();
   double remaining = 0.0;

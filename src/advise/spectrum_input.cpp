@@ -119,6 +119,7 @@ MeasuredSpectrum load_klipper_raw(const SpectrumRequest& r, const std::string& t
   }
   s.column = axis < 3 ? std::string("accel_") + "xyz"[axis] : "xyz";
   s.power_unit = klipper_unit(false);
+  s.klipper_normalizes = true;  // calibrate_shaper.py, parse_log: raw data is always normalised
   return s;
 }
 
@@ -131,6 +132,7 @@ MeasuredSpectrum load_klipper_psd(const SpectrumRequest& r, const std::string& t
   s.power = p.psd[axis];
   for (std::size_t a = 0; a < 4; ++a) s.axes.push_back({a < 3 ? std::string("psd_") + "xyz"[a] : "psd_xyz", std::move(p.psd[a])});
   s.power_unit = klipper_unit(p.normalized);
+  s.klipper_normalizes = !p.normalized;  // parse_log: a file with shaper columns is normalised already
   s.resolution_hz = (s.frequency_hz.back() - s.frequency_hz.front()) / static_cast<double>(s.frequency_hz.size() - 1);
   s.column = axis < 3 ? std::string("psd_") + "xyz"[axis] : "psd_xyz";
   return s;

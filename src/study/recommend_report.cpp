@@ -124,6 +124,7 @@ ojson scoring_json(const advise::Recommendation& r, const advise::RecommendOptio
                    {"scan", o.scan_step_hz ? fmt::format("linear, {:g} Hz steps", *o.scan_step_hz)
                                            : fmt::format("log-spaced, x{:g} per step", 1.0 + o.scan_step_ratio)}};
   if (o.update_grid_hz > 0.0) scoring["update_grid_hz"] = o.update_grid_hz;
+  if (r.klipper_normalized) scoring["psd"] = "P / (f + 0.1 Hz), as Klipper's calibrate_shaper normalises a TEST_RESONANCES PSD";
   if (r.printer_figures) {
     scoring["smoothing"] = {{"accel_mm_s2", o.smoothing.accel_mm_s2},
                             {"square_corner_velocity_mm_s", o.smoothing.square_corner_velocity_mm_s},

@@ -36,6 +36,17 @@ inline clearshape::advise::MeasuredSpectrum load(const std::string& file, const 
   return clearshape::advise::load_spectrum(r);
 }
 
+/// A golden PSD file of gen_recommend.py as written: its independent implementation of Klipper's
+/// selection scores the file's PSD without Klipper's normalisation (÷ (f + 0.1 Hz), which
+/// Klipper's parse_log applies to a file without shaper columns), so the selection is compared on
+/// the same PSD. The normalisation itself is checked against Klipper's parse_log in
+/// test_klipper_pick.cpp.
+inline clearshape::advise::MeasuredSpectrum load_as_written(const std::string& file, const std::string& column) {
+  clearshape::advise::MeasuredSpectrum s = load(file, column);
+  s.klipper_normalizes = false;
+  return s;
+}
+
 /// A measured spectrum and the modes estimated from it: what a recommendation starts from.
 struct SpectrumCase {
   clearshape::advise::MeasuredSpectrum spectrum;

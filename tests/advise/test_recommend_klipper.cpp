@@ -87,7 +87,7 @@ class KlipperCase : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(KlipperCase, SameRemainingVibrationAtKlippersFrequencies) {
   const auto& c = advise_test::klipper_case(GetParam());
-  const ad::MeasuredSpectrum s = advise_test::load("recommend_" + GetParam() + "_psd.csv", "psd_xyz");
+  const ad::MeasuredSpectrum s = advise_test::load_as_written("recommend_" + GetParam() + "_psd.csv", "psd_xyz");
   const std::vector<ad::WeightedBins> bins{ad::weighted_bins(s, 0.05, 0.0)};
   double ei_difference = 0.0;
   for (const auto& [ours, theirs] : kFamilies) {
@@ -113,7 +113,7 @@ TEST_P(KlipperCase, SameRemainingVibrationAtKlippersFrequencies) {
 
 TEST_P(KlipperCase, KlipperSettingsFitTheSameFrequencies) {
   const auto& c = advise_test::klipper_case(GetParam());
-  const ad::MeasuredSpectrum s = advise_test::load("recommend_" + GetParam() + "_psd.csv", "psd_xyz");
+  const ad::MeasuredSpectrum s = advise_test::load_as_written("recommend_" + GetParam() + "_psd.csv", "psd_xyz");
   const auto modes = dominant_mode(s);
   const ad::Recommendation r = ad::recommend({s}, modes, klipper_options(c));
   ASSERT_EQ(r.candidates.size(), kFamilies.size());
@@ -148,7 +148,7 @@ TEST_P(KlipperCase, KlipperSettingsFitTheSameFrequencies) {
 
 TEST_P(KlipperCase, ClearshapesChoiceLeavesNoMoreThanKlippersPlusTheTolerance) {
   const auto& c = advise_test::klipper_case(GetParam());
-  const ad::MeasuredSpectrum s = advise_test::load("recommend_" + GetParam() + "_psd.csv", "psd_xyz");
+  const ad::MeasuredSpectrum s = advise_test::load_as_written("recommend_" + GetParam() + "_psd.csv", "psd_xyz");
   const auto modes = dominant_mode(s);
   ad::RecommendOptions o = klipper_options(c);
   const ad::Recommendation r = ad::recommend({s}, modes, o);

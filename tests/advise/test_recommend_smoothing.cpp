@@ -19,7 +19,7 @@ const std::vector<std::pair<std::string, std::string>> kKlipperFamilies{
 
 ad::Recommendation klipper_pick(const std::string& name, bool weigh) {
   const auto& c = advise_test::klipper_case(name);
-  const ad::MeasuredSpectrum s = advise_test::load("recommend_" + name + "_psd.csv", "psd_xyz");
+  const ad::MeasuredSpectrum s = advise_test::load_as_written("recommend_" + name + "_psd.csv", "psd_xyz");
   ad::ModeEstimateOptions mo;
   mo.max_modes = 1;
   ad::RecommendOptions o;

@@ -69,7 +69,8 @@ def clearshape_pick(binary, path, extra):
     return cand, ""
 
 
-GOLDEN_INPUTS = ["recommend_klipper_raw.csv", "recommend_klipper_raw_psd.csv"]
+GOLDEN_INPUTS = ["recommend_klipper_raw.csv", "recommend_klipper_raw_psd.csv",
+                 "recommend_klipper_broad_psd.csv", "recommend_klipper_shoulders_psd.csv"]  # gen_klipper_broad.py
 
 
 def klipper_pick(cs, path):

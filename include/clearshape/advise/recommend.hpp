@@ -126,6 +126,9 @@ struct Recommendation {
   /// Printer data (a Klipper file among the spectra) or weigh_smoothing: the output shows the
   /// candidates' smoothing and max acceleration.
   bool printer_figures = false;
+  /// A spectrum was scored as Klipper scores it, its PSD ÷ (f + 0.1 Hz) (scored_spectrum: a Klipper
+  /// TEST_RESONANCES file Klipper normalises); the modes were found on the PSD as measured.
+  bool klipper_normalized = false;
 };
 
 /// Throws InvalidArgument for no spectra, no modes, an unknown candidate, a two-mode candidate

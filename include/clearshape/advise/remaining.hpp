@@ -27,6 +27,16 @@ struct WeightedBins {
 WeightedBins weighted_bins(const MeasuredSpectrum& spectrum, double threshold_fraction = 0.05,
                            double min_frequency_hz = 0.0);
 
+/// Klipper's normalisation of a TEST_RESONANCES PSD (shaper_calibrate.py,
+/// CalibrationData.normalize_to_frequencies): P / (f + 0.1 Hz), below 10 Hz (2 × its MIN_FREQ)
+/// also × exp(1 − (10 Hz / (f + 0.1 Hz))²). Throws InvalidArgument for sizes that differ.
+std::vector<double> klipper_normalized_power(const std::vector<double>& frequency_hz, const std::vector<double>& power);
+
+/// The spectrum recommend scores: one Klipper normalises (MeasuredSpectrum::klipper_normalizes)
+/// with klipper_normalized_power, any other as it is — so printer data is judged by the PSD
+/// Klipper's own estimate of the remaining vibration weighs.
+MeasuredSpectrum scored_spectrum(const MeasuredSpectrum& spectrum);
+
 /// remaining for one damping ratio and frequency scale.
 double remaining_vibration(const shaping::Shaper& shaper, const WeightedBins& bins, double damping_ratio,
                            double frequency_scale = 1.0);

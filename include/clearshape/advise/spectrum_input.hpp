@@ -42,6 +42,12 @@ struct MeasuredSpectrum {
   /// Klipper files: every axis's PSD and their sum (x, y, z, xyz, as Klipper's graph draws them),
   /// whichever column is analysed; empty for a table.
   std::vector<AxisSpectrum> axes;
+  /// A Klipper input that Klipper's calibrate_shaper normalises before scoring it (a raw
+  /// accelerometer file, a PSD file without shaper columns): TEST_RESONANCES drives the axis at an
+  /// acceleration ∝ f (resonance_tester.py: accel = accel_per_hz · freq), and calibrate_shaper
+  /// divides the PSD by f + 0.1 Hz. recommend scores such a spectrum so (remaining.hpp,
+  /// scored_spectrum); its modes are found on the PSD as measured.
+  bool klipper_normalizes = false;
   std::size_t segments = 0;       ///< Welch segments averaged (0: a PSD file, unknown)
   double resolution_hz = 0.0;     ///< fs / segment length (a PSD file: its bin spacing)
   std::optional<UniformSeries> series;  ///< the analysed time record (not for a PSD file)
