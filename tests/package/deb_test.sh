@@ -18,7 +18,8 @@ dpkg-deb -c "$deb" > "$work/contents.txt"
 for f in ./usr/bin/clearshape ./usr/lib/cmake/clearshape/clearshapeConfig.cmake \
          ./usr/lib/cmake/clearshape/clearshapeConfigVersion.cmake ./usr/lib/pkgconfig/clearshape.pc \
          ./usr/include/clearshape/shaping/design.hpp ./usr/lib/libclearshape_shaping.a \
-         ./usr/lib/python3/dist-packages/clearshape/__init__.py; do
+         ./usr/lib/python3/dist-packages/clearshape/__init__.py \
+         ./usr/lib/python3/dist-packages/clearshape/__init__.pyi ./usr/lib/python3/dist-packages/clearshape/py.typed; do
   grep -q " $f\$" "$work/contents.txt" || { echo "deb_test: $f missing from $deb" >&2; cat "$work/contents.txt" >&2; exit 1; }
 done
 grep -q "./usr/lib/python3/dist-packages/clearshape/_core" "$work/contents.txt" \
