@@ -320,7 +320,11 @@ struct ScanFit {
 // Klipper's choice across candidates, in their order (shaper_calibrate.py, find_best_shaper).
 std::size_t klipper_best(std::vector<CandidateResult>& c, const std::vector<ScanFit>& fits, const Evaluator& ev,
                          const RecommendOptions& o) {
-  const auto eligible = [&](std::size_t i) { return c[i].available && c[i].within_budget && !c[i].duplicate_of; };
+  const auto usable = [&](std::size_t i) { return c[i].available && c[i].within_budget && !c[i].duplicate_of; };
+  // Klipper's score trades vibration for smoothing without a bound: a short shaper leaving more than
+  // max_remaining can out-score one that cancels the spectrum. It competes only when all do.
+  const bool some_enough = std::any_of(c.begin(), c.end(), [&](const CandidateResult& x) { return x.available && x.within_budget && !x.duplicate_of && !x.leaves_too_much; });
+  const auto eligible = [&](std::size_t i) { return usable(i) && (!some_enough || !c[i].leaves_too_much); };
   std::optional<std::size_t> best;
   for (std::size_t i = 0; i < c.size(); ++i) {
     if (!eligible(i)) continue;
