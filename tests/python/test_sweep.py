@@ -97,6 +97,23 @@ def test_local_results_and_metrics(local, sweep_file):
     assert doc["points"][5]["md_unshaped"] == md
 
 
+def test_docs_name_the_columns_the_files_hold(local):
+    """docs/sweeps.md's metric table names exactly the metric columns of results.h5 (issue 22
+    item 13: it named md_unshaped_deg_s where the files hold md_unshaped)."""
+    import re
+    from pathlib import Path
+    from clearshape.sweep_run import METRICS
+    text = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text()
+    table = text[text.index("| column | meaning |"):]
+    table = table[:table.index("\n\n")]
+    documented = set(re.findall(r"`([a-z_]+)`", "\n".join(row.split("|")[1] for row in table.splitlines()[2:])))
+    out, _ = local
+    with h5py.File(os.path.join(out, "results.h5")) as f:
+        columns = set(f.attrs["columns"].astype(str))
+    assert documented == set(METRICS) | {"status"}
+    assert documented <= columns
+
+
 def test_improvement_map(local):
     from clearshape.sweep_plot import improvement_map
 
