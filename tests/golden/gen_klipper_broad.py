@@ -19,6 +19,9 @@ sum of the three, x and z 10 % each).
   recommend_klipper_shoulders_psd.csv: the same kind with a cluster at 60, 68, 83.5 (narrow) and
     89 Hz, whose one line fitted down to 10 % of the 83.5 Hz peak is shouldered (ζ 0.28 against
     its half-power band's 0.06).
+  recommend_klipper_narrow_psd.csv: a broad 28 Hz mode and a cluster at 60, 72, 85 (unresolved:
+    two bins wide) and 92 Hz, found as two modes of ζ 0.007 and 0.25; Klipper's score
+    (--weigh-smoothing klipper) picked a short MZV leaving 46 % there (test_recommend_smoothing.cpp).
 
 Run with Debian's Python (NumPy):
   /usr/bin/python3 tests/golden/gen_klipper_broad.py
@@ -36,6 +39,8 @@ CASES = {
     "recommend_klipper_broad_psd.csv": ([(31.0, 0.10, 1.0), (63.0, 0.10, 0.40), (83.5, 0.025, 0.55), (90.0, 0.05, 0.2)], 0.01, 1),
     "recommend_klipper_shoulders_psd.csv": (
         [(31.0, 0.12, 1.0), (60.0, 0.12, 0.35), (68.0, 0.10, 0.3), (83.5, 0.02, 0.6), (89.0, 0.04, 0.3)], 0.01, 3),
+    "recommend_klipper_narrow_psd.csv": (
+        [(28.0, 0.15, 1.0), (60.0, 0.12, 0.4), (72.0, 0.10, 0.4), (85.0, 0.02, 0.7), (92.0, 0.04, 0.3)], 0.01, 2),
 }
 
 
