@@ -13,6 +13,7 @@ from ._core import (  # noqa: F401
     RigTruth,
     Shaper,
     StreamingShaper,
+    analyse_calibration,
     arm_modes,
     arm_move,
     arm_names,

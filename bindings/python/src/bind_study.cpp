@@ -1,6 +1,7 @@
 // Python: what the CLI's recommend, shape --model and simulate --config read and compute, from
 // the library (rig/config.hpp, study/clearance_model_json.hpp, study/recommend_report.hpp): the
 // same C++ as `clearshape recommend --json`, so the numbers are the CLI's bit for bit.
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "clearshape/core/units.hpp"
 #include "clearshape/rig/config.hpp"
 #include "clearshape/signal/parameters.hpp"
+#include "clearshape/study/axis_calibration.hpp"
 #include "clearshape/study/clearance_model_json.hpp"
 #include "clearshape/study/fit_clearance.hpp"
 #include "clearshape/study/recommend_report.hpp"
@@ -109,18 +111,28 @@ study::RecommendRequest request_of(const SpectrumArgs& s, std::size_t modes, boo
   return q;
 }
 
-py::object recommend(const std::vector<std::string>& data, const std::string& column, const std::string& time_column,
-                     std::optional<double> from_s, std::optional<double> to_s, double segment_s, std::size_t modes,
-                     bool free_decay_fit, std::optional<double> max_delay_s, std::optional<std::vector<std::string>> candidates,
-                     double vibration_tolerance, std::optional<double> min_frequency_hz, double grid_hz,
-                     std::optional<std::string> model, const std::string& move, const py::dict& move_parameters_dict,
-                     double move_duration_s, double move_rate_hz, double initial_play, bool clearance_aware) {
+// recommend()'s and analyse_calibration()'s ranking options (advise/recommend.hpp).
+advise::RecommendOptions recommend_options(std::optional<double> max_delay_s,
+                                           const std::optional<std::vector<std::string>>& candidates,
+                                           double vibration_tolerance, std::optional<double> min_frequency_hz,
+                                           double grid_hz) {
   advise::RecommendOptions o;
   if (candidates) o.candidates = *candidates;
   if (max_delay_s) o.max_delay_s = *max_delay_s;
   o.vibration_tolerance = vibration_tolerance;
   o.min_frequency_hz = min_frequency_hz;
   o.update_grid_hz = grid_hz;
+  return o;
+}
+
+py::object recommend(const std::vector<std::string>& data, const std::string& column, const std::string& time_column,
+                     std::optional<double> from_s, std::optional<double> to_s, double segment_s, std::size_t modes,
+                     bool free_decay_fit, std::optional<double> max_delay_s, std::optional<std::vector<std::string>> candidates,
+                     double vibration_tolerance, std::optional<double> min_frequency_hz, double grid_hz,
+                     std::optional<std::string> model, const std::string& move, const py::dict& move_parameters_dict,
+                     double move_duration_s, double move_rate_hz, double initial_play, bool clearance_aware) {
+  const advise::RecommendOptions o =
+      recommend_options(max_delay_s, candidates, vibration_tolerance, min_frequency_hz, grid_hz);
   require_non_negative("segment_s", segment_s, "0: automatic");
   study::RecommendRequest q = request_of({data, column, time_column, from_s, to_s, segment_s}, modes, free_decay_fit, o);
   if (!model && clearance_aware) throw InvalidArgument("clearance_aware needs model= (the design runs on the model)");
@@ -205,6 +217,75 @@ py::object fit_clearance(const std::vector<std::string>& data, const std::option
   return json_to_python(doc);
 }
 
+// One recorded calibration run from a dict of arrays (command, gyro_deg_s, motor_deg for a chirp;
+// time_s optional: k·sample_time_s), as record_calibration_runs would have returned it, complete.
+study::AxisCalibrationRun calibration_run(const py::dict& d, double sample_time_s, std::size_t index) {
+  study::AxisCalibrationRun run;
+  const std::string where = "runs[" + std::to_string(index) + "]";
+  run.label = d.contains("label") ? d["label"].cast<std::string>() : where;
+  const auto column = [&](const char* key, bool required) {
+    if (!d.contains(key)) {
+      if (required) throw InvalidArgument(where + "." + key + " is missing (an array, one value per sample)");
+      return std::vector<double>{};
+    }
+    return to_vector(DoubleArray::ensure(d[key]), where + "." + key);
+  };
+  run.record.command = column("command", true);
+  run.record.gyro_deg_s = column("gyro_deg_s", true);
+  run.record.motor_deg = column("motor_deg", false);
+  if (run.record.motor_deg.empty()) run.record.motor_deg = run.record.command;
+  run.record.time_s = column("time_s", false);
+  const std::size_t n = run.record.command.size();
+  if (run.record.time_s.empty()) {
+    for (std::size_t k = 0; k < n; ++k) run.record.time_s.push_back(static_cast<double>(k) * sample_time_s);
+  }
+  for (const auto* c : {&run.record.gyro_deg_s, &run.record.motor_deg, &run.record.time_s}) {
+    if (c->size() != n) throw InvalidArgument(where + ": every column must have command's " + std::to_string(n) + " samples");
+  }
+  return run;
+}
+
+py::object analyse_calibration(const py::list& runs, double sample_time_s, const py::list& excitations,
+                               std::optional<double> from_s, double segment_s, std::size_t modes, bool free_decay_fit,
+                               std::optional<double> max_delay_s, std::optional<std::vector<std::string>> candidates,
+                               double vibration_tolerance, std::optional<double> min_frequency_hz, double grid_hz) {
+  require_positive("sample_time_s", sample_time_s);
+  study::AxisCalibrationRequest q;
+  for (const auto& e : excitations) {
+    const auto d = e.cast<py::dict>();
+    if (!d.contains("type")) throw InvalidArgument("excitations: each needs 'type' (e.g. {'type': 'step', 'amplitude': 10})");
+    py::dict parameters;
+    for (const auto& [key, value] : d) {
+      if (key.cast<std::string>() != "type") parameters[key] = value;
+    }
+    q.excitations.push_back(signal::make_signal(d["type"].cast<std::string>(), move_parameters(parameters)));
+  }
+  q.from_s = from_s;
+  require_non_negative("segment_s", segment_s, "0: automatic");
+  q.segment_s = segment_s;
+  const advise::RecommendOptions o =
+      recommend_options(max_delay_s, candidates, vibration_tolerance, min_frequency_hz, grid_hz);
+  study::RecommendRequest rq = request_of({}, modes, free_decay_fit, o);
+  q.modes = rq.modes;
+  q.options = rq.options;
+  std::vector<study::AxisCalibrationRun> records;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    records.push_back(calibration_run(runs[i].cast<py::dict>(), sample_time_s, i));
+    // the runs' length, as the request that recorded them had it (from_s and segment_s are checked against it)
+    q.duration_s = std::max(i == 0 ? 0.0 : q.duration_s, static_cast<double>(records.back().record.size()) * sample_time_s);
+  }
+  study::AxisCalibration c;
+  {
+    py::gil_scoped_release release;
+    c = study::analyse_calibration(records, q, sample_time_s);
+  }
+  study::RecommendReport report{c.spectra, c.estimation, c.recommendation, std::nullopt, std::nullopt};
+  auto doc = study::recommend_document(rq, report);
+  doc["command"] = "rig calibrate";
+  doc["window_start_s"] = c.window_start_s;
+  return json_to_python(doc);
+}
+
 struct StudyArgs {
   std::string protocol, out_dir;
   bool quick = false, fresh = false;
@@ -241,7 +322,27 @@ py::object run_study(const StudyArgs& a) {
 
 }  // namespace
 
+void bind_calibration(py::module_& m) {
+  m.def("analyse_calibration", &analyse_calibration, py::arg("runs"), py::arg("sample_time_s"), py::kw_only(),
+        py::arg("excitations"), py::arg("from_s") = py::none(), py::arg("segment_s") = 0.0, py::arg("modes") = 2,
+        py::arg("free_decay_fit") = true, py::arg("max_delay_s") = py::none(), py::arg("candidates") = py::none(),
+        py::arg("vibration_tolerance") = 0.01, py::arg("min_frequency_hz") = py::none(), py::arg("grid_hz") = 0.0,
+        R"doc(The analysis step of `clearshape rig calibrate` (study/axis_calibration.hpp) on runs
+already recorded: each run's link gyro rate in its analysis window becomes a Welch spectrum
+(for a chirp: the transmissibility motor_deg → gyro_deg_s), the modes are estimated over all of
+them and the shaper candidates ranked. Returns the `rig calibrate --json` document as a dict
+(modes, candidates, recommendation, reason, window_start_s per run).
+
+runs: one dict per run with arrays command (deg or V), gyro_deg_s (deg/s), optionally
+motor_deg (deg; a chirp needs it, default the command), time_s and label, every sample_time_s
+(s). excitations: the signal of each run as a dict {'type': 'step', 'amplitude': 10,
+'start_s': 0.5, 'rise_s': 1/30} (signal_parameters(type) lists the keys). from_s: the window
+start (s; None: each step's end, a chirp's start); the other options as recommend(). Raises
+ValueError for bad input or when no mode stands out of the noise.)doc");
+}
+
 void bind_study(py::module_& m) {
+  bind_calibration(m);
   m.def("study",
         [](const std::string& protocol, const std::string& out_dir, bool quick, bool fresh, int threads, std::optional<std::string> rig,
            std::optional<std::string> rig_config, std::optional<std::string> recordings, double max_memory_gb) {
