@@ -173,9 +173,13 @@ exports::ShaperDesign recommended_design(const advise::Recommendation& r, const 
   }
   const advise::CandidateResult& c = r.candidates[*r.chosen];
   const auto star = c.name.find('*');
-  exports::ShaperDesign d{*c.shaper};
-  d.method = shaping::method_from_string(c.name.substr(0, star));
-  d.mode = shaping::Mode::from_hz(c.design_frequency_hz[0], c.design_damping);
+  exports::ShaperDesign d{.shaper = *c.shaper,
+                          .method = shaping::method_from_string(c.name.substr(0, star)),
+                          .mode = shaping::Mode::from_hz(c.design_frequency_hz[0], c.design_damping),
+                          .second_mode = std::nullopt,
+                          .vtol = std::nullopt,
+                          .band_hz = std::nullopt,
+                          .command = shape_command(c, r, options.update_grid_hz)};
   if (star != std::string::npos && c.design_frequency_hz.size() > 1 && r.modes.size() > 1) {
     d.second_mode = shaping::Mode::from_hz(c.design_frequency_hz[1], std::clamp(r.modes[1].damping_ratio, 0.0, 0.9));
   }
@@ -187,7 +191,6 @@ exports::ShaperDesign recommended_design(const advise::Recommendation& r, const 
     const double half = std::max(r.frequency_scales.size() > 1 ? r.frequency_scales.back() - 1.0 : 0.0, 0.02);
     d.band_hz = {c.design_frequency_hz[0] * (1.0 - half), c.design_frequency_hz[0] * (1.0 + half)};
   }
-  d.command = shape_command(c, r, options.update_grid_hz);
   if (options.update_grid_hz > 0.0) d.update_grid_hz = options.update_grid_hz;
   return d;
 }
