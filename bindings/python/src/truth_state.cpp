@@ -4,7 +4,9 @@
 #include "truth_state.hpp"
 
 #include <cstdint>
+#include <initializer_list>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -94,69 +96,73 @@ pl::DriveModel drive_from(const py::dict& d, const std::string& w) {
   return pl::DriveModel::from_realization(r);
 }
 
+// A struct's double fields, each named once: the pickle writes and reads them from this table.
+template <class T>
+using DoubleFields = std::initializer_list<std::pair<const char*, double T::*>>;
+
+template <class T>
+void put_doubles(py::dict& d, const T& value, DoubleFields<T> fields) {
+  for (const auto& [name, member] : fields) d[name] = value.*member;
+}
+
+template <class T>
+void get_doubles(const py::dict& d, T& value, DoubleFields<T> fields, const std::string& w) {
+  for (const auto& [name, member] : fields) value.*member = field<double>(d, name, w);
+}
+
+const DoubleFields<pl::Link> kLinkFields{{"inertia_kg_m2", &pl::Link::inertia_kg_m2},
+                                         {"mass_kg", &pl::Link::mass_kg},
+                                         {"com_distance_m", &pl::Link::com_distance_m},
+                                         {"axis_tilt_rad", &pl::Link::axis_tilt_rad},
+                                         {"gravity_m_s2", &pl::Link::gravity_m_s2},
+                                         {"ground_viscous_n_m_s_per_rad", &pl::Link::ground_viscous_n_m_s_per_rad},
+                                         {"external_torque_n_m", &pl::Link::external_torque_n_m}};
+const DoubleFields<rg::ContactSpec> kContactFields{{"stiffness", &rg::ContactSpec::stiffness},
+                                                   {"exponent", &rg::ContactSpec::exponent},
+                                                   {"damping", &rg::ContactSpec::damping},
+                                                   {"restitution", &rg::ContactSpec::restitution},
+                                                   {"static_rate_rad_s", &rg::ContactSpec::static_rate_rad_s}};
+const DoubleFields<pl::Friction> kFrictionFields{{"viscous", &pl::Friction::viscous},
+                                                 {"coulomb", &pl::Friction::coulomb},
+                                                 {"static_level", &pl::Friction::static_level},
+                                                 {"stribeck_rate", &pl::Friction::stribeck_rate},
+                                                 {"regularization_rate", &pl::Friction::regularization_rate}};
+
 py::dict link_state(const pl::Link& l) {
   py::dict d;
-  d["inertia_kg_m2"] = l.inertia_kg_m2;
-  d["mass_kg"] = l.mass_kg;
-  d["com_distance_m"] = l.com_distance_m;
-  d["axis_tilt_rad"] = l.axis_tilt_rad;
-  d["gravity_m_s2"] = l.gravity_m_s2;
-  d["ground_viscous_n_m_s_per_rad"] = l.ground_viscous_n_m_s_per_rad;
-  d["external_torque_n_m"] = l.external_torque_n_m;
+  put_doubles(d, l, kLinkFields);
   return d;
 }
 
 pl::Link link_from(const py::dict& d, const std::string& w) {
   pl::Link l;
-  l.inertia_kg_m2 = field<double>(d, "inertia_kg_m2", w);
-  l.mass_kg = field<double>(d, "mass_kg", w);
-  l.com_distance_m = field<double>(d, "com_distance_m", w);
-  l.axis_tilt_rad = field<double>(d, "axis_tilt_rad", w);
-  l.gravity_m_s2 = field<double>(d, "gravity_m_s2", w);
-  l.ground_viscous_n_m_s_per_rad = field<double>(d, "ground_viscous_n_m_s_per_rad", w);
-  l.external_torque_n_m = field<double>(d, "external_torque_n_m", w);
+  get_doubles(d, l, kLinkFields, w);
   return l;
 }
 
 py::dict contact_state(const rg::ContactSpec& c) {
   py::dict d;
   d["model"] = std::string(rg::to_string(c.model));
-  d["stiffness"] = c.stiffness;
-  d["exponent"] = c.exponent;
-  d["damping"] = c.damping;
-  d["restitution"] = c.restitution;
-  d["static_rate_rad_s"] = c.static_rate_rad_s;
+  put_doubles(d, c, kContactFields);
   return d;
 }
 
 rg::ContactSpec contact_from(const py::dict& d, const std::string& w) {
   rg::ContactSpec c;
   c.model = rg::contact_model_from_string(field<std::string>(d, "model", w));
-  c.stiffness = field<double>(d, "stiffness", w);
-  c.exponent = field<double>(d, "exponent", w);
-  c.damping = field<double>(d, "damping", w);
-  c.restitution = field<double>(d, "restitution", w);
-  c.static_rate_rad_s = field<double>(d, "static_rate_rad_s", w);
+  get_doubles(d, c, kContactFields, w);
   return c;
 }
 
 py::dict friction_state(const pl::Friction& f) {
   py::dict d;
-  d["viscous"] = f.viscous;
-  d["coulomb"] = f.coulomb;
-  d["static_level"] = f.static_level;
-  d["stribeck_rate"] = f.stribeck_rate;
-  d["regularization_rate"] = f.regularization_rate;
+  put_doubles(d, f, kFrictionFields);
   return d;
 }
 
 pl::Friction friction_from(const py::dict& d, const std::string& w) {
   pl::Friction f;
-  f.viscous = field<double>(d, "viscous", w);
-  f.coulomb = field<double>(d, "coulomb", w);
-  f.static_level = field<double>(d, "static_level", w);
-  f.stribeck_rate = field<double>(d, "stribeck_rate", w);
-  f.regularization_rate = field<double>(d, "regularization_rate", w);
+  get_doubles(d, f, kFrictionFields, w);
   return f;
 }
 
