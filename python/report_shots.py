@@ -10,7 +10,8 @@ Writes <dir>/<section>.png (the section alone, full height up to 16000 px) for e
 that runs past the page's column at this width with its overflow in px (a table cut off at this
 width, or scrolled inside its box, is listed), and page_overflow_px / offscreen: how far the page
 itself runs past the screen and what runs past it outside a scroll box (a phone's reader loses
-those values; it should be 0 and empty at every width, 390 px included). The report is never modified; the views are
+those values; it should be 0 and empty at every width, 390 px included), and in_box: captions and row
+labels of a table scrolled in its box that leave the box at the scroll's start or end (empty). The report is never modified; the views are
 temporary copies with one extra style rule each. --no-shots writes layout.json (and the PDF) only.
 Exit codes: 0 written, 1 Chromium failed,
 2 bad input.
@@ -53,7 +54,24 @@ MEASURE = """<script>window.addEventListener('load', function () {
     else if (/^(DD|P|LI|FIGCAPTION|H[1-3])$/.test(e.tagName) && e.textContent.trim() && r.width < 24)
       offscreen.push([e.tagName.toLowerCase() + ' squeezed', Math.round(r.width)]);
   });
-  document.body.setAttribute('data-layout', JSON.stringify({height: document.documentElement.scrollHeight,
+  // A table scrolled in its box keeps its caption and row labels in view (else a phone's reader
+  // reads numbers without their row): checked at the box's start and scrolled to its end.
+  var inBox = [];
+  document.querySelectorAll('main .table-wrap').forEach(function (w) {
+    if (w.scrollWidth <= w.clientWidth + 1) return;
+    [0, w.scrollWidth].forEach(function (x) {
+      w.scrollLeft = x;
+      var b = w.getBoundingClientRect();
+      w.querySelectorAll('caption, tbody th:first-child, tfoot th:first-child').forEach(function (e) {
+        var r = e.getBoundingClientRect(), t = e.closest('table');
+        if (r.left < b.left - 1 || r.right > b.right + 1)
+          inBox.push([(t.id ? '#' + t.id + ' ' : '') + e.tagName.toLowerCase() + ' "' + e.textContent.trim().slice(0, 30) +
+                      '" at scroll ' + (x ? 'end' : 'start'), Math.round(Math.max(b.left - r.left, r.right - b.right))]);
+      });
+    });
+    w.scrollLeft = 0;
+  });
+  document.body.setAttribute('data-layout', JSON.stringify({height: document.documentElement.scrollHeight, in_box: inBox.slice(0, 50),
                                                            overflow: out, sections: sections,
                                                            page_overflow_px: offscreen.reduce(function (m, x) {
                                                              return /squeezed/.test(x[0]) ? m : Math.max(m, x[1]); }, 0),
@@ -125,6 +143,7 @@ def main(argv=None) -> int:
             lay = layout(whole, width, tmp / "profile")
             result["height_px"], result["overflow"] = lay["height"], lay["overflow"]
             result["page_overflow_px"], result["offscreen"] = lay.get("page_overflow_px", 0), lay.get("offscreen", [])
+            result["in_box"] = lay.get("in_box", [])
             for sid in sections if shots else []:
                 page = tmp / f"{sid}.html"
                 page.write_text(view(html, sid, width), encoding="utf-8")

@@ -1068,7 +1068,33 @@ def check_bootstrap_reference(results: dict, **_) -> None:
     print(f"{compared} intervals against the NumPy reference; worst endpoint off by {100 * worst:.1f} % of the width")
 
 
+def check_print_reader(python_dir: Path, **_) -> None:
+    """22.12. report_print.py's reading of a printed page, on blocks placed by hand (points from the
+    page's top; column 40–740 pt): a heading at a page's foot with its text on the next page, an
+    explanation row apart from its number row, a page 30 % full before a tall figure and a figure on
+    two pages are each found; the same blocks laid out well give nothing."""
+    sys.path.insert(0, str(python_dir))
+    import report_print as rp  # noqa: E402
+
+    def mark(page, top, bottom, index, tag, cls="-", text="x"):
+        return {"page": page, "top": top, "bottom": bottom, "index": index, "tag": tag, "class": cls.split("."),
+                "text": text}
+    good = [mark(0, 40, 60, 0, "h2"), mark(0, 60, 600, 1, "p"), mark(0, 600, 620, 2, "tr", "nums"),
+            mark(0, 620, 640, 3, "tr", "reason"), mark(1, 40, 300, 4, "figure"), mark(1, 300, 740, 5, "p")]
+    bad = [mark(0, 40, 60, 0, "h2"), mark(0, 60, 230, 1, "p"), mark(0, 230, 250, 2, "tr", "nums"),
+           mark(1, 40, 60, 3, "tr", "reason"), mark(1, 60, 700, 4, "p"), mark(1, 700, 720, 5, "h3"),
+           mark(2, 40, 600, 6, "figure"), mark(3, 40, 200, 6, "figure"), mark(3, 200, 740, 7, "p")]
+    ok, found = rp.analyse(2, good), rp.analyse(4, bad)
+    print("laid out well:", {k: ok[k] for k in ("stranded", "split_reasons", "half_empty", "split_figures")})
+    print("laid out badly:", {k: found[k] for k in ("stranded", "split_reasons", "half_empty", "split_figures")})
+    for key in ("stranded", "split_reasons", "half_empty", "split_figures"):
+        expect(not ok[key], f"{key} found in a good layout: {ok[key]}")
+        expect(len(found[key]) == 1, f"{key}: expected one, found {found[key]}")
+    expect(found["fills"][0] == 0.3, f"page 1 filled {found['fills'][0]}, not 0.3")
+
+
 CHECKS = {
+    "print-reader": check_print_reader,
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
     "sensitivity": check_sensitivity, "md-summary": check_md_summary, "repeatability": check_repeatability,

@@ -326,6 +326,7 @@ REPORT_CHECK(EachDesignsColourOnlyForThatDesign, "design-colours")          // 2
 REPORT_CHECK(AZoomedTimeAxisSaysWhichPartOfTheRecord, "zoom-note")          // 22.10
 REPORT_CHECK(StudyTextsGiveEachQuantityItsUnit, "study-texts")              // 22.10
 REPORT_CHECK(BootstrapIntervalsMatchANumPyReference, "bootstrap-reference")   // 22.4
+REPORT_CHECK(PrintReaderFindsEachPrintDefect, "print-reader")               // 22.12
 
 // Issue 22 on the what-if rigs: the quick large-play study (no thesis contact law or Eq. 4.1 figure in
 // its protocol) on its own rig and on the built-in worn-coupling rig (the thesis's drive and sensors,
@@ -451,6 +452,30 @@ TEST_F(Report, ReadsAt390Px) {
   const auto layout = nlohmann::json::parse(read_file(dir / "layout.json"));
   EXPECT_EQ(layout.at("page_overflow_px"), 0);
   EXPECT_TRUE(layout.at("offscreen").empty()) << "lost at 390 px: " << layout.at("offscreen").dump();
+  // A table scrolled in its box keeps its caption and row labels in view at the scroll's start and end.
+  EXPECT_TRUE(layout.at("in_box").empty()) << "out of the scroll box at 390 px: " << layout.at("in_box").dump();
+}
+
+// Issue 22.12: printed on Letter and on A4 (python/report_print.py reads each block's page from the
+// PDF's link rectangles), no heading or table caption ends a page apart from what follows it, no
+// compared number's explanation row is on another page than its number, no figure is cut in two, and
+// no page but the last is less than half full (a figure too tall to fit below the text).
+TEST_F(Report, ReadsInPrintOnLetterAndA4) {
+  if (!have_chromium()) GTEST_SKIP() << "chromium is not installed (scripts/install-deps.sh installs it)";
+  const char* env = std::getenv("CLEARSHAPE_TEST_ARTEFACTS");
+  const fs::path dir = (env != nullptr && *env != '\0' ? fs::path(env) : fs::current_path() / "artefacts") / "report-print";
+  fs::remove_all(dir);
+  for (const char* paper : {"letter", "a4"}) {
+    const Shell r = run("/usr/bin/python3 " + quote(python_dir() / "report_print.py") + " " + quote(study_ / "report.html") +
+                        " " + quote(dir) + " --paper " + paper);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto print = nlohmann::json::parse(read_file(dir / ("print-" + std::string(paper) + ".json")));
+    EXPECT_GT(print.at("blocks").get<int>(), 50) << paper << ": the blocks were not found in the PDF";
+    for (const char* defect : {"stranded", "split_reasons", "split_figures", "half_empty"}) {
+      EXPECT_TRUE(print.at(defect).empty()) << paper << " " << defect << ": " << print.at(defect).dump();
+    }
+  }
+  RecordProperty("artefacts", dir.string());
 }
 
 TEST(ReportDeterminism, SameInputsSameFigureBytes) {
