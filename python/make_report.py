@@ -1022,6 +1022,23 @@ def clearance_not_identified(cl: dict) -> str:
             f"link mode, not on them.{gain}</p><ul>" + "".join(rows) + "</ul>")
 
 
+def _uncalibrated_flank(n: float, play: float, md_without, f_link: float, z_link: float) -> str:
+    """What a shaper on the identified link mode can leave on a rig not calibrated to the thesis: the
+    fitted flank's own shape (n) and its play against the unshaped residual, from results.json."""
+    mode = (f"The linear shapers are designed on the link mode identified from the gyro's free response "
+            f"({fmt(f_link, 3)} Hz, ζ = {fmt(z_link, 2)})")
+    if abs(n - 1.0) < 0.1:
+        return mode + ("; the fitted flank is nearly linear, so that mode is the fitted model's vibration, and what the "
+                       "rig's joint does beyond the fit a shaper on that mode leaves.")
+    txt = mode + f"; the fitted flank is not linear (n = {fmt(n, 3)}, stiffer as it is pressed)"
+    if isinstance(md_without, (int, float)) and md_without > 0:
+        txt += (f" and its play of {fmt(play, 3)}° is {fmt(play / md_without, 2)}× the unshaped residual "
+                f"({fmt(md_without, 3)}°)")
+    return txt + (", so the ringing changes with the amplitude and with where the link rests in the play; one mode "
+                  "describes it only in part, and a shaper on that mode can help, do nothing or hurt — the "
+                  "improvements' intervals say which.")
+
+
 def flank_discussion(ctx: Context, results: dict) -> str:
     """Why the calibrated contact is a soft, lightly damped flank rather than the thesis's stiff
     Hertzian law, and what that means for the shaped predictions — every number from results.json."""
@@ -1116,9 +1133,8 @@ def flank_discussion(ctx: Context, results: dict) -> str:
     else:
         trust = ("What it means for the shaped predictions: this rig is not calibrated to the thesis, so nothing "
                  "here was tuned to any measurement and the shaped numbers are predictions for this rig alone; "
-                 "they are not compared with the thesis's shaped trials. Where the rig's joint is not the fitted "
-                 "linear flank, a shaper designed from the identified mode leaves what that mode does not "
-                 "describe.")
+                 "they are not compared with the thesis's shaped trials. " + _uncalibrated_flank(n, play, md_without,
+                                                                                               f_link, z_link))
         head = "The fitted flank: what the gyro record shows of this rig's joint"
     p.append(trust)
     return f"<h3>{head}</h3>" + "".join(f"<p>{x}</p>" for x in p)
