@@ -1028,8 +1028,8 @@ def _uncalibrated_flank(n: float, play: float, md_without, f_link: float, z_link
     mode = (f"The linear shapers are designed on the link mode identified from the gyro's free response "
             f"({fmt(f_link, 3)} Hz, ζ = {fmt(z_link, 2)})")
     if abs(n - 1.0) < 0.1:
-        return mode + ("; the fitted flank is nearly linear, so that mode is the fitted model's vibration, and what the "
-                       "rig's joint does beyond the fit a shaper on that mode leaves.")
+        return mode + ("; the fitted flank is nearly linear, so that mode is the fitted model's vibration, and "
+                       "what the rig's joint does beyond the fit a shaper on that mode leaves.")
     txt = mode + f"; the fitted flank is not linear (n = {fmt(n, 3)}, stiffer as it is pressed)"
     if isinstance(md_without, (int, float)) and md_without > 0:
         txt += (f" and its play of {fmt(play, 3)}° is {fmt(play / md_without, 2)}× the unshaped residual "

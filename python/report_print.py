@@ -122,7 +122,8 @@ def split_reasons(blocks: dict[int, list[dict]]) -> list[str]:
         row, prev = blocks[idx], blocks[order[i - 1]]
         if "reason" in row[0]["class"] and row[0]["tag"] == "tr" and "nums" in prev[0]["class"]:
             if min(f["page"] for f in row) != max(f["page"] for f in prev):
-                out.append(f"{label(row[0])} on page {row[0]['page'] + 1}, its number row on page {prev[-1]['page'] + 1}")
+                out.append(f"{label(row[0])} on page {row[0]['page'] + 1}, "
+                           f"its number row on page {prev[-1]['page'] + 1}")
     return out
 
 

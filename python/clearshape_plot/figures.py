@@ -582,6 +582,36 @@ def _draw_mean_deviation(ax, panel: dict, cache: CsvCache) -> None:
         window = _active_window([(t, y)])
         if window:
             ax.set_xlim(window[0], max(window[1], float(start_s) + 0.1 * (float(t[-1]) - float(t[0]))))
+        _md_band_inset(ax, m, unit)
+
+
+# The ±MD band is drawn at least this share of an axis's height; below it (0.8° on a 25° move) a
+# zoomed inset shows the steady state around M at ±MD_INSET_HALF_SPAN_MD × MD.
+MD_BAND_MIN_SHARE = 0.06
+MD_INSET_HALF_SPAN_MD = 4.0
+
+
+def _md_band_inset(ax, m: dict, unit: str) -> None:
+    """A zoomed inset of the steady state around M where the whole move leaves the ±MD band too thin to
+    see, placed on the side of the axes the move started from (the response's rest level)."""
+    mean, md, t, y, start_s = m["mean"], m["md"], m["t"], m["y"], m["start_s"]
+    y_lo, y_hi = ax.get_ylim()
+    if md <= 0 or 2 * md >= MD_BAND_MIN_SHARE * (y_hi - y_lo):
+        return
+    below = float(y[0]) < mean  # a move up: the lower half is empty after the start
+    ins = ax.inset_axes([0.42, 0.06 if below else 0.5, 0.55, 0.42])
+    ins.axhspan(mean - md, mean + md, color=roles.style_for("mean")["color"], alpha=0.13, linewidth=0, label="_M ± MD")
+    role, source = roles.infer_role(_y_column(m["series"]))
+    ins.plot(t, y, **roles.style_for(role or "unshaped", 0, source))
+    ins.axhline(mean, **roles.style_for("mean"))
+    half = MD_INSET_HALF_SPAN_MD * md
+    ins.set_ylim(mean - half, mean + half)
+    ins.set_xlim(float(start_s), min(float(t[-1]), ax.get_xlim()[1]))
+    ins.set_title(f"steady state zoomed: M ± {MD_INSET_HALF_SPAN_MD:g} MD (± {half:.3g} {unit})",
+                  fontsize=7, pad=2)
+    ins.tick_params(labelsize=6, length=2, pad=1)
+    ins.set_facecolor("white")
+    ax.indicate_inset_zoom(ins, edgecolor="#7A7A7A", alpha=0.8)
 
 
 # "Without shaping" bars: a neutral dark grey that no shaper uses, so no shaped bar can be

@@ -677,6 +677,39 @@ def check_zoom(study: Path, python_dir: Path, **_) -> None:
     print(f"rig traces, share of the record drawn: {spans or 'none'}")
 
 
+def _band_share(ax) -> float:
+    """The largest share of `ax`'s height that a ±MD band (an axhspan labelled "M ± MD") covers."""
+    lo, hi = ax.get_ylim()
+    share = 0.0
+    for p in ax.patches:
+        if not str(p.get_label()).lstrip("_").startswith("M ± MD"):
+            continue
+        ys = [v[1] for v in p.get_xy()] if hasattr(p, "get_xy") and not hasattr(p, "get_height") else \
+            [p.get_y(), p.get_y() + p.get_height()]
+        top, bottom = min(max(ys), max(lo, hi)), max(min(ys), min(lo, hi))
+        share = max(share, max(0.0, top - bottom) / abs(hi - lo))
+    return share
+
+
+def check_md_band(study: Path, python_dir: Path, **_) -> None:
+    """22.10: Eq. 5.1's ±MD band is visible in every mean-deviation figure: on the main axes or on a
+    zoomed inset it covers at least 6 % of the height (a 0.39° band on a 25° step's axis covers 3 %)."""
+    figures, cache, specs = _figures(study, python_dir)
+    seen = []
+    for spec in specs:
+        if spec.get("kind") != "mean-deviation":
+            continue
+        fig = figures.draw(spec, cache)
+        fig.canvas.draw()
+        axes = [a for ax in fig.axes for a in [ax] + list(getattr(ax, "child_axes", []))]
+        share = max((_band_share(a) for a in axes), default=0.0)
+        seen.append(f"{spec['id']} {share:.1%}")
+        expect(share >= 0.06, f"{spec['id']}: the ±MD band covers {share:.1%} of its axis at most")
+        plt_close(fig)
+    expect(bool(seen), "no mean-deviation figure")
+    print(f"±MD band, largest share of an axis: {seen}")
+
+
 def check_like_with_like(study: Path, results: dict, html: str, tmp: Path, **_) -> None:
     """22.8: verdicts compare like with like — the thesis's step model with ours from the same input (not
     our selected one), an exponent the fit could not identify is not scored, and clearshape's own tables
@@ -1101,7 +1134,7 @@ def check_print_reader(python_dir: Path, **_) -> None:
 
 
 CHECKS = {
-    "print-reader": check_print_reader,
+    "print-reader": check_print_reader, "md-band": check_md_band,
     "link-mode-fit": check_link_mode_fit, "clearance-identified": check_clearance_identified,
     "empty-columns": check_empty_columns, "layout-1400": check_layout_1400, "is-spelling": check_is_spelling,
     "sensitivity": check_sensitivity, "md-summary": check_md_summary, "repeatability": check_repeatability,

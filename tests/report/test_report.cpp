@@ -327,6 +327,7 @@ REPORT_CHECK(AZoomedTimeAxisSaysWhichPartOfTheRecord, "zoom-note")          // 2
 REPORT_CHECK(StudyTextsGiveEachQuantityItsUnit, "study-texts")              // 22.10
 REPORT_CHECK(BootstrapIntervalsMatchANumPyReference, "bootstrap-reference")   // 22.4
 REPORT_CHECK(PrintReaderFindsEachPrintDefect, "print-reader")               // 22.12
+REPORT_CHECK(TheMdBandIsVisibleAtAWholeMovesScale, "md-band")               // 22.10
 
 // Issue 22 on the what-if rigs: the quick large-play study (no thesis contact law or Eq. 4.1 figure in
 // its protocol) on its own rig and on the built-in worn-coupling rig (the thesis's drive and sensors,
