@@ -194,7 +194,7 @@ void setup_simulate(CLI::App& parent) {
   sub->callback([st] { run_simulate(*st); });
 }
 
-const bool registered = register_command(
+const bool arm_registered = register_command(
     {"arm", "A multi-joint arm with play in every joint: simulate, modes at a pose, shaped moves, the study", 95,
      [](CLI::App& sub) {
        sub.require_subcommand(1);

@@ -154,7 +154,7 @@ void run(const CalibrateOptions& o) {
   }
 }
 
-const bool registered = register_command(
+const bool calibrate_rig_registered = register_command(
     {"calibrate-rig", "Calibrate the simulated rig's truth to the thesis's unshaped measurements", 55,
      [](CLI::App& sub) {
        auto o = std::make_shared<CalibrateOptions>();

@@ -94,7 +94,7 @@ void run_demo(const DemoOptions& o) {
              (dir / "demo.json").string());
 }
 
-const bool registered = register_command(
+const bool demo_registered = register_command(
     {"demo", "Demonstrate shaping a step on the thesis's speed-mode drive model", 5,
      [](CLI::App& sub) {
        auto options = std::make_shared<DemoOptions>();

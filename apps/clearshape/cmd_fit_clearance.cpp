@@ -208,7 +208,7 @@ void run(const FitClearanceOptions& o) {
   }
 }
 
-const bool registered = register_command(
+const bool fit_clearance_registered = register_command(
     {"fit-clearance", "Fit the Eq. 4.3 contact parameters to a link record, given a drive model", 55,
      [](CLI::App& sub) {
        auto o = std::make_shared<FitClearanceOptions>();

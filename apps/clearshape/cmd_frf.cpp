@@ -185,7 +185,7 @@ void run_frf(const FrfState& st) {
   }
 }
 
-void setup(CLI::App& sub) {
+void setup_frf(CLI::App& sub) {
   auto st = std::make_shared<FrfState>();
   sub.add_option("--in", st->in, "Record (CSV or whitespace columns, header optional) with input and output columns")
       ->required();
@@ -204,9 +204,9 @@ void setup(CLI::App& sub) {
   sub.callback([st] { run_frf(*st); });
 }
 
-const bool registered = register_command(
+const bool frf_registered = register_command(
     {"frf", "Frequency response (H1) and coherence of a record's output against its input (MATLAB tfestimate/mscohere)", 33,
-     setup});
+     setup_frf});
 
 }  // namespace
 

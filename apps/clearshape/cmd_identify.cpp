@@ -474,7 +474,7 @@ void run_identify(const IdentifyState& st) {
   }
 }
 
-void setup(CLI::App& sub) {
+void setup_identify(CLI::App& sub) {
   auto st = std::make_shared<IdentifyState>();
   sub.add_option("--model", st->model, "Process model structure: P + poles 0-3 + D/Z/U/I (thesis Eq. 4.2: P3UZ)")
       ->capture_default_str();
@@ -508,9 +508,9 @@ void setup(CLI::App& sub) {
   sub.callback([st] { run_identify(*st); });
 }
 
-const bool registered = register_command(
+const bool identify_registered = register_command(
     {"identify", "Identify a process model (thesis Eq. 4.2, P3UZ) from recorded runs; --crossval over input types", 30,
-     setup});
+     setup_identify});
 
 }  // namespace
 

@@ -125,7 +125,7 @@ std::vector<std::string> modes_warnings(const ident::ModeIdentification& r, cons
   return w;
 }
 
-nlohmann::ordered_json number_or_null(double v) {
+nlohmann::ordered_json finite_or_null(double v) {
   return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
 }
 
@@ -208,21 +208,21 @@ std::string shape_command(const ident::ModeIdentification& r, bool per_sample) {
   return out;
 }
 
-nlohmann::ordered_json mode_json(const ident::ModeEstimate& m, double dt, bool per_sample, bool input_output) {
+nlohmann::ordered_json estimate_json(const ident::ModeEstimate& m, double dt, bool per_sample, bool input_output) {
   nlohmann::ordered_json j;
   const std::string unstable = instability(m, dt);
   j["stable"] = unstable.empty();
   j["stability_note"] = unstable.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(unstable);
   j[per_sample ? "frequency_cycles_per_sample" : "frequency_hz"] = m.natural_frequency_hz();
-  j[per_sample ? "frequency_std_cycles_per_sample" : "frequency_std_hz"] = number_or_null(m.natural_frequency_std_hz());
+  j[per_sample ? "frequency_std_cycles_per_sample" : "frequency_std_hz"] = finite_or_null(m.natural_frequency_std_hz());
   j[per_sample ? "natural_frequency_rad_per_sample" : "natural_frequency_rad_s"] = m.natural_frequency_rad_s;
   j[per_sample ? "natural_frequency_std_rad_per_sample" : "natural_frequency_std_rad_s"] =
-      number_or_null(m.natural_frequency_std_rad_s);
+      finite_or_null(m.natural_frequency_std_rad_s);
   j[per_sample ? "damped_frequency_cycles_per_sample" : "damped_frequency_hz"] = m.damped_frequency_hz();
   j["damping_ratio"] = m.damping_ratio;
-  j["damping_ratio_std"] = number_or_null(m.damping_ratio_std);
+  j["damping_ratio_std"] = finite_or_null(m.damping_ratio_std);
   j["amplitude"] = m.amplitude;
-  j["amplitude_std"] = number_or_null(m.amplitude_std);
+  j["amplitude_std"] = finite_or_null(m.amplitude_std);
   j["amplitude_meaning"] = !input_output ? "initial amplitude of the damped sinusoid (output units)"
                                          : "peak gain of the mode's term (output per input unit)";
   j["rms_contribution"] = m.rms_contribution;
@@ -299,7 +299,7 @@ void print_modes_json(const ModesState& st, const ModesPlan& p, const ModesResul
   doc["rmse"] = r.rmse;
   doc["decimation"] = r.decimation;
   nlohmann::ordered_json modes = nlohmann::ordered_json::array();
-  for (const auto& m : r.modes) modes.push_back(mode_json(m, p.timing.dt, per_sample, !st.input_column.empty()));
+  for (const auto& m : r.modes) modes.push_back(estimate_json(m, p.timing.dt, per_sample, !st.input_column.empty()));
   doc["modes"] = modes;
   doc["order"] = r.order;
   doc["order_source"] = r.order_source;
@@ -366,7 +366,7 @@ void run_modes(const ModesState& st) {
   }
 }
 
-void setup(CLI::App& sub) {
+void setup_modes(CLI::App& sub) {
   auto st = std::make_shared<ModesState>();
   sub.add_option("--data", st->data, "Record (CSV or whitespace columns, header optional)")->required();
   sub.add_option("--output-column", st->output_column, "Measured column (e.g. the link gyro rate): name or 1-based index")
@@ -409,9 +409,9 @@ void setup(CLI::App& sub) {
   sub.callback([st] { run_modes(*st); });
 }
 
-const bool registered = register_command(
+const bool modes_registered = register_command(
     {"modes", "Identify the dominant lightly damped modes of a record (free decay or input/output) for shaper design", 31,
-     setup});
+     setup_modes});
 
 }  // namespace
 

@@ -319,7 +319,7 @@ void run_recommend(const RecommendState& st) {
   }
 }
 
-void setup(CLI::App& sub) {
+void setup_recommend(CLI::App& sub) {
   auto st = std::make_shared<RecommendState>();
   sub.add_option("--data", st->data,
                  "Recording: a clearshape CSV, Klipper's raw accelerometer CSV (#time,accel_x,…) or its PSD CSV (freq,psd_x,…); "
@@ -391,8 +391,8 @@ void setup(CLI::App& sub) {
   sub.callback([st] { run_recommend(*st); });
 }
 
-const bool registered = register_command(
-    {"recommend", "Recommend an input shaper from recorded vibration (after Klipper's calibrate_shaper)", 32, setup});
+const bool recommend_registered = register_command(
+    {"recommend", "Recommend an input shaper from recorded vibration (after Klipper's calibrate_shaper)", 32, setup_recommend});
 
 }  // namespace
 

@@ -291,7 +291,7 @@ void add_run_options(CLI::App& sub, RunState& st) {
   sub.add_flag("--json", st.json, "Print a JSON summary on stdout");
 }
 
-void setup(CLI::App& sub) {
+void setup_rig(CLI::App& sub) {
   sub.require_subcommand(1);
   {
     auto st = std::make_shared<ProbeState>();
@@ -333,7 +333,7 @@ void setup(CLI::App& sub) {
   cs::cli::add_rig_calibrate(sub);
 }
 
-const bool registered = cs::cli::register_command(
-    {"rig", "The physical rig over a serial port: probe, stream the sensors, run a command, calibrate a shaper", 45, setup});
+const bool rig_registered = cs::cli::register_command(
+    {"rig", "The physical rig over a serial port: probe, stream the sensors, run a command, calibrate a shaper", 45, setup_rig});
 
 }  // namespace

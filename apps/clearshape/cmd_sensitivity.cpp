@@ -82,7 +82,7 @@ void run_sensitivity(const SensitivityState& st) {
   }
 }
 
-const bool registered = register_command(
+const bool sensitivity_registered = register_command(
     {"sensitivity", "Residual vibration V(r) of a shaper over a band of frequency ratios (Eq. 2.19)", 21,
      [](CLI::App& sub) {
        auto st = std::make_shared<SensitivityState>();

@@ -416,7 +416,7 @@ void run_shape(const ShapeState& st) {
   print_shape(st, a, fig);
 }
 
-const bool registered = register_command(
+const bool shape_registered = register_command(
     {"shape", "Design an input shaper (zv, zvd, zvdd, …, ei, si, custom) and optionally shape a CSV column", 20,
      [](CLI::App& sub) {
        auto st = std::make_shared<ShapeState>();

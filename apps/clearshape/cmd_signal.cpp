@@ -263,7 +263,7 @@ void run(const State& st) {
   }
 }
 
-void setup(CLI::App& sub) {
+void setup_signal(CLI::App& sub) {
   auto st = std::make_shared<State>();
   sub.add_option("--type", st->type, "Signal type: " + cs::cli::SignalOptions::type_list())
       ->required()
@@ -301,7 +301,7 @@ void setup(CLI::App& sub) {
   sub.callback([st] { run(*st); });
 }
 
-const bool registered = cs::cli::register_command(
-    {"signal", "Generate a command signal, optionally through the drive's command path", 10, setup});
+const bool signal_registered = cs::cli::register_command(
+    {"signal", "Generate a command signal, optionally through the drive's command path", 10, setup_signal});
 
 }  // namespace

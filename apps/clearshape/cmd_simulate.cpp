@@ -38,7 +38,7 @@ namespace rig = clearshape::rig;
 
 namespace {
 
-struct State {
+struct SimulateState {
   std::string mode = "position";
   std::string type = "step";
   cs::cli::SignalOptions signal_options;  // command units: deg (position) or V (speed)
@@ -173,7 +173,7 @@ struct Plan {
 };
 
 // The truth starts from the built-in rig (--rig, default the calibrated thesis rig) or a config file.
-rig::RigConfig rig_config(const State& st, rig::CommandMode mode) {
+rig::RigConfig rig_config(const SimulateState& st, rig::CommandMode mode) {
   if (st.rig_option->count() > 0 && !st.config.empty()) {
     throw cs::InvalidArgument("--rig and --config: give one (a config file starts from the thesis rig)");
   }
@@ -186,7 +186,7 @@ rig::RigConfig rig_config(const State& st, rig::CommandMode mode) {
 }
 
 // The config's run options with the flags given over them.
-rig::RunOptions run_options(const State& st, rig::RunOptions options) {
+rig::RunOptions run_options(const SimulateState& st, rig::RunOptions options) {
   if (st.duration_option->count() > 0) options.duration_s = st.duration_s;
   if (st.rate_option->count() > 0) options.output_rate_hz = st.rate_hz;
   if (st.initial_play_option->count() > 0) options.initial_play_fraction = st.initial_play;
@@ -197,7 +197,7 @@ rig::RunOptions run_options(const State& st, rig::RunOptions options) {
 }
 
 // --contact (else the config's law, else the thesis law) with --restitution over it.
-rig::ContactSpec contact_of(const State& st, const rig::RigConfig& config, rig::CommandMode mode) {
+rig::ContactSpec contact_of(const SimulateState& st, const rig::RigConfig& config, rig::CommandMode mode) {
   const rig::ContactModel model = !st.contact.empty()
                                       ? rig::contact_model_from_string(st.contact)
                                       : config.contact_model.value_or(rig::ContactModel::thesis);
@@ -213,7 +213,7 @@ rig::ContactSpec contact_of(const State& st, const rig::RigConfig& config, rig::
 }
 
 // Truth: built-in rig < config file < flags.
-Plan plan(const State& st) {
+Plan plan(const SimulateState& st) {
   Plan p;
   p.mode = rig::command_mode_from_string(st.mode);
   const rig::RigConfig config = rig_config(st, p.mode);
@@ -234,7 +234,7 @@ Plan plan(const State& st) {
 }
 
 // The shaper of --shaper (a method and the mode to cancel, or `custom` impulses), if any.
-std::optional<cs::shaping::Shaper> shaper_of(const State& st) {
+std::optional<cs::shaping::Shaper> shaper_of(const SimulateState& st) {
   cs::shaping::DesignRequest request;
   if (st.shaper == "custom") {  // e.g. the impulses of `shape --method clearance-aware`
     if (st.shaper_impulses_option->count() == 0) {
@@ -269,7 +269,7 @@ struct Command {
   cs::UniformSeries values;
 };
 
-Command command_of(const State& st, const rig::RunOptions& options) {
+Command command_of(const SimulateState& st, const rig::RunOptions& options) {
   sig::Signal signal = st.signal_options.build(st.type);
   cs::UniformSeries values = sig::sample(signal, options.output_rate_hz, options.duration_s);
   std::optional<cs::shaping::Shaper> shaper = shaper_of(st);
@@ -369,9 +369,9 @@ Summary summarize(const rig::RunRecord& run, const DegreeColumns& d, double rate
 
 // --- write: the CSV with its sidecar, and stdout ---------------------------------------------------
 
-std::string rig_name(const State& st) { return st.rig_option->count() > 0 ? st.rig_name : std::string("thesis"); }
+std::string rig_name(const SimulateState& st) { return st.rig_option->count() > 0 ? st.rig_name : std::string("thesis"); }
 
-nlohmann::ordered_json configuration_json(const State& st, const Plan& p, const Command& c) {
+nlohmann::ordered_json configuration_json(const SimulateState& st, const Plan& p, const Command& c) {
   return {{"mode", st.mode},
           {"signal", {{"type", st.type}, {"parameters", cs::cli::signal_parameters_json(c.signal)}}},
           {"shaper", c.shaper ? cs::cli::shaper_json(*c.shaper, st.shaper_frequency_hz, st.shaper_zeta)
@@ -399,7 +399,7 @@ nlohmann::ordered_json events_json(const std::vector<cs::plant::ContactEvent>& e
 
 // CSV and sidecar appear together or not at all; `-o run.json` (the sidecar's own name) is
 // refused by the batch instead of overwriting the CSV with the sidecar.
-void write_files(const State& st, const Plan& p, const Command& c, const rig::RunRecord& run,
+void write_files(const SimulateState& st, const Plan& p, const Command& c, const rig::RunRecord& run,
                  const DegreeColumns& d, const Summary& summary) {
   const bool position = p.mode == rig::CommandMode::position;
   const std::vector<std::string> names = column_names(p.mode);
@@ -425,7 +425,7 @@ void write_files(const State& st, const Plan& p, const Command& c, const rig::Ru
              sidecar.string());
 }
 
-void print_json(const State& st, const Plan& p, const Command& c, const Summary& summary) {
+void print_json(const SimulateState& st, const Plan& p, const Command& c, const Summary& summary) {
   auto doc = cs::io::make_document();
   doc["command"] = "simulate";
   doc["mode"] = st.mode;
@@ -439,7 +439,7 @@ void print_json(const State& st, const Plan& p, const Command& c, const Summary&
   cs::cli::print_json(doc);
 }
 
-void print_table(const State& st, const Plan& p, const Command& c, const rig::RunRecord& run, const Summary& sm) {
+void print_table(const SimulateState& st, const Plan& p, const Command& c, const rig::RunRecord& run, const Summary& sm) {
   const std::vector<std::pair<std::string, std::string>> rows = {
       {"mode", st.mode},
       {"signal", st.type},
@@ -459,7 +459,7 @@ void print_table(const State& st, const Plan& p, const Command& c, const rig::Ru
   if (!st.output.empty()) fmt::print("{:<22}{}\n", "output", st.output);
 }
 
-void run(const State& st) {
+void run(const SimulateState& st) {
   const Plan p = plan(st);
   const Command command = command_of(st, p.options);
   const cs::UniformSeries rig_command = rig_units(command.values, p.mode);
@@ -482,8 +482,8 @@ void run(const State& st) {
   }
 }
 
-void setup(CLI::App& sub) {
-  auto st = std::make_shared<State>();
+void setup_simulate(CLI::App& sub) {
+  auto st = std::make_shared<SimulateState>();
   sub.add_option("--mode", st->mode, "Drive mode: position (pulse train, deg) or speed (analog, V)")
       ->check(CLI::IsMember({"position", "speed"}))
       ->capture_default_str();
@@ -535,7 +535,7 @@ void setup(CLI::App& sub) {
   sub.callback([st] { run(*st); });
 }
 
-const bool registered = cs::cli::register_command(
-    {"simulate", "Simulate the rig (drive + joint with clearance + sensors) under a command", 40, setup});
+const bool simulate_registered = cs::cli::register_command(
+    {"simulate", "Simulate the rig (drive + joint with clearance + sensors) under a command", 40, setup_simulate});
 
 }  // namespace

@@ -119,7 +119,7 @@ void run(const StudyCliOptions& o) {
   }
 }
 
-const bool registered = register_command(
+const bool study_registered = register_command(
     {"study", "Run a study protocol (the thesis's programme) against the simulated rig", 50,
      [](CLI::App& sub) {
        auto o = std::make_shared<StudyCliOptions>();

@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct State {
+struct SweepState {
   std::string sweep;
   std::string out;
   std::string scheduler;
@@ -59,7 +59,7 @@ std::string python_path() {
                          "CLI nor in the build tree; build it (CLEARSHAPE_BUILD_PYTHON=ON) or set CLEARSHAPE_PYTHONPATH");
 }
 
-void run(const State& st) {
+void run_sweep(const SweepState& st) {
   if (!st.scheduler.empty() && st.scheduler.rfind("tcp://", 0) != 0 && st.scheduler.rfind("tls://", 0) != 0) {
     throw cs::InvalidArgument("--scheduler = " + st.scheduler + " must be a Dask address such as tcp://HOST:8786");
   }
@@ -91,8 +91,8 @@ void run(const State& st) {
   throw cs::RuntimeError(std::string("cannot run ") + CLEARSHAPE_PYTHON_EXECUTABLE + " for the sweep");
 }
 
-void setup(CLI::App& sub) {
-  auto st = std::make_shared<State>();
+void setup_sweep(CLI::App& sub) {
+  auto st = std::make_shared<SweepState>();
   sub.add_option("sweep", st->sweep, "Sweep file (TOML; docs/sweeps.md)")->required()->check(CLI::ExistingFile);
   sub.add_option("--out,-o", st->out, "Output folder: results.h5, results.csv, results.json")->required();
   sub.add_option("--scheduler", st->scheduler, "Dask scheduler address tcp://HOST:8786 (default: this machine)");
@@ -107,10 +107,10 @@ void setup(CLI::App& sub) {
       "Examples:\n"
       "  clearshape sweep studies/sweep-play.toml --out out/sweep-play\n"
       "  clearshape sweep studies/sweep-play.toml --out out/sweep-play --scheduler tcp://head:8786");
-  sub.callback([st] { run(*st); });
+  sub.callback([st] { run_sweep(*st); });
 }
 
-const bool registered = cs::cli::register_command(
-    {"sweep", "Sweep rig, command and shaper parameters (grid / Monte-Carlo; local or Dask)", 90, setup});
+const bool sweep_registered = cs::cli::register_command(
+    {"sweep", "Sweep rig, command and shaper parameters (grid / Monte-Carlo; local or Dask)", 90, setup_sweep});
 
 }  // namespace

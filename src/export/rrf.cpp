@@ -16,7 +16,7 @@ namespace sh = clearshape::shaping;
 
 namespace {
 
-constexpr int kDigits = 6;            // significant digits of F, S, H and T (RRF keeps binary32)
+constexpr int kRrfDigits = 6;         // significant digits of F, S, H and T (RRF keeps binary32)
 constexpr double kRrfVtol = 0.05;     // the curve fits behind ei2/ei3 are for Vtol = 5 %
 
 std::string join(const std::vector<std::string>& parts) {
@@ -64,8 +64,8 @@ NamedForm named_form(const ShaperDesign& design) {
   const std::optional<std::string_view> type = rrf_type_for(design.method);
   if (std::string why = why_not_named(design, type); !why.empty()) return {{}, why};
   const double f_hz = design.mode->natural_frequency_hz();
-  const std::string freq = fixed_significant(f_hz, kDigits);
-  const std::string zeta = fixed_significant(design.mode->damping_ratio, kDigits);
+  const std::string freq = fixed_significant(f_hz, kRrfDigits);
+  const std::string zeta = fixed_significant(design.mode->damping_ratio, kRrfDigits);
   if (std::stod(freq) < kRrfMinFrequencyHz || std::stod(freq) > kRrfMaxFrequencyHz) {
     return {{}, fmt::format("F = {} Hz is outside RRF's range for named types, [{:.4g}, {:g}] Hz", freq,
                             kRrfMinFrequencyHz, kRrfMaxFrequencyHz)};
@@ -75,7 +75,7 @@ NamedForm named_form(const ShaperDesign& design) {
   const ResidualDifference diff = residual_difference(design.shaper, theirs, *design.mode);
   if (diff.max_abs > kFirmwareResidualTolerance) {
     const std::string grid =
-        design.update_grid_hz ? fmt::format(" on the {} Hz update grid", fixed_significant(*design.update_grid_hz, kDigits)) : "";
+        design.update_grid_hz ? fmt::format(" on the {} Hz update grid", fixed_significant(*design.update_grid_hz, kRrfDigits)) : "";
     return {{}, fmt::format("the {} RRF builds from F{} S{} differs from the design{} by {:.3g} in residual vibration "
                             "(at r = {:.3g}; tolerance {})",
                             *type, freq, zeta, grid, diff.max_abs, diff.at_ratio, kFirmwareResidualTolerance)};
@@ -107,8 +107,8 @@ ExportText custom_form(const ShaperDesign& design, const std::string& header, co
   const auto impulses = shaper.impulses();
   for (std::size_t i = 0; i + 1 < impulses.size(); ++i) {
     cumulative += impulses[i].amplitude;
-    h.push_back(fixed_significant(cumulative, kDigits));
-    t.push_back(fixed_significant(impulses[i + 1].time_s - impulses[i].time_s, kDigits));
+    h.push_back(fixed_significant(cumulative, kRrfDigits));
+    t.push_back(fixed_significant(impulses[i + 1].time_s - impulses[i].time_s, kRrfDigits));
     h_value.push_back(std::stod(h.back()));
     t_value.push_back(std::stod(t.back()));
   }

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include <Eigen/Dense>
-#include <unsupported/Eigen/MatrixFunctions>
 
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/core/series.hpp"
 #include "clearshape/core/units.hpp"
 
@@ -32,7 +32,7 @@ inline clearshape::UniformSeries rate_response(const std::vector<Line>& lines, d
     m(1, 0) = -w * w;
     m(1, 2) = 1.0;
     m(1, 1) = -2.0 * zeta * w;
-    const Eigen::Matrix3d e = (m * dt).exp();
+    const Eigen::Matrix3d e = clearshape::linalg::expm(m * dt);  // MatrixFunctions, compiled once in core
     Eigen::Vector2d x = Eigen::Vector2d::Zero();
     for (std::size_t k = 0; k < n; ++k) {
       y.values[k] += line.gain * x(1);
