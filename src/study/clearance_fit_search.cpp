@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/core/units.hpp"
 
 namespace clearshape::study::fit_detail {
@@ -248,8 +249,8 @@ std::vector<double> std_errors(const Setup& s, const Vars& u, const std::vector<
     }
   }
   const Eigen::MatrixXd JtJ = J.transpose() * J;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(JtJ);
-  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-12 * eig.eigenvalues().maxCoeff())) {
+  const linalg::SymmetricEigenDecomposition eig = linalg::symmetric_eigen(JtJ);  // compiled once, in core
+  if (!eig.converged || !(eig.values.minCoeff() > 1e-12 * eig.values.maxCoeff())) {
     return out;  // singular: not identifiable together
   }
   double ssr = 0.0;
