@@ -14,7 +14,8 @@ CMAKE_FLAGS ?=
 # test, so that switching between them never recompiles; `make run WERROR=OFF` for a compiler
 # other than Debian 12's GCC 12.
 WERROR ?= ON
-# Precompiled headers for the CLI and study (CMake option CLEARSHAPE_PCH); PCH=OFF to do without.
+# Precompiled headers (CMake option CLEARSHAPE_PCH): the tests' under UNITY, the CLI's and study's too
+# without it; PCH=OFF to do without.
 PCH ?= ON
 # Unity build: each target's sources compile in batches of 8 (CMake option CLEARSHAPE_UNITY), about
 # a third less compile CPU; UNITY=OFF to compile file by file.
