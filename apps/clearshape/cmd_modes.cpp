@@ -116,10 +116,12 @@ std::vector<std::string> modes_warnings(const ident::ModeIdentification& r, cons
   }
   if (!(r.fit_percent >= 80.0)) w.push_back(fmt::format("poor fit: {:.1f} % (below 80 %)", r.fit_percent));
   if (r.order_source == "modes" && !r.stabilisation.orders.empty()) {
-    w.push_back(fmt::format("no pole persists across the stabilisation diagram's orders {}–{} (|Δf| < {} %, |Δζ| < {} %): the "
+    const bool damping = r.stabilisation.options.persistence_needs_damping.value_or(true);  // free response only
+    w.push_back(fmt::format("no pole persists across the stabilisation diagram's orders {}–{} (|Δf| < {} %{}): the "
                             "model order {} follows --modes, and the frequencies may move with it",
                             r.stabilisation.orders.front().order, r.stabilisation.orders.back().order,
-                            100.0 * st.stabilisation.frequency_tolerance, 100.0 * st.stabilisation.damping_tolerance,
+                            100.0 * st.stabilisation.frequency_tolerance,
+                            damping ? fmt::format(", |Δζ| < {} %", 100.0 * st.stabilisation.damping_tolerance) : "",
                             r.order));
   }
   return w;

@@ -94,7 +94,7 @@ void flag_against(DiagramOrder& now, const DiagramOrder& before, const Stabilisa
 }
 
 bool persistent_pole(const DiagramPole& p, const StabilisationOptions& o) {
-  return o.persistence_needs_damping ? p.stable : p.stable_frequency && p.physical;
+  return o.persistence_needs_damping.value_or(true) ? p.stable : p.stable_frequency && p.physical;
 }
 
 double median(std::vector<double> v) {
@@ -176,10 +176,11 @@ StabilisationDiagram build_stabilisation_diagram(std::vector<DiagramOrder> order
   check(options);
   StabilisationDiagram out;
   out.options = options;
+  out.options.persistence_needs_damping = options.persistence_needs_damping.value_or(true);
   for (std::size_t j = 1; j < orders.size(); ++j) flag_against(orders[j], orders[j - 1], options);
   out.orders = std::move(orders);
-  out.modes = persistent_modes(out.orders, options);
-  out.chosen_order = choose_order(out.orders, out.modes, options);
+  out.modes = persistent_modes(out.orders, out.options);
+  out.chosen_order = choose_order(out.orders, out.modes, out.options);
   return out;
 }
 
@@ -223,7 +224,9 @@ StabilisationDiagram input_output_stabilisation(const Experiment& experiment, co
     if (m.model.a.size() > 0) d.poles = modal_poles(m.model.a, m.model.c, m.model.b.col(0), experiment.sample_time_s);
     orders.push_back(std::move(d));
   }
-  return build_stabilisation_diagram(std::move(orders), options);
+  StabilisationOptions io = options;  // frequency persistence unless asked otherwise (stabilisation.hpp)
+  io.persistence_needs_damping = options.persistence_needs_damping.value_or(false);
+  return build_stabilisation_diagram(std::move(orders), io);
 }
 
 }  // namespace clearshape::ident

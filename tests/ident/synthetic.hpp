@@ -44,6 +44,18 @@ inline double rms(const std::vector<double>& v) {
   return std::sqrt(s / static_cast<double>(v.size()));
 }
 
+/// y += v with stationary AR(1) noise v[k+1] = ρ v[k] + w[k] (seeded) of RMS `noise` × RMS(y).
+inline void add_ar1_noise(std::vector<double>& y, std::uint64_t seed, double rho, double noise) {
+  const double sd = noise * rms(y);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> nd;
+  double v = sd * nd(rng);
+  for (double& x : y) {
+    x += v;
+    v = rho * v + sd * std::sqrt(1.0 - rho * rho) * nd(rng);
+  }
+}
+
 /// y = model(u) + noise·RMS(model(u))·N(0, 1) (seeded).
 inline ident::Experiment make_data(const lti::ProcessModel& model, const std::vector<double>& u, double dt,
                                    double noise, std::uint64_t seed, std::string name = "data") {

@@ -28,14 +28,7 @@ namespace {
 ident::Experiment ar1_record(const lti::ProcessModel& plant, std::uint64_t seed, double rho, double noise) {
   const auto u = clearshape::testing::prbs_input(2000, 4, 1.0, 7000 + seed);
   ident::Experiment e = clearshape::testing::make_data(plant, u, 0.005, 0.0, seed);
-  const double sd = noise * clearshape::testing::rms(e.output);
-  std::mt19937_64 rng(9000 + seed);
-  std::normal_distribution<double> nd;
-  double v = sd * nd(rng);
-  for (double& y : e.output) {
-    y += v;
-    v = rho * v + sd * std::sqrt(1.0 - rho * rho) * nd(rng);
-  }
+  clearshape::testing::add_ar1_noise(e.output, 9000 + seed, rho, noise);
   return e;
 }
 

@@ -8,6 +8,7 @@
 // wander from order to order. The model order for the final fit is the lowest order at which every
 // persistent mode is present as a stable pole — chosen without asking how many modes to report.
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "clearshape/core/series.hpp"
@@ -29,9 +30,13 @@ struct StabilisationOptions {
   /// A pole counts towards persistence only when its residue is at least this fraction of the largest
   /// at its order: a weak persistent line (a harmonic of a nonlinear decay) must not set the order.
   double min_relative_amplitude = 0.05;
-  /// Persistence counts fully stable poles (true) or poles stable in frequency and physical (false:
-  /// looser; noise poles of ζ ≈ 0 then persist too).
-  bool persistence_needs_damping = true;
+  /// Persistence counts fully stable poles (true) or poles stable in frequency and physical (false).
+  /// Unset: the record decides. A free response needs the damping (ERA of noise has ζ ≈ 0 poles that
+  /// hold their frequency). Input/output does not: the subspace ζ of a lightly damped mode under
+  /// coloured output noise moves by more than 5 % between orders while its frequency holds to 1 %
+  /// (4 Hz, ζ 0.02, AR(1) ρ 0.9 noise: the mode was not persistent in 64 of 200 records and went
+  /// unreported); PO-MOESP's past-input instruments leave no noise poles that persist in frequency.
+  std::optional<bool> persistence_needs_damping;
 };
 
 /// One pole pair of the diagram (continuous-time: s = ln z / T).
