@@ -1,5 +1,6 @@
 #include "clearshape/plant/fixed_step.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <variant>
@@ -80,6 +81,63 @@ void validate(const PlantModel& model, const UniformSeries& input, const FixedSt
   require_finite("initial_link_rate_rad_s", o.initial_link_rate_rad_s);
 }
 
+using Stepper = boost::numeric::odeint::runge_kutta4<State>;
+
+double gap_of(const Rhs& rhs, const State& y) { return std::abs(y[static_cast<std::size_t>(rhs.nd)]) - rhs.joint->half_play_rad; }
+
+// The contact's discrete memory (torsional_system.cpp): latched at onset with the approach rate
+// at that instant, cleared at separation.
+void update_contact(Rhs& rhs, const State& y) {
+  const auto nd = static_cast<std::size_t>(rhs.nd);
+  const double phi = y[nd];
+  if (gap_of(rhs, y) > 0.0 && !rhs.in_contact) {
+    const Eigen::Map<const Eigen::VectorXd> x(y.data(), rhs.nd);
+    const double rate = (phi >= 0.0 ? 1.0 : -1.0) * (y[nd + 1] - rhs.drive->rate_rad_s(x, rhs.u));
+    rhs.memory = ContactMemory{rhs.joint->law.latch_approach_rate(rate), false};
+    rhs.in_contact = true;
+  } else if (gap_of(rhs, y) <= 0.0) {
+    rhs.in_contact = false;
+  }
+}
+
+// One step of h with the contact onset or separation inside it located (the Illinois variant of
+// regula falsi on δ(θh), Dowell & Jarratt 1971): RK4 to the first state past the switch, the
+// contact memory updated there, RK4 over the rest. The dashpot's force jumps at onset (D·δ̇), so
+// a step across it unsplit is first-order accurate; split, each piece is smooth.
+void step_located(Stepper& stepper, Rhs& rhs, State& y, double t, double h) {
+  const State y0 = y;
+  const double g0 = gap_of(rhs, y0);
+  stepper.do_step(rhs, y, t, h);
+  const double g1 = gap_of(rhs, y);
+  if ((g0 > 0.0) == (g1 > 0.0)) {
+    update_contact(rhs, y);
+    return;
+  }
+  double a = 0.0, b = 1.0, ga = g0, gb = g1;
+  State past = y;
+  for (int it = 0, side = 0; it < 6 && (b - a) * h > 1e-9; ++it) {
+    const double theta = std::clamp(a + ga / (ga - gb) * (b - a), a + 1e-3 * (b - a), b - 1e-3 * (b - a));
+    State trial = y0;
+    stepper.do_step(rhs, trial, t, theta * h);
+    const double g = gap_of(rhs, trial);
+    if ((g > 0.0) == (g0 > 0.0)) {  // still before the switch
+      a = theta, ga = g;
+      if (side == -1) gb *= 0.5;
+      side = -1;
+    } else {
+      b = theta, gb = g, past = trial;
+      if (side == 1) ga *= 0.5;
+      side = 1;
+    }
+  }
+  if (b < 1.0) {
+    update_contact(rhs, past);
+    y = past;
+    stepper.do_step(rhs, y, t + b * h, (1.0 - b) * h);
+  }
+  update_contact(rhs, y);
+}
+
 }  // namespace
 
 FixedStepResponse simulate_fixed_step(const PlantModel& model, const UniformSeries& drive_input,
@@ -102,7 +160,7 @@ FixedStepResponse simulate_fixed_step(const PlantModel& model, const UniformSeri
   out.motor_rate_rad_s.assign(n, 0.0);
   out.link_angle_rad.assign(n, 0.0);
   out.link_rate_rad_s.assign(n, 0.0);
-  boost::numeric::odeint::runge_kutta4<State> stepper;
+  Stepper stepper;
   const auto sample = [&](std::size_t k, double t) {
     const Eigen::Map<const Eigen::VectorXd> x(y.data(), rhs.nd);
     out.motor_angle_rad[k] = model.drive.angle_rad(x);
@@ -117,18 +175,7 @@ FixedStepResponse simulate_fixed_step(const PlantModel& model, const UniformSeri
       // Held over the step: the input at its midpoint (a stage at the step's end must not see the
       // next sample; exact for a delay that is a multiple of the step).
       rhs.u = rhs.u_at(t + 0.5 * h);
-      stepper.do_step(rhs, y, t, h);
-      // The contact's discrete memory (torsional_system.cpp): latched at onset, cleared at separation.
-      const double phi = y[nd];
-      const double delta = std::abs(phi) - joint.half_play_rad;
-      if (delta > 0.0 && !rhs.in_contact) {
-        const Eigen::Map<const Eigen::VectorXd> x(y.data(), rhs.nd);
-        const double rate = (phi >= 0.0 ? 1.0 : -1.0) * (y[nd + 1] - model.drive.rate_rad_s(x, rhs.u));
-        rhs.memory = ContactMemory{joint.law.latch_approach_rate(rate), false};
-        rhs.in_contact = true;
-      } else if (delta <= 0.0) {
-        rhs.in_contact = false;
-      }
+      step_located(stepper, rhs, y, t, h);
     }
     for (const double v : y) {
       if (!std::isfinite(v)) throw RuntimeError("fixed-step simulation diverged at t = " + std::to_string(k * ts) + " s");

@@ -343,46 +343,58 @@ Fit plan(const ClearanceRunsFitProblem& p, Runs& v) {
 bool is_active(const Fit& f, std::size_t i) { return std::find(f.active.begin(), f.active.end(), i) != f.active.end(); }
 
 // The coarse scans, on the first kScanRuns runs with every other start of the grid profiled:
-// K (× 1/4 … 4 about its start, factors of √2) by the play (0.03–4°, factors of 2), then the Coulomb torque over
-// 0 and 1/4 … 4 × its start; then every run's start and damping profiled at the best.
+// K (× 1/4 … 4 about its start, factors of √2) by the play (0.03–4°, factors of 2), each run's
+// start profiled; the kScanStarts best grid points are kept (the angle misfit of a 0.25 s window
+// can rank a wrong (K, play) pair first by a fraction of a percent). From each: the Coulomb torque
+// over 0 and 1/4 … 4 × its start, then every run's start and damping profiled.
 constexpr std::size_t kScanRuns = 3;
+constexpr std::size_t kScanStarts = 3;
 
-void scan(Fit& f, Runs& v) {
+struct ScanPoint {
+  double error = 0.0;
+  Theta theta{};
+  Runs runs;
+};
+
+ScanPoint scan_point(Fit& f, Theta t, const Runs& v) {
+  ScanPoint p{0.0, t, v};
+  double hz = 0.0;
   const bool fit_band = is_active(f, kF);
-  double best = std::numeric_limits<double>::infinity();
-  Theta best_t = f.theta;
-  const auto try_theta = [&](Theta t) {
-    Runs trial = v;
-    double hz = 0.0;
-    const double e = profile_runs(f, t, trial, false, {}, kScanRuns, 2, fit_band ? &hz : nullptr, true);
-    if (fit_band) t[kF] = std::log(hz > 0.0 ? hz : kNoFilterHz);
-    if (e < best) {
-      best = e;
-      best_t = t;
-      v = trial;
-    }
-  };
+  p.error = profile_runs(f, t, p.runs, false, {}, kScanRuns, 2, fit_band ? &hz : nullptr, true);
+  if (fit_band) p.theta[kF] = std::log(hz > 0.0 ? hz : kNoFilterHz);
+  return p;
+}
+
+std::vector<ScanPoint> scan_grid(Fit& f, const Runs& v) {
   const std::vector<double> k_factors = is_active(f, kK) ? std::vector<double>{0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0} : std::vector<double>{1.0};
   const std::vector<double> plays = is_active(f, kPlay) ? std::vector<double>{0.03, 0.06, 0.12, 0.25, 0.5, 1.0, 2.0, 4.0}
                                                         : std::vector<double>{rad_to_deg(std::exp(f.theta[kPlay]))};
+  std::vector<ScanPoint> points;
   for (double kf : k_factors) {
     for (double deg : plays) {
       Theta t = f.theta;
       t[kK] = std::clamp(f.theta[kK] + std::log(kf), f.lower[kK], f.upper[kK]);
       t[kPlay] = std::clamp(std::log(deg_to_rad(deg)), f.lower[kPlay], f.upper[kPlay]);
-      try_theta(t);
+      points.push_back(scan_point(f, t, v));
     }
   }
-  f.theta = best_t;
+  std::stable_sort(points.begin(), points.end(), [](const ScanPoint& a, const ScanPoint& b) { return a.error < b.error; });
+  points.resize(std::min(points.size(), kScanStarts));
+  return points;
+}
+
+void scan_friction(Fit& f, Runs& v, const ScanPoint& from) {
+  ScanPoint best = from;
   if (is_active(f, kC)) {
-    const double c0 = f.theta[kC];
     for (double factor : {0.0, 0.25, 0.5, 2.0, 4.0}) {
-      Theta t = f.theta;
-      t[kC] = std::min(c0 * factor, f.upper[kC]);
-      try_theta(t);
+      Theta t = from.theta;
+      t[kC] = std::min(from.theta[kC] * factor, f.upper[kC]);
+      ScanPoint p = scan_point(f, t, from.runs);
+      if (p.error < best.error) best = std::move(p);
     }
-    f.theta = best_t;
   }
+  f.theta = best.theta;
+  v = best.runs;
   profile_runs(f, f.theta, v, true);
 }
 
@@ -774,8 +786,25 @@ ClearanceRunsFitResult fit_clearance_runs(const ClearanceRunsFitProblem& problem
     f.samples = std::clamp<std::size_t>(k, std::min<std::size_t>(10, f.full_samples), f.full_samples);
   };
   window(0.25);
-  scan(f, v);
-  Refined fit = refine(f, v);
+  // A first refinement from each of the scan's best points; the lowest error goes on.
+  Refined fit;
+  fit.ssr = std::numeric_limits<double>::infinity();
+  const Fit base = f;
+  for (const ScanPoint& start : scan_grid(f, v)) {
+    Fit g = base;
+    g.simulations = f.simulations;
+    Runs w;
+    scan_friction(g, w, start);
+    Refined r = refine(g, w);
+    f.simulations = g.simulations;
+    if (r.ssr < fit.ssr) {
+      const int simulations = f.simulations;
+      f = g;
+      f.simulations = simulations;
+      v = w;
+      fit = std::move(r);
+    }
+  }
   window(0.6);
   hop_runs(f, fit, v);
   fit = refine(f, v);

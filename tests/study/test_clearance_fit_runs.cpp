@@ -4,7 +4,7 @@
 // thesis rig's run-to-run variation and a link that starts at a random place in the play each
 // run. Each run keeps its own start place (a nuisance parameter); nothing is averaged.
 // Checked at 0.5, 1 and 2° of play (six 2 s runs of a 5° step each): play and K within ±10 %, the
-// Coulomb torque within ±25 % of the truth, each truth within 3.5σ of its fit, the n-free
+// Coulomb torque within ±25 % of the truth, each truth within 2σ of its fit, the n-free
 // alternative not significantly better (χ²₁ < 3.84), and the fixed-step optimum confirmed by
 // CVODE (RMS within 5 %).
 #include <chrono>
@@ -115,11 +115,12 @@ void check_play(double play_deg) {
   EXPECT_LT(std::abs(play_rel), 0.10) << "play";
   EXPECT_LT(std::abs(k.value / k_true - 1.0), 0.10) << "K";
   EXPECT_LT(std::abs(c.value / c_true - 1.0), 0.25) << "Coulomb";
-  // The 1σ covers the truth: within 3.5σ (log σ for play and K, relative for c). Measured: within
-  // 1.5σ at 0.5° and 1°; at 2° 3.0σ (play) and 2.8σ (K), where the errors are 0.2–0.3 %.
-  EXPECT_LT(std::abs(std::log(rad_to_deg(play.value) / play_deg)), 3.5 * play.std_error) << "play σ";
-  EXPECT_LT(std::abs(std::log(k.value / k_true)), 3.5 * k.std_error) << "K σ";
-  EXPECT_LT(std::abs(c.value / c_true - 1.0), 3.5 * c.std_error) << "Coulomb σ";
+  // The 1σ covers the truth: within 2σ (log σ for play and K, relative for c). Measured: within
+  // 0.3σ at every play. Before the fixed-step path located contact onsets and the fit refined from
+  // the scan's three best points, 2° read 3.0σ (play) and 2.8σ (K), errors of 0.2–0.3 %.
+  EXPECT_LT(std::abs(std::log(rad_to_deg(play.value) / play_deg)), 2.0 * play.std_error) << "play σ";
+  EXPECT_LT(std::abs(std::log(k.value / k_true)), 2.0 * k.std_error) << "K σ";
+  EXPECT_LT(std::abs(c.value / c_true - 1.0), 2.0 * c.std_error) << "Coulomb σ";
   EXPECT_FALSE(r.exponent_free_better) << "the n-free fit is significantly better: χ² " << r.exponent_chi2;
   EXPECT_LT(std::abs(r.check_rms_error_deg_s - r.rms_error_deg_s), 0.05 * r.rms_error_deg_s) << "CVODE check";
   const ClearanceModelSigma s = r.sigma();
