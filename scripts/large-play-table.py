@@ -12,13 +12,18 @@ and the added delay (the shaper's last impulse); then the study's own "What a co
 here" (each input's 90 % target against the Eq. 5.1 measurement floor of its rest trials). The peak
 contact torque and the impact count (contact onsets) are hidden from a rig's sensors: they come
 from one nominal, noise-free `clearshape simulate --rig <rig>` of the same input with the same
-shaper impulses (the link starting in the middle of the play).
+shaper impulses (the link starting in the middle of the play). A shaped column that ran the unshaped
+command — its design failed (the column's note says why) or the clearance-aware search kept the
+identity (no design beat the unshaped command on the fitted model) — is named so, with the reason as
+a footnote: its "improvement" is the scatter of ten trials of the same command, and such a column is
+never a reach table's best design without that warning; a design worse than unshaped is marked so.
 
     /usr/bin/python3 scripts/large-play-table.py [--build-dir build] [--no-run] [--write docs/large-play.md]
 """
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -55,10 +60,35 @@ def signal_args(protocol, input_name):
 
 
 def shaper_of(out, table, key):
+    """The impulses the column's trials ran (the first trial's sidecar), None for the unshaped command:
+    a column whose design failed ran unshaped (its sidecar's shaper is null)."""
     if key == "none":
         return None
     with open(os.path.join(out, "runs", f"rig__{table}__{key}__r01.json")) as f:
-        return json.load(f)["shaper"]["impulses"]
+        shaper = json.load(f)["shaper"]
+    return shaper["impulses"] if shaper else None
+
+
+def is_identity(impulses):
+    """One impulse of amplitude 1 at t = 0: the shaper passes the command unchanged."""
+    return (impulses is not None and len(impulses) == 1 and abs(impulses[0]["time_s"]) < 1e-12
+            and abs(impulses[0]["amplitude"] - 1.0) < 1e-12)
+
+
+def no_shaper_reason(res, column, impulses):
+    """Why a shaped column ran the unshaped command (None when it ran a real shaper): the column's own
+    note (a failed design), or the clearance-aware search that kept the identity (no design found that
+    beat the unshaped command on the fitted model)."""
+    if impulses is not None and not is_identity(impulses):
+        return None
+    if column.get("note"):
+        return column["note"]
+    ca = res["sections"].get("clearance_aware")
+    if column["key"].startswith("clearance-aware") and ca:
+        return (f"the search kept the identity: no design beat the unshaped command on the fitted model "
+                f"(worst MD {ca['worst_md_deg']:.4f} deg against {ca['worst_unshaped_md_deg']:.4f} unshaped, "
+                f"{ca['evaluations']} evaluations, {ca['termination']})")
+    return "no shaper designed (the study gives no reason)"
 
 
 def contact(exe, rig, sig, impulses, tmp):
@@ -74,7 +104,15 @@ def contact(exe, rig, sig, impulses, tmp):
     return side["summary"]["peak_contact_torque_n_m"], onsets
 
 
-def reach_lines(res, rig, out_dir):
+def generic(note):
+    """A failed design's note without its per-input numbers, so that one footnote serves every input:
+    "… for 5 deg … (residual 1.52); …" -> "… for the input's move … ; …"."""
+    note = re.sub(r"^identity shaper \(runs unshaped\): ", "", note)
+    note = re.sub(r"for [0-9.]+ deg with", "for the input's move with", note)
+    return re.sub(r" \(residual [0-9.eE+-]+\)", "", note)
+
+
+def reach_lines(res, rig, out_dir, notes):
     """The study's own "What a command can reach here" (results.json table "reach"): each input's
     90 % target (0.1 × the unshaped mean MD) against the measurement floor, Eq. 5.1 on the rest
     trials (rig_tests.floor_trials) over the window the input's trials used."""
@@ -93,7 +131,14 @@ def reach_lines(res, rig, out_dir):
             continue
         label = next(x.get("label", x["name"]) for x in res["protocol"]["inputs"] if x["name"] == h["input"])
         t = next(x for x in res["tables"] if x["id"] == table)
-        best = next((c["label"] for c in t["columns"] if c["key"] == h["best_column"]), "—")
+        best_col = next((c for c in t["columns"] if c["key"] == h["best_column"]), None)
+        best = best_col["label"] if best_col else "—"
+        if best_col is not None:
+            reason = no_shaper_reason(res, best_col, shaper_of(out_dir, table, best_col["key"]))
+            if reason is not None:  # the lowest mean is the unshaped command's: scatter, not a design
+                best += f" {notes.get(generic(reason), ('',))[0]} (no shaper: the unshaped command; not a design)"
+            elif h["best_mean"] is not None and h["best_mean"] > h["unshaped_mean"]:
+                best += " (worse than unshaped: not a candidate)"
         best_md = f"{h['best_mean']:.4f}" if h["best_mean"] is not None else "—"
         path = f"tables[id=reach].headline[{table}]"
         keys = [f"{path}.{k}:{spec}" for k, spec in (("unshaped_mean", ".4f"), ("unshaped_std", ".4f"), ("target", ".4f"),
@@ -124,6 +169,7 @@ def main():
             lines.append(f"**{rig} rig** ({res['rig']['description']}; protocol hash {res['study']['protocol_hash']})\n")
             lines.append("| input | shaper | MD mean ± std (deg) | improvement | added delay (s) | peak contact torque (N·m) | impacts |")
             lines.append("|---|---|---|---|---|---|---|")
+            notes = {}  # footnote text -> (its mark, the column), for the shaped columns that ran the unshaped command
             for table in ("B.3", "B.2", "B.1", "B.4", "B.5"):
                 t = next(x for x in res["tables"] if x["id"] == table)
                 input_name = next(s["input"] for s in res["protocol"]["rig_tests"]["tables"] if s["id"] == table)
@@ -140,20 +186,37 @@ def main():
                     delay = imp[-1]["time_s"] if imp else 0.0
                     torque, impacts = contact(exe, rig, sig, imp, tmp)
                     improvement = "" if key == "none" else f"{100.0 * (1.0 - c['ours_mean'] / base):.0f} %"
+                    reason = None if key == "none" else no_shaper_reason(res, c, imp)
+                    if reason is not None:
+                        mark = notes.setdefault(generic(reason), (f"[{chr(ord('a') + len(notes))}]", name))[0]
+                        name = f"{name} {mark}: none, runs unshaped"
+                        improvement += " (same command as unshaped: trial scatter)"
+                    elif c["ours_mean"] > base:
+                        improvement += " (worse than unshaped)"
                     col = f"tables[id={table}].columns[key={key}]"
                     quotes = [f"{col}.ours_mean:.4f", f"{col}.ours_std:.4f"]
                     quotes += [] if key == "none" else [f"{col}.improvement_percent:.0f"]
                     lines.append(f"| {label} | {name} | {c['ours_mean']:.4f} ± {c['ours_std']:.4f} | {improvement} | "
                                  f"{delay:.3f} | {torque:.2f} | {impacts} |" + marker(out, *quotes))
-            lines += reach_lines(res, rig, out)
+            if notes:
+                lines.append("")
+                lines += [f"{mark} {name}: no shaper designed or kept, the column ran the unshaped command; {text}."
+                          for text, (mark, name) in notes.items()]
+            lines += reach_lines(res, rig, out, notes)
             ca = res["sections"].get("clearance_aware")
             if ca:
-                lines.append(f"\nclearance-aware on the {rig} rig: impulses "
-                             + ", ".join(f"{i['a']:.3f} at {i['t']:.3f} s" for i in ca["impulses"])
-                             + f"; bound {ca['max_duration_s']:.3f} s; worst MD on the fitted model "
-                             f"{ca['worst_md_deg']:.4f} deg (unshaped {ca['worst_unshaped_md_deg']:.4f}); "
-                             f"{ca['evaluations']} evaluations.")
-            for name, tu in res["sections"].get("take_up", {}).items():
+                kept = ("the identity (the unshaped command): no design beat unshaped on the fitted model"
+                        if is_identity([{"time_s": i["t"], "amplitude": i["a"]} for i in ca["impulses"]])
+                        else "impulses " + ", ".join(f"{i['a']:.3f} at {i['t']:.3f} s" for i in ca["impulses"]))
+                warn = (" WORSE than unshaped on the fitted model: not a candidate."
+                        if ca.get("worse_than_unshaped") else "")
+                lines.append(f"\nclearance-aware on the {rig} rig: {kept}; bound {ca['max_duration_s']:.3f} s; "
+                             f"worst MD on the fitted model {ca['worst_md_deg']:.4f} deg (unshaped "
+                             f"{ca['worst_unshaped_md_deg']:.4f}); {ca['evaluations']} evaluations.{warn}")
+            take_up = res["sections"].get("take_up") or {}
+            if not take_up:
+                lines.append(f"take-up on the {rig} rig: no profile designed for any input (the tables' notes above).")
+            for name, tu in take_up.items():
                 lines.append(f"take-up for {name} on the {rig} rig: slots "
                              + "/".join(f"{v:.1f}" for v in tu["slot_velocity_deg_s"])
                              + f" deg/s (impulses " + ", ".join(f"{i['a']:.3f}" for i in tu["impulses"])
