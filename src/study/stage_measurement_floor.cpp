@@ -43,8 +43,20 @@ const json* rig_table_json(const Context& c, const std::string& id) {
   return nullptr;
 }
 
+// A column whose design came out as the identity (a single unit impulse at 0, or no design at
+// all: its note says so) ran the unshaped command: a second set of unshaped trials, not a design.
+bool runs_unshaped(const json& col) {
+  const auto note = col.find("note");
+  if (note != col.end() && note->is_string() && note->get<std::string>().rfind("identity shaper", 0) == 0) return true;
+  const auto shaper = col.find("shaper");
+  if (shaper == col.end() || !shaper->is_object() || !shaper->contains("impulses")) return false;
+  const json& impulses = shaper->at("impulses");
+  return impulses.size() == 1 && impulses[0].at("time_s").get<double>() == 0.0 &&
+         impulses[0].at("amplitude").get<double>() == 1.0;
+}
+
 // The numbers of one rig table's verdict: its unshaped column and its shaped column with the
-// smallest mean MD (the key of that column in `best_key`).
+// smallest mean MD (the key of that column in `best_key`); columns that ran unshaped are skipped.
 ReachNumbers reach_numbers(const json& table, const MeanStd& floor, std::string& best_key) {
   ReachNumbers n;
   n.floor_mean = floor.mean;
@@ -56,7 +68,7 @@ ReachNumbers reach_numbers(const json& table, const MeanStd& floor, std::string&
     if (col.at("key") == "none") {
       n.unshaped_mean = mean;
       n.unshaped_std = col.at("ours_std").get<double>();
-    } else if (std::isfinite(mean) && (n.best_label.empty() || mean < n.best_mean)) {
+    } else if (std::isfinite(mean) && !runs_unshaped(col) && (n.best_label.empty() || mean < n.best_mean)) {
       n.best_mean = mean;
       n.best_label = col.at("label").get<std::string>();
       best_key = col.at("key").get<std::string>();

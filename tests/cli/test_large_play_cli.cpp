@@ -66,6 +66,24 @@ TEST(LargePlayCli, QuickStudyRunsOnTheProtocolsRig) {
   const double play = results["sections"]["clearance"]["play_deg"].get<double>();
   EXPECT_GT(play, 0.3);
   EXPECT_LT(play, 2.0);
+  // "What a command can reach": the best design of each input is a design, never a column whose
+  // design came out as the identity (the large-play fit keeps the pass-through clearance-aware
+  // shaper and designs no take-up: those columns ran the unshaped command).
+  for (const auto& table : results["tables"]) {
+    if (table["id"] != "reach") continue;
+    for (const auto& [id, headline] : table["headline"].items()) {
+      SCOPED_TRACE(id);
+      for (const auto& rig_table : results["tables"]) {
+        if (rig_table["id"] != id) continue;
+        for (const auto& col : rig_table["columns"]) {
+          if (col["key"] != headline["best_column"]) continue;
+          EXPECT_FALSE(col.value("note", std::string()).rfind("identity shaper", 0) == 0) << col.dump();
+          ASSERT_TRUE(col.contains("shaper")) << col.dump();
+          EXPECT_GT(col["shaper"]["impulses"].size(), 1u) << col.dump();
+        }
+      }
+    }
+  }
   std::filesystem::remove_all(out);
 }
 
