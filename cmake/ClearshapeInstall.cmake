@@ -77,8 +77,36 @@ string(REGEX REPLACE "\n+$" "" _license_body "${_license_body}")
 string(REPLACE "\n\n" "\n.\n" _license_body "${_license_body}")
 string(REPLACE "\n" "\n " CLEARSHAPE_LICENSE_BODY " ${_license_body}")
 configure_file(${PROJECT_SOURCE_DIR}/packaging/copyright.in ${PROJECT_BINARY_DIR}/packaging/copyright @ONLY)
-install(FILES ${PROJECT_BINARY_DIR}/packaging/copyright
-        DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/clearshape COMPONENT cli)
+
+# The Debian packages, one per install component (docs/package.md): the CLI, the -dev files,
+# the Python module (when it is built). Debian revision 1 of the upstream version.
+set(CLEARSHAPE_DEB_COMPONENTS cli dev)
+set(CLEARSHAPE_DEB_NAMES clearshape libclearshape-dev)
+if(TARGET clearshape_python)
+  list(APPEND CLEARSHAPE_DEB_COMPONENTS python)
+  list(APPEND CLEARSHAPE_DEB_NAMES python3-clearshape)
+endif()
+set(CLEARSHAPE_DEB_VERSION ${PROJECT_VERSION}-1)
+
+# Debian changelog (Debian Policy 12.7), dated by the last commit when there is one: one entry
+# saying the package is built from the upstream tree, whose CHANGELOG.md has the changes.
+execute_process(COMMAND git -C ${PROJECT_SOURCE_DIR} log -1 --format=%ct
+                OUTPUT_VARIABLE _commit_epoch OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+set(_saved_epoch "$ENV{SOURCE_DATE_EPOCH}")
+if(_commit_epoch MATCHES "^[0-9]+$" AND "${_saved_epoch}" STREQUAL "")
+  set(ENV{SOURCE_DATE_EPOCH} ${_commit_epoch})
+endif()
+string(TIMESTAMP CLEARSHAPE_DEB_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)
+set(ENV{SOURCE_DATE_EPOCH} "${_saved_epoch}")
+configure_file(${PROJECT_SOURCE_DIR}/packaging/changelog.Debian.in
+               ${PROJECT_BINARY_DIR}/packaging/changelog.Debian @ONLY)
+execute_process(COMMAND gzip -9nc INPUT_FILE ${PROJECT_BINARY_DIR}/packaging/changelog.Debian
+                OUTPUT_FILE ${PROJECT_BINARY_DIR}/packaging/changelog.Debian.gz COMMAND_ERROR_IS_FATAL ANY)
+# copyright and changelog.Debian.gz in each package's /usr/share/doc/<package>/.
+foreach(_component _package IN ZIP_LISTS CLEARSHAPE_DEB_COMPONENTS CLEARSHAPE_DEB_NAMES)
+  install(FILES ${PROJECT_BINARY_DIR}/packaging/copyright ${PROJECT_BINARY_DIR}/packaging/changelog.Debian.gz
+          DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/${_package} COMPONENT ${_component})
+endforeach()
 
 # The man page clearshape.1, generated from the CLI's own --help and --version (help2man, a
 # Debian package: scripts/install-deps.sh). The CLI is run as `clearshape` from PATH, so the page
@@ -99,26 +127,64 @@ else()
   message(WARNING "help2man not found (scripts/install-deps.sh installs it): no man page clearshape.1 is installed")
 endif()
 
-# Debian package: `cpack -G DEB` in the build tree (one package with every component). The
-# -dev dependencies are what clearshapeConfig.cmake finds with find_dependency(); the shared
-# libraries the CLI and the Python module load are added by dpkg-shlibdeps (generic libblas3 |
-# libblas.so.3 since BLA_VENDOR is Generic, cmake/ClearshapeDependencies.cmake).
+# Debian packages: `cpack -G DEB` in the build tree makes one .deb per component, the Debian
+# split: clearshape (the CLI, its man page), libclearshape-dev (headers, static libraries, CMake
+# and pkg-config files) and python3-clearshape. The -dev and python3- packages depend on the
+# same version of clearshape. dpkg-shlibdeps adds the shared libraries the CLI and the Python
+# extension load (generic libblas3 | libblas.so.3 since BLA_VENDOR is Generic,
+# cmake/ClearshapeDependencies.cmake); the -dev Depends are what clearshapeConfig.cmake finds
+# with find_dependency().
 set(CPACK_PACKAGE_NAME clearshape)
 set(CPACK_PACKAGE_VENDOR "The clearshape developers")
 set(CPACK_PACKAGE_CONTACT "${CLEARSHAPE_DEB_MAINTAINER}")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "${PROJECT_DESCRIPTION}")
-set(CPACK_PACKAGE_FILE_NAME "clearshape_${PROJECT_VERSION}_amd64")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
-set(CPACK_DEB_COMPONENT_INSTALL OFF)
+set(CPACK_STRIP_FILES ON)
+set(CPACK_DEB_COMPONENT_INSTALL ON)
+set(CPACK_COMPONENTS_ALL ${CLEARSHAPE_DEB_COMPONENTS})
+set(CPACK_DEBIAN_ENABLE_COMPONENT_DEPENDS ON)
+set(CPACK_DEBIAN_PACKAGE_RELEASE 1)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE amd64)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS
-    "libeigen3-dev, libfmt-dev, nlohmann-json3-dev, libnlopt-cxx-dev, libsundials-dev, libceres-dev, libtomlplusplus-dev, libserialport-dev, liborocos-kdl-dev, liburdfdom-dev, pkg-config, python3-numpy")
+foreach(_component _package IN ZIP_LISTS CLEARSHAPE_DEB_COMPONENTS CLEARSHAPE_DEB_NAMES)
+  string(TOUPPER ${_component} _c)
+  set(CPACK_DEBIAN_${_c}_PACKAGE_NAME ${_package})
+endforeach()
+# Each package's Description: its own summary line, then the extended text (lines under 80).
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "")
+string(CONCAT _about "clearshape designs input shapers (ZV, ZVD, EI and others) for machines\n"
+       "with a resonance and play in the drive, identifies the plant from measured\n"
+       "runs and simulates the result.\n")
+string(CONCAT CPACK_DEBIAN_CLI_DESCRIPTION "input shaping for machines with play - command-line tool\n"
+       "${_about}This package has the command-line tool clearshape and its manual page.")
+set(CPACK_DEBIAN_CLI_PACKAGE_SUGGESTS "python3-clearshape")  # `clearshape sweep` runs its module
+set(CPACK_COMPONENT_DEV_DEPENDS cli)
+set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
+string(CONCAT CPACK_DEBIAN_DEV_DESCRIPTION "input shaping for machines with play - development files\n"
+       "${_about}This package has the C++20 headers, the static libraries, the CMake\n"
+       "package (find_package(clearshape)) and the pkg-config file clearshape.pc.")
+set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
+    "libeigen3-dev, libfmt-dev, nlohmann-json3-dev, libnlopt-cxx-dev, libsundials-dev, libceres-dev, libtomlplusplus-dev, libserialport-dev, liborocos-kdl-dev, liburdfdom-dev, pkg-config")
 # What the Python package imports only when used (bindings/python/clearshape): every sweep
 # writes results.h5 (h5py) and draws its map when `plot` is set (matplotlib); --scheduler
-# needs distributed.
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3-h5py, python3-matplotlib")
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "python3-distributed")
+# needs distributed. The extension is built for Debian 12's Python 3.11 only.
+set(CPACK_COMPONENT_PYTHON_DEPENDS cli)
+set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
+string(CONCAT CPACK_DEBIAN_PYTHON_DESCRIPTION "input shaping for machines with play - Python 3 module\n"
+       "${_about}This package has the Python 3 module clearshape (import clearshape)\n"
+       "and the parameter sweeps that clearshape sweep runs.")
+if(TARGET clearshape_python)
+  execute_process(COMMAND ${CLEARSHAPE_PYTHON_EXECUTABLE} -c "import sys; print(sys.version_info[0], sys.version_info[1])"
+                  OUTPUT_VARIABLE _py OUTPUT_STRIP_TRAILING_WHITESPACE COMMAND_ERROR_IS_FATAL ANY)
+  string(REPLACE " " ";" _py "${_py}")
+  list(GET _py 0 _py_major)
+  list(GET _py 1 _py_minor)
+  math(EXPR _py_next "${_py_minor} + 1")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
+      "python3 (>= ${_py_major}.${_py_minor}~), python3 (<< ${_py_major}.${_py_next}), python3-numpy")
+endif()
+set(CPACK_DEBIAN_PYTHON_PACKAGE_RECOMMENDS "python3-h5py, python3-matplotlib")
+set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-distributed")
 include(CPack)
