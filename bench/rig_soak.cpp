@@ -100,6 +100,7 @@ nlohmann::ordered_json run_report(const SoakOptions& o, const rig::RunStatistics
   j["frames_corrupted"] = s.frames_corrupted;
   j["samples_late"] = s.samples_late;
   j["overruns"] = s.overruns;
+  j["commands_coalesced"] = s.commands_coalesced;  // late cycles whose command a newer one superseded
   j["read_failures"] = s.read_failures;
   j["write_failures"] = s.write_failures;
   j["log_dropped"] = s.log_dropped;

@@ -69,6 +69,11 @@ def shaper_of(out, table, key):
     return shaper["impulses"] if shaper else None
 
 
+def named(impulses):
+    """Impulses with results.json's schema-2 names (time_s, amplitude); schema 1 wrote t/a."""
+    return [i if "time_s" in i else {"time_s": i["t"], "amplitude": i["a"]} for i in impulses]
+
+
 def is_identity(impulses):
     """One impulse of amplitude 1 at t = 0: the shaper passes the command unchanged."""
     return (impulses is not None and len(impulses) == 1 and abs(impulses[0]["time_s"]) < 1e-12
@@ -206,8 +211,9 @@ def main():
             ca = res["sections"].get("clearance_aware")
             if ca:
                 kept = ("the identity (the unshaped command): no design beat unshaped on the fitted model"
-                        if is_identity([{"time_s": i["t"], "amplitude": i["a"]} for i in ca["impulses"]])
-                        else "impulses " + ", ".join(f"{i['a']:.3f} at {i['t']:.3f} s" for i in ca["impulses"]))
+                        if is_identity(named(ca["impulses"]))
+                        else "impulses " + ", ".join(f"{i['amplitude']:.3f} at {i['time_s']:.3f} s"
+                                                     for i in named(ca["impulses"])))
                 warn = (" WORSE than unshaped on the fitted model: not a candidate."
                         if ca.get("worse_than_unshaped") else "")
                 lines.append(f"\nclearance-aware on the {rig} rig: {kept}; bound {ca['max_duration_s']:.3f} s; "
@@ -219,7 +225,7 @@ def main():
             for name, tu in take_up.items():
                 lines.append(f"take-up for {name} on the {rig} rig: slots "
                              + "/".join(f"{v:.1f}" for v in tu["slot_velocity_deg_s"])
-                             + f" deg/s (impulses " + ", ".join(f"{i['a']:.3f}" for i in tu["impulses"])
+                             + f" deg/s (impulses " + ", ".join(f"{i['amplitude']:.3f}" for i in named(tu["impulses"]))
                              + f"); the link leaves the rear flank at {tu['separation_s']:.4f} s and meets the braking "
                              f"flank at {tu['contact_s']:.4f} s; Coulomb {tu['coulomb_n_m']:.3g} N·m "
                              + (f"(flank keeping would take {tu['flank_keeping_move_time_s']:.3g} s)."

@@ -61,6 +61,11 @@ def run_study(exe, play, folder, fresh):
         return config, json.load(f)
 
 
+def impulse(i):
+    """(time_s, amplitude) of one impulse of results.json: schema 2 names, or schema 1's t/a."""
+    return (i["time_s"], i["amplitude"]) if "time_s" in i else (i["t"], i["a"])
+
+
 def shapers_of(results):
     """{design key: "t:a,..."} for the designs the study made."""
     out = {}
@@ -68,7 +73,7 @@ def shapers_of(results):
         out[s["key"]] = ",".join(f"{i['time_s']!r}:{i['amplitude']!r}" for i in s["impulses"])
     ca = results["sections"].get("clearance_aware", {})
     if ca.get("impulses"):
-        out["clearance-aware"] = ",".join(f"{i['t']!r}:{i['a']!r}" for i in ca["impulses"])
+        out["clearance-aware"] = ",".join(f"{t!r}:{a!r}" for t, a in map(impulse, ca["impulses"]))
     return out
 
 

@@ -75,7 +75,7 @@ double design_duration_bound(const ClearanceAwareOptions& o, const study::Identi
 }
 
 nlohmann::ordered_json impulse_json(double time_s, double amplitude) {
-  return {{"time_s", time_s}, {"amplitude", amplitude}, {"t", time_s}, {"a", amplitude}};
+  return {{"time_s", time_s}, {"amplitude", amplitude}};
 }
 
 nlohmann::ordered_json impulses_json(const shaping::Shaper& shaper) {
@@ -85,7 +85,7 @@ nlohmann::ordered_json impulses_json(const shaping::Shaper& shaper) {
 }
 
 nlohmann::ordered_json impulse_units_json(const std::string& amplitude_unit) {
-  return {{"time_s", "s"}, {"amplitude", amplitude_unit}, {"t", "s"}, {"a", amplitude_unit}};
+  return {{"time_s", "s"}, {"amplitude", amplitude_unit}};
 }
 
 std::string custom_impulses_argument(const shaping::Shaper& shaper) {

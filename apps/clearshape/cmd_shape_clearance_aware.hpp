@@ -44,12 +44,12 @@ study::IdentifiedClearanceModel read_design_model(const ClearanceAwareOptions& o
 double design_duration_bound(const ClearanceAwareOptions& options, const study::IdentifiedClearanceModel& identified,
                              double frequency_hz, double zeta, const std::string& method, std::string& source);
 
-/// One impulse of `shape --json`: {"time_s", "amplitude", "t", "a"}. `t`/`a` are the schema-1
-/// names, written beside the new ones for one version (docs/cli.md, `shape --json`).
+/// One impulse of `shape --json`: {"time_s", "amplitude"} (schema 1 wrote `t`/`a` beside them;
+/// docs/cli.md, `shape --json`).
 nlohmann::ordered_json impulse_json(double time_s, double amplitude);
 /// A shaper's impulses as a list of impulse_json.
 nlohmann::ordered_json impulses_json(const shaping::Shaper& shaper);
-/// `units` of the impulses (both names; `amplitude_unit` for the amplitude).
+/// `units` of the impulses (`amplitude_unit` for the amplitude).
 nlohmann::ordered_json impulse_units_json(const std::string& amplitude_unit);
 /// `shape --method custom --impulses` text of a shaper: "t1:a1,t2:a2,…".
 std::string custom_impulses_argument(const shaping::Shaper& shaper);

@@ -42,7 +42,6 @@ void run_take_up(const ClearanceAwareOptions& o, double frequency_hz, double zet
     nlohmann::ordered_json moves = nlohmann::ordered_json::array();
     for (std::size_t i = 0; i < r.moves.size(); ++i) {
       auto m = study::take_up_move_json(r.moves[i]);
-      m["impulses"] = impulses_json(r.moves[i].shaper);  // shape --json's impulse names (the study's are t/a)
       m["custom_impulses"] = custom_impulses_argument(r.moves[i].shaper);
       const double t = r.flank_keeping_move_time_s[i];
       m["flank_keeping_move_time_s"] = std::isfinite(t) ? nlohmann::ordered_json(t) : nlohmann::ordered_json(nullptr);

@@ -208,7 +208,7 @@ def write_fixture(out: Path, trials: int = 3, seed: int = 7) -> Path:
     ]
 
     results = {
-        "schema_version": 1, "results_schema_version": 1, "clearshape_version": "fixture", "synthetic": True,
+        "schema_version": 2, "results_schema_version": 2, "clearshape_version": "fixture", "synthetic": True,
         "study": {"name": "synthetic-fixture", "title": "Synthetic fixture (made-up numbers)", "mode": "position",
                   "quick": True, "seed": seed, "rig": "synthetic fixture (closed-form responses, not a simulation)"},
         "rig": {"kind": "simulated-thesis", "description": "synthetic fixture",
@@ -224,7 +224,7 @@ def write_fixture(out: Path, trials: int = 3, seed: int = 7) -> Path:
         "tables": tables, "figures_index": "figures.json",
     }
     (out / "results.json").write_text(json.dumps(results, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-    (out / "figures.json").write_text(json.dumps({"schema_version": 1, "figures": figures}, indent=2,
+    (out / "figures.json").write_text(json.dumps({"schema_version": 2, "figures": figures}, indent=2,
                                                  ensure_ascii=False) + "\n", encoding="utf-8")
     (out / "tables.md").write_text("# synthetic fixture — tables\n\nMade-up numbers; see results.json.\n",
                                    encoding="utf-8")

@@ -102,7 +102,7 @@ void ensure_clearance_aware(Context& c) {
         d.worst_unshaped_md_deg, d.worse_than_unshaped ? " — WORSE than unshaped in some case" : "", d.evaluations,
         d.termination);
     json impulses = json::array();
-    for (const auto& i : d.shaper.impulses()) impulses.push_back({{"t", i.time_s}, {"a", i.amplitude}});
+    for (const auto& i : d.shaper.impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
     json cases = json::array();
     for (const auto& k : d.cases) {
       cases.push_back({{"move", k.move},

@@ -230,7 +230,7 @@ Attempt solve(const TakeUpRequest& r, double move_deg, double lead) {
 
 nlohmann::ordered_json take_up_move_json(const TakeUpMove& m) {
   nlohmann::ordered_json impulses = nlohmann::ordered_json::array();
-  for (const auto& i : m.shaper.impulses()) impulses.push_back({{"t", i.time_s}, {"a", i.amplitude}});
+  for (const auto& i : m.shaper.impulses()) impulses.push_back({{"time_s", i.time_s}, {"amplitude", i.amplitude}});
   return {{"move_deg", m.move_deg}, {"impulses", impulses}, {"slot_velocity_deg_s", m.slot_velocity_deg_s},
           {"separation_s", m.separation_s}, {"contact_s", m.contact_s}, {"link_rate_deg_s", m.link_rate_deg_s},
           {"take_up_deg", m.take_up_deg}, {"contact_relative_rate_deg_s", m.contact_relative_rate_deg_s},

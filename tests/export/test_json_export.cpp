@@ -30,7 +30,7 @@ TEST(JsonExport, TapsAreDiscretizesBitForBit) {
   ex::ExportOptions o;
   o.sample_time_s = 1e-3;
   const auto j = nlohmann::json::parse(ex::to_json(d, o).text);
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
   EXPECT_TRUE(j.contains("clearshape_version"));
   EXPECT_EQ(j["design"]["method"], "zvdd");
   EXPECT_EQ(j["design"]["mode"]["frequency_hz"].get<double>(), 14.955);  // not 14.955000000000002

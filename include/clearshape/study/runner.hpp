@@ -46,7 +46,7 @@ struct RigTruth;
 
 namespace clearshape::study {
 
-inline constexpr int kResultsSchemaVersion = 1;
+inline constexpr int kResultsSchemaVersion = 2;
 
 /// The simulated thesis rig: a rig::SimRig with its built-in (calibrated) truth, rig/truth.hpp;
 /// any number of parallel runs.
