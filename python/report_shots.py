@@ -2,7 +2,7 @@
 """Renders a study report as its readers see it: one headless-Chromium screenshot per section at a
 given width, and the page printed to PDF.
 
-    /usr/bin/python3 python/report_shots.py <report.html> <dir> [--width 1400] [--no-pdf] [--no-shots]
+    /usr/bin/python3 python/report_shots.py <report.html> <dir> [--width 1400 | --phone] [--no-pdf] [--no-shots]
 
 Writes <dir>/<section>.png (the section alone, full height up to 16000 px) for every
 <section id> of the page, <dir>/report.pdf (Chromium's --print-to-pdf, the page's print CSS) and
@@ -13,8 +13,13 @@ itself runs past the screen and what runs past it outside a scroll box (a phone'
 those values; it should be 0 and empty at every width, 390 px included), and in_box: captions and row
 labels of a table scrolled in its box that leave the box at the scroll's start or end (empty). The report is never modified; the views are
 temporary copies with one extra style rule each. --no-shots writes layout.json (and the PDF) only.
-Exit codes: 0 written, 1 Chromium failed,
-2 bad input.
+--phone renders on an emulated phone instead of a narrowed desktop window: Chromium's own mobile
+emulation (a 390 × 844 CSS px screen at 3 device pixels per px, touch, a mobile user agent; the
+page's viewport meta tag applies as on a phone) driven through ChromeDriver by Selenium (Debian's
+chromium-driver and python3-selenium); layout.json then adds "device" and "viewport" (the layout
+viewport's width and the device pixel ratio the page saw: 390 and 3 when the page lays itself out
+for the phone, 980 when a page without a viewport tag is zoomed out).
+Exit codes: 0 written, 1 Chromium (or ChromeDriver) failed, 2 bad input.
 """
 from __future__ import annotations
 
@@ -101,6 +106,55 @@ def view(html: str, section: str | None, width: int = MIN_WINDOW_PX) -> str:
     return html.replace("</head>", style + "</head>", 1).replace("</body>", MEASURE + "</body>", 1)
 
 
+# The phone of --phone: a 390 × 844 CSS px screen (a 6.1-inch phone of 2022–2024) at 3 device pixels per
+# CSS px, touch, a mobile Chrome user agent.
+PHONE = {"deviceMetrics": {"width": 390, "height": 844, "pixelRatio": 3.0, "touch": True},
+         "userAgent": "Mozilla/5.0 (Linux; Android 13; Pixel 7) AppleWebKit/537.36 (KHTML, like Gecko) "
+                      "Chrome/120.0 Mobile Safari/537.36"}
+VIEWPORT = "return JSON.stringify({width: window.innerWidth, device_pixel_ratio: window.devicePixelRatio})"
+
+
+class Phone:
+    """Chromium under ChromeDriver with its mobile emulation (Selenium's Chrome options)."""
+
+    def __init__(self, profile: Path):
+        try:
+            from selenium import webdriver
+            from selenium.webdriver.chrome.service import Service
+        except ImportError as e:
+            raise RuntimeError("--phone needs Selenium (Debian's python3-selenium)") from e
+        options = webdriver.ChromeOptions()
+        for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--no-first-run",
+                  "--disable-background-networking", f"--user-data-dir={profile}"):
+            options.add_argument(a)
+        options.add_experimental_option("mobileEmulation", PHONE)
+        try:
+            self.driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+        except Exception as e:  # ChromeDriver missing or failing to start Chromium
+            raise RuntimeError(f"ChromeDriver did not start (Debian's chromium-driver): {str(e)[:300]}") from e
+        self.driver.set_page_load_timeout(120)
+
+    def layout(self, path: Path) -> dict:
+        """The measuring script's result on `path` (it runs on the load event), plus the viewport."""
+        self.driver.get(f"file://{path}")
+        value = self.driver.find_element("tag name", "body").get_attribute("data-layout")
+        if not value:
+            raise RuntimeError(f"the phone did not lay out {path}")
+        out = json.loads(value)
+        out["viewport"] = json.loads(self.driver.execute_script(VIEWPORT))
+        return out
+
+    def screenshot(self, path: Path, png: Path) -> None:
+        """The whole page `path`, beyond the screen's height (Chrome DevTools' Page.captureScreenshot)."""
+        import base64
+        self.driver.get(f"file://{path}")
+        shot = self.driver.execute_cdp_cmd("Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True})
+        png.write_bytes(base64.b64decode(shot["data"]))
+
+    def close(self) -> None:
+        self.driver.quit()
+
+
 def layout(path: Path, width: int, profile: Path) -> dict:
     r = chromium([f"--window-size={max(width, MIN_WINDOW_PX)},1000", "--dump-dom", f"file://{path}"], profile)
     m = re.search(r"data-layout=\"([^\"]*)\"", r.stdout)
@@ -111,7 +165,7 @@ def layout(path: Path, width: int, profile: Path) -> dict:
 
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
-    width, pdf, shots = 1400, True, True
+    width, pdf, shots, phone = 1400, True, True, False
     args = []
     i = 0
     while i < len(argv):
@@ -123,11 +177,13 @@ def main(argv=None) -> int:
             pdf = False
         elif argv[i] == "--no-shots":
             shots = False
+        elif argv[i] == "--phone":
+            phone, width = True, PHONE["deviceMetrics"]["width"]
         else:
             args.append(argv[i])
         i += 1
     if len(args) != 2 or not Path(args[0]).is_file() or not 320 <= width <= 4000:
-        print("usage: report_shots.py <report.html> <dir> [--width 320…4000] [--no-pdf] [--no-shots]",
+        print("usage: report_shots.py <report.html> <dir> [--width 320…4000 | --phone] [--no-pdf] [--no-shots]",
               file=sys.stderr)
         return 2
     report, out = Path(args[0]).resolve(), Path(args[1])
@@ -137,20 +193,31 @@ def main(argv=None) -> int:
     result = {"width_px": width, "sections": {}}
     with tempfile.TemporaryDirectory(prefix="clearshape_shots_") as tmp:
         tmp = Path(tmp)
+        device = None
         try:
+            if phone:
+                device = Phone(tmp / "phone-profile")
+                result["device"] = {"kind": "phone (Chromium mobile emulation)", **PHONE["deviceMetrics"]}
+            # The phone lays the page out at its own width: no root-box rule.
+            page_width = MIN_WINDOW_PX if phone else width
             whole = tmp / "page.html"
-            whole.write_text(view(html, None, width), encoding="utf-8")
-            lay = layout(whole, width, tmp / "profile")
+            whole.write_text(view(html, None, page_width), encoding="utf-8")
+            lay = device.layout(whole) if device else layout(whole, width, tmp / "profile")
             result["height_px"], result["overflow"] = lay["height"], lay["overflow"]
             result["page_overflow_px"], result["offscreen"] = lay.get("page_overflow_px", 0), lay.get("offscreen", [])
             result["in_box"] = lay.get("in_box", [])
+            if device:
+                result["viewport"] = lay["viewport"]
             for sid in sections if shots else []:
                 page = tmp / f"{sid}.html"
-                page.write_text(view(html, sid, width), encoding="utf-8")
+                page.write_text(view(html, sid, page_width), encoding="utf-8")
                 h = int(lay.get("sections", {}).get(sid, 2000))
                 height = min(MAX_HEIGHT_PX, max(200, h + 60))
-                chromium([f"--window-size={max(width, MIN_WINDOW_PX)},{height}", f"--screenshot={out / (sid + '.png')}",
-                          f"file://{page}"], tmp / "profile")
+                if device:
+                    device.screenshot(page, out / (sid + ".png"))
+                else:
+                    chromium([f"--window-size={max(width, MIN_WINDOW_PX)},{height}",
+                              f"--screenshot={out / (sid + '.png')}", f"file://{page}"], tmp / "profile")
                 result["sections"][sid] = {"height_px": h}
             if pdf:
                 r = chromium(["--no-pdf-header-footer", f"--print-to-pdf={out / 'report.pdf'}", f"file://{report}"],
@@ -160,6 +227,9 @@ def main(argv=None) -> int:
         except RuntimeError as e:
             print(f"report_shots: {e}", file=sys.stderr)
             return 1
+        finally:
+            if device:
+                device.close()
     (out / "layout.json").write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     print(out / "layout.json")
     return 0

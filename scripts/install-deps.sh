@@ -20,7 +20,7 @@ run_packages=(
   python3 python3-numpy python3-matplotlib python3-jinja2 fonts-dejavu-core
 )
 # make test adds the test frameworks, SciPy (golden data), the firmware tool chain and simavr,
-# Chromium, what sweeps and the real-time checks use, help2man (the .deb's man page), lintian
+# Chromium (and ChromeDriver with Selenium: the report on an emulated phone), what sweeps and the real-time checks use, help2man (the .deb's man page), lintian
 # (the .debs' check, tests/package/deb_test.sh) and MuJoCo (the independent reference of the
 # arm's rigid-body dynamics, tests/arm/test_mujoco.cpp).
 packages=(
@@ -28,7 +28,7 @@ packages=(
   libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3-scipy python3-pytest python3-h5py python3-distributed
   help2man lintian libmujoco-dev
-  chromium
+  chromium chromium-driver python3-selenium
   gcc-avr avr-libc simavr libsimavr-dev
   rt-tests
 )
