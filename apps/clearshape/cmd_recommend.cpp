@@ -165,8 +165,13 @@ void print_table(const std::vector<advise::MeasuredSpectrum>& spectra, const adv
     if (!m.note.empty()) fmt::print("       {}\n", m.note);
   }
   fmt::print("       {}\n", est.note);
-  fmt::print("worst case over ζ {:.4g} and frequency × {:.4g}{}\n\n", fmt::join(r.test_damping_ratios, ", "),
+  fmt::print("worst case over ζ {:.4g} and frequency × {:.4g}{}\n", fmt::join(r.test_damping_ratios, ", "),
              fmt::join(r.frequency_scales, ", "), r.klipper_normalized ? ", on the PSD ÷ (f + 0.1 Hz) as Klipper scores it" : "");
+  for (const auto& b : r.damping_bands) {
+    fmt::print("       {}{}\n", b.mode ? fmt::format("ζ {:.4g} on {:.4g}–{:.4g} Hz: ", fmt::join(b.ratios, ", "), b.low_hz, b.high_hz) : "",
+               b.reason);
+  }
+  fmt::print("design damping ζ {:.4g}: {}\n\n", r.design_damping, r.design_damping_reason);
   if (pred) {
     fmt::print("predicted Eq. 5.1 MD of the {} on the model for the move {} {}, {:.4g} s at {:.4g} Hz: unshaped {:.4g}\n\n",
                pred->signal_name, pred->move, pred->move_parameters, pred->duration_s, 1.0 / pred->sample_time_s, pred->unshaped_md);

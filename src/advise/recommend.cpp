@@ -47,15 +47,48 @@ shaping::Shaper prototype(const std::string& name, double zeta, const RecommendO
 
 struct Evaluator {
   const std::vector<WeightedBins>& bins;
-  const std::vector<double>& dampings;
-  const std::vector<double>& scales;
-  double worst(const shaping::Shaper& s) const { return worst_remaining_vibration(s, bins, dampings, scales); }
-  double nominal(const shaping::Shaper& s) const { return worst_remaining_vibration(s, bins, dampings, {1.0}); }
+  std::vector<std::vector<std::vector<double>>> zetas;  ///< [spectrum][test point][bin]: each bin's band's ζ
+  std::vector<double> scales;
   const SmoothingSettings& printer;
+  // Klipper's worst case over the test points, each bin at its own band's ζ of that point.
+  double over(const shaping::Shaper& s, const std::vector<double>& sc) const {
+    double w = 0.0;
+    for (std::size_t i = 0; i < bins.size(); ++i) {
+      for (const auto& z : zetas[i]) {
+        for (const double scale : sc) w = std::max(w, remaining_vibration(s, bins[i], z, scale));
+      }
+    }
+    return w;
+  }
+  double worst(const shaping::Shaper& s) const { return over(s, scales); }
+  double nominal(const shaping::Shaper& s) const { return over(s, {1.0}); }
   double smoothing(const shaping::Shaper& s) const {
     return smoothing_mm(s, printer.accel_mm_s2, printer.square_corner_velocity_mm_s);
   }
 };
+
+const DampingBand& band_at(const std::vector<DampingBand>& bands, double frequency_hz) {
+  for (const auto& b : bands) {
+    if (b.mode && frequency_hz >= b.low_hz && frequency_hz <= b.high_hz) return b;
+  }
+  return bands.front();
+}
+
+Evaluator make_evaluator(const std::vector<WeightedBins>& bins, const std::vector<DampingBand>& bands, std::vector<double> scales,
+                         const SmoothingSettings& printer) {
+  std::size_t points = 0;
+  for (const auto& b : bands) points = std::max(points, b.ratios.size());
+  Evaluator ev{bins, {}, std::move(scales), printer};
+  for (const auto& sb : bins) {
+    std::vector<std::vector<double>> per_point(points, std::vector<double>(sb.frequency_hz.size()));
+    for (std::size_t k = 0; k < sb.frequency_hz.size(); ++k) {
+      const auto& ratios = band_at(bands, sb.frequency_hz[k]).ratios;
+      for (std::size_t j = 0; j < points; ++j) per_point[j][k] = ratios[std::min(j, ratios.size() - 1)];
+    }
+    ev.zetas.push_back(std::move(per_point));
+  }
+  return ev;
+}
 
 std::vector<double> scan_grid(const RecommendOptions& o, double mode_hz) {
   if (!o.scan_frequencies_hz.empty()) return o.scan_frequencies_hz;
@@ -155,34 +188,107 @@ ScanResult scan(const std::vector<double>& grid, Make&& make, const Evaluator& e
   return r;
 }
 
-// The test damping ratios. Printer data (a Klipper file) also covers Klipper's 0.075–0.15
-// (shaper_calibrate.py, TEST_DAMPING_RATIOS): a PSD file's 1.5–3 Hz bins leave a printer's lines
-// two or three bins wide, too few to exclude them (docs/recommend.md, "On real printers' spectra").
-std::vector<double> damping_set(const std::vector<ModeEstimate>& modes, const RecommendOptions& o, double design, bool printer) {
-  if (!o.test_damping_ratios.empty()) return o.test_damping_ratios;
-  double lo = printer ? 0.075 : 1.0, hi = printer ? 0.15 : 0.0;
-  for (const auto& m : modes) {
-    if (m.damping_ratio_range) {
-      // Shoulders: what the data cannot exclude is the band's ζ … the fit's. Not ζ ± 2σ about
-      // their geometric mean: that reaches below the peak's own half-power band, which the data
-      // does exclude (a broad spectrum's worst case then fits the shaper to a line narrower than
-      // any it holds; docs/recommend.md, "On real printers' spectra").
-      lo = std::min(lo, m.damping_ratio_range->first);
-      hi = std::max(hi, m.damping_ratio_range->second);
-      continue;
-    }
-    const double half = std::max(2.0 * m.damping_ratio_std, 0.25 * m.damping_ratio);
-    lo = std::min(lo, m.damping_ratio - half);
-    hi = std::max(hi, m.damping_ratio + half);
-  }
-  lo = std::clamp(o.damping_low.value_or(lo), 0.001, 0.9);
-  hi = std::clamp(o.damping_high.value_or(hi), lo, 0.9);
-  if (o.damping_points <= 1) return {design};
+// A spectral line whose half-power width 2ζf spans at most unresolved_bins bins: the window's own
+// width (Hann: 1.44 bins) is as wide, so the data bound its ζ from above but do not measure it.
+bool unresolved(const ModeEstimate& m, double resolution_hz, const RecommendOptions& o) {
+  return o.unresolved_bins > 0.0 && m.source == "spectrum" && resolution_hz > 0.0 &&
+         2.0 * m.damping_ratio * m.frequency_hz <= o.unresolved_bins * resolution_hz;
+}
+
+std::string line_text(const ModeEstimate& m, std::size_t index, double resolution_hz) {
+  const double width_hz = 2.0 * m.damping_ratio * m.frequency_hz;
+  return fmt::format("mode {}'s line at {:.4g} Hz is unresolved (half-power width {:.3g} Hz = {:.2f} bins)", index + 1, m.frequency_hz,
+                     width_hz, width_hz / resolution_hz);
+}
+
+// What a mode's data cannot exclude. Shoulders: the band's ζ … the fit's, not ζ ± 2σ about their
+// geometric mean (that reaches below the peak's own half-power band, which the data do exclude;
+// docs/recommend.md, "On real printers' spectra"). Else ζ ± max(2σ, ζ/4).
+std::pair<double, double> mode_band(const ModeEstimate& m) {
+  if (m.damping_ratio_range) return *m.damping_ratio_range;
+  const double half = std::max(2.0 * m.damping_ratio_std, 0.25 * m.damping_ratio);
+  return {m.damping_ratio - half, m.damping_ratio + half};
+}
+
+std::vector<double> evenly(double lo, double hi, std::size_t points) {
+  lo = std::clamp(lo, 0.001, 0.9);
+  hi = std::clamp(hi, lo, 0.9);
   std::vector<double> d;
-  for (std::size_t i = 0; i < o.damping_points; ++i) {
-    d.push_back(lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(o.damping_points - 1));
-  }
+  for (std::size_t i = 0; i < points; ++i) d.push_back(lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(points - 1));
   return d;
+}
+
+// The band of an unresolved line: its own bins (within max(ζf, one bin) of it), over its ζ band
+// widened up to the ζ of a line unresolved_bins bins wide (what the resolution cannot exclude).
+DampingBand line_band(const ModeEstimate& m, std::size_t index, double resolution_hz, const RecommendOptions& o) {
+  DampingBand b;
+  const double half_hz = std::max(m.damping_ratio * m.frequency_hz, resolution_hz);
+  b.low_hz = m.frequency_hz - half_hz;
+  b.high_hz = m.frequency_hz + half_hz;
+  auto [lo, hi] = mode_band(m);
+  lo = std::max(lo, 0.001);  // evenly()'s floor
+  const double bound = o.unresolved_bins * resolution_hz / (2.0 * m.frequency_hz);
+  b.ratios = evenly(lo, std::max(hi, bound), o.damping_points);
+  b.mode = index;
+  b.reason = fmt::format("{}: its ζ {:.3g}–{:.3g}, up to that of a line {:g} bins wide ({:.3g}); the rest of the spectrum is tested without it",
+                         line_text(m, index, resolution_hz), lo, hi, o.unresolved_bins, bound);
+  return b;
+}
+
+// The test damping ratios, per band of bins. Printer data (a Klipper file) also covers Klipper's
+// 0.075–0.15 (shaper_calibrate.py, TEST_DAMPING_RATIOS): a PSD file's 1.5–3 Hz bins leave a
+// printer's lines two or three bins wide, too few to exclude them (docs/recommend.md, "On real
+// printers' spectra"). An unresolved line's bins are tested over its own band, the rest without it
+// ("Per-line damping bands"), unless the caller holds the band or no other line (nor printer data)
+// gives the rest one.
+std::vector<DampingBand> damping_bands(const std::vector<ModeEstimate>& modes, const RecommendOptions& o, double design, bool printer,
+                                       double resolution_hz) {
+  DampingBand rest;
+  rest.high_hz = std::numeric_limits<double>::infinity();
+  if (!o.test_damping_ratios.empty() || o.damping_points <= 1) {
+    rest.ratios = o.test_damping_ratios.empty() ? std::vector<double>{design} : o.test_damping_ratios;
+    rest.reason = o.test_damping_ratios.empty() ? "every bin: the design damping (one test point)" : "every bin: the caller's test damping ratios";
+    return {rest};
+  }
+  const bool held = o.damping_low || o.damping_high;
+  std::vector<bool> line(modes.size(), false);
+  std::size_t lines = 0;
+  for (std::size_t i = 0; i < modes.size() && !held; ++i) lines += (line[i] = unresolved(modes[i], resolution_hz, o)) ? 1 : 0;
+  if (lines == modes.size() && !printer) std::fill(line.begin(), line.end(), false);  // nothing else bounds the rest
+  double lo = printer ? 0.075 : 1.0, hi = printer ? 0.15 : 0.0;
+  std::vector<std::string> from;
+  if (printer) from.emplace_back("Klipper's 0.075–0.15 (printer data)");
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    if (line[i]) continue;
+    const auto [a, b] = mode_band(modes[i]);
+    lo = std::min(lo, a);
+    hi = std::max(hi, b);
+    from.push_back(fmt::format("mode {}'s ζ {:.3g}–{:.3g}", i + 1, a, b));
+  }
+  rest.ratios = evenly(o.damping_low.value_or(lo), o.damping_high.value_or(hi), o.damping_points);
+  rest.reason = held ? "every bin: the caller's damping range"
+                     : fmt::format("{}: {}", std::count(line.begin(), line.end(), true) > 0 ? "every bin outside the unresolved lines" : "every bin",
+                                   fmt::join(from, ", "));
+  std::vector<DampingBand> bands{rest};
+  for (std::size_t i = 0; i < modes.size(); ++i) {
+    if (line[i]) bands.push_back(line_band(modes[i], i, resolution_hz, o));
+  }
+  return bands;
+}
+
+// The design damping: mode 1's ζ unless its line is unresolved; then Klipper's 0.1 (printer data)
+// or the next resolved mode's ζ.
+std::pair<double, std::string> design_damping(const std::vector<ModeEstimate>& modes, const RecommendOptions& o, bool printer,
+                                              double resolution_hz) {
+  if (o.design_damping) return {*o.design_damping, "the caller's design damping"};
+  const ModeEstimate& m1 = modes.front();
+  if (!unresolved(m1, resolution_hz, o)) return {m1.damping_ratio, "mode 1's ζ"};
+  const std::string why = line_text(m1, 0, resolution_hz);
+  if (printer) return {0.1, why + ": Klipper's design damping 0.1"};
+  for (std::size_t i = 1; i < modes.size(); ++i) {
+    if (!unresolved(modes[i], resolution_hz, o)) return {modes[i].damping_ratio, fmt::format("{}: mode {}'s ζ, the next resolved line", why, i + 1)};
+  }
+  return {m1.damping_ratio, why + ", and no other line is resolved: its own ζ"};
 }
 
 void validate(const std::vector<MeasuredSpectrum>& spectra, const std::vector<ModeEstimate>& modes, const RecommendOptions& o) {
@@ -418,8 +524,10 @@ const ModeEstimate& mode_of(const Recommendation& r, std::size_t factor, std::si
 // (the spectrum), the shortest near-best there, the same on the worst case, and the design itself.
 std::vector<DesignOffset> design_offsets(const Recommendation& r, const ScanFit& fit, const Evaluator& ev, const RecommendOptions& o) {
   const CandidateResult& c = r.candidates[*r.chosen];
-  const std::vector<double> design{r.design_damping}, unit_scale{1.0};
-  const Evaluator nominal{ev.bins, design, unit_scale, ev.printer};
+  DampingBand design;
+  design.high_hz = std::numeric_limits<double>::infinity();
+  design.ratios = {r.design_damping};
+  const Evaluator nominal = make_evaluator(ev.bins, {design}, {1.0}, ev.printer);
   RecommendOptions plain = o;
   plain.weigh_smoothing = false;
   std::vector<DesignOffset> out;
@@ -467,9 +575,13 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
   Recommendation r;
   r.modes = modes;
   const ModeEstimate& m1 = modes.front();
-  r.design_damping = std::clamp(o.design_damping.value_or(m1.damping_ratio), 0.0, 0.9);
   const bool printer = std::any_of(spectra.begin(), spectra.end(), [](const MeasuredSpectrum& s) { return s.format != InputFormat::table; });
-  r.test_damping_ratios = damping_set(modes, o, r.design_damping, printer);
+  const double resolution_hz = spectra.front().resolution_hz;
+  const auto [design_zeta, design_why] = design_damping(modes, o, printer, resolution_hz);
+  r.design_damping = std::clamp(design_zeta, 0.0, 0.9);
+  r.design_damping_reason = design_why;
+  r.damping_bands = damping_bands(modes, o, r.design_damping, printer, resolution_hz);
+  r.test_damping_ratios = r.damping_bands.front().ratios;
   double u = 0.0;
   for (const auto& m : modes) u = std::max(u, o.frequency_sigmas * m.frequency_std_hz / m.frequency_hz);
   u = std::min(u, 0.3);
@@ -482,7 +594,7 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
     bins.push_back(weighted_bins(scored_spectrum(s), o.threshold_fraction, min_f));
     r.klipper_normalized = r.klipper_normalized || s.klipper_normalizes;
   }
-  const Evaluator ev{bins, r.test_damping_ratios, r.frequency_scales, o.smoothing};
+  const Evaluator ev = make_evaluator(bins, r.damping_bands, r.frequency_scales, o.smoothing);
 
   const std::vector<std::string> names = o.candidates.empty() ? default_candidates(modes.size()) : o.candidates;
   r.printer_figures = o.weigh_smoothing || printer;
@@ -516,7 +628,8 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
         fit.factors = {[p1, &o](double f) { return applied(scaled(p1, f), o); }};
       } else {
         const ModeEstimate& m2 = modes[1];
-        const double zeta2 = std::clamp(m2.damping_ratio, 0.0, 0.9);
+        // An unresolved second line of printer data: Klipper's design damping too (design_damping()).
+        const double zeta2 = std::clamp(printer && unresolved(m2, resolution_hz, o) ? 0.1 : m2.damping_ratio, 0.0, 0.9);
         const shaping::Shaper p2 = prototype(b, zeta2, o, si_half_band);
         double f1 = m1.frequency_hz, f2 = m2.frequency_hz;
         ScanResult s;
@@ -557,6 +670,27 @@ Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std
   if (o.weigh_smoothing && r.chosen) choose_as_klipper(r, fits, ev, o);
   if (r.chosen) r.design_offsets = design_offsets(r, fits[*r.chosen], ev, o);
   return r;
+}
+
+const std::vector<double>& damping_ratios_at(const Recommendation& r, double frequency_hz) {
+  if (r.damping_bands.empty()) return r.test_damping_ratios;
+  return band_at(r.damping_bands, frequency_hz).ratios;
+}
+
+std::vector<double> worst_response(const shaping::Shaper& shaper, const std::vector<double>& frequency_hz, const Recommendation& r) {
+  std::vector<double> out;
+  for (const double f : frequency_hz) out.push_back(advise::worst_response(shaper, {f}, damping_ratios_at(r, f), r.frequency_scales).front());
+  return out;
+}
+
+std::vector<double> power_after_shaper(const shaping::Shaper& shaper, const std::vector<double>& frequency_hz,
+                                       const std::vector<double>& power, const Recommendation& r) {
+  if (power.size() != frequency_hz.size()) {
+    throw InvalidArgument(fmt::format("power_after_shaper: {} powers for {} frequencies", power.size(), frequency_hz.size()));
+  }
+  std::vector<double> out = worst_response(shaper, frequency_hz, r);
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = power[k] * out[k] * out[k];  // |residual/unshaped|² of power
+  return out;
 }
 
 }  // namespace clearshape::advise

@@ -26,6 +26,18 @@ double residual(std::span<const shaping::Impulse> impulses, double omega_rad_s, 
   return std::hypot(re, im) / amplitude_sum;
 }
 
+// Σ max(V(s·f_k, ζ_k)·P_k − P_thr, 0) / Σ max(P_k − P_thr, 0), ζ_k = zeta_of(k).
+template <typename ZetaOf>
+double remaining_of(const shaping::Shaper& shaper, const WeightedBins& bins, ZetaOf zeta_of, double frequency_scale) {
+  const double sum = shaper.amplitude_sum();
+  double remaining = 0.0;
+  for (std::size_t k = 0; k < bins.power.size(); ++k) {
+    const double v = residual(shaper.impulses(), kTwoPi * frequency_scale * bins.frequency_hz[k], zeta_of(k), sum);
+    remaining += std::max(v * bins.power[k] - bins.threshold, 0.0);
+  }
+  return bins.total > 0.0 ? remaining / bins.total : 0.0;
+}
+
 }  // namespace
 
 WeightedBins weighted_bins(const MeasuredSpectrum& spectrum, double threshold_fraction, double min_frequency_hz) {
@@ -71,13 +83,15 @@ MeasuredSpectrum scored_spectrum(const MeasuredSpectrum& spectrum) {
 }
 
 double remaining_vibration(const shaping::Shaper& shaper, const WeightedBins& bins, double damping_ratio, double frequency_scale) {
-  const double sum = shaper.amplitude_sum();
-  double remaining = 0.0;
-  for (std::size_t k = 0; k < bins.power.size(); ++k) {
-    const double v = residual(shaper.impulses(), kTwoPi * frequency_scale * bins.frequency_hz[k], damping_ratio, sum);
-    remaining += std::max(v * bins.power[k] - bins.threshold, 0.0);
+  return remaining_of(shaper, bins, [damping_ratio](std::size_t) { return damping_ratio; }, frequency_scale);
+}
+
+double remaining_vibration(const shaping::Shaper& shaper, const WeightedBins& bins, std::span<const double> damping_ratio_per_bin,
+                           double frequency_scale) {
+  if (damping_ratio_per_bin.size() != bins.power.size()) {
+    throw InvalidArgument(fmt::format("remaining_vibration: {} damping ratios for {} bins", damping_ratio_per_bin.size(), bins.power.size()));
   }
-  return bins.total > 0.0 ? remaining / bins.total : 0.0;
+  return remaining_of(shaper, bins, [damping_ratio_per_bin](std::size_t k) { return damping_ratio_per_bin[k]; }, frequency_scale);
 }
 
 double worst_remaining_vibration(const shaping::Shaper& shaper, const std::vector<WeightedBins>& spectra,

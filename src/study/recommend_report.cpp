@@ -112,11 +112,26 @@ ojson inputs_json(const std::vector<advise::MeasuredSpectrum>& spectra) {
   return inputs;
 }
 
+// Which bins each band of test damping ratios covers and why (advise::DampingBand); the rest band first.
+ojson damping_bands_json(const advise::Recommendation& r) {
+  ojson bands = ojson::array();
+  for (const auto& b : r.damping_bands) {
+    bands.push_back({{"mode", b.mode ? ojson(*b.mode + 1) : ojson(nullptr)},
+                     {"low_hz", b.low_hz},
+                     {"high_hz", number_or_null(b.high_hz)},
+                     {"test_damping_ratios", b.ratios},
+                     {"reason", b.reason}});
+  }
+  return bands;
+}
+
 ojson scoring_json(const advise::Recommendation& r, const advise::RecommendOptions& o) {
   ojson scoring = {{"measure", "remaining = sum(max(V*P - thr, 0)) / sum(max(P - thr, 0)), thr = threshold_fraction * max P"},
                    {"threshold_fraction", o.threshold_fraction},
                    {"design_damping", r.design_damping},
+                   {"design_damping_reason", r.design_damping_reason},
                    {"test_damping_ratios", r.test_damping_ratios},
+                   {"damping_bands", damping_bands_json(r)},
                    {"frequency_scales", r.frequency_scales},
                    {"max_delay_s", number_or_null(o.max_delay_s)},
                    {"vibration_tolerance", o.vibration_tolerance},
@@ -175,7 +190,7 @@ ojson plot_spectrum(const advise::MeasuredSpectrum& s, const advise::Recommendat
   for (const auto& a : s.axes) axes.push_back({{"column", a.column}, {"power", head(a.power)}});
   ojson after = nullptr;
   if (r.chosen) {
-    after = advise::power_after_shaper(*r.candidates[*r.chosen].shaper, f, head(s.power), r.test_damping_ratios, r.frequency_scales);
+    after = advise::power_after_shaper(*r.candidates[*r.chosen].shaper, f, head(s.power), r);
   }
   return {{"label", std::filesystem::path(s.source).filename().string() + " (" + s.column + ")"},
           {"column", s.column},
@@ -329,7 +344,7 @@ ojson recommend_plot_data(const RecommendReport& report) {
                      {"remaining_worst", c.remaining_worst},
                      {"duration_s", c.duration_s},
                      {"chosen", r.chosen && *r.chosen == i},
-                     {"response", advise::worst_response(*c.shaper, grid, r.test_damping_ratios, r.frequency_scales)}});
+                     {"response", advise::worst_response(*c.shaper, grid, r)}});
     if (r.printer_figures) {  // Klipper's legend: smoothing and max acceleration (advise/smoothing.hpp)
       cands.back()["smoothing_mm"] = c.smoothing_mm;
       cands.back()["max_accel_mm_s2"] = number_or_null(c.max_accel_mm_s2);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -95,6 +96,24 @@ TEST(Remaining, EvaluationDoesNotAllocate) {
   const double v = ad::remaining_vibration(ei, bins, 0.1, 1.05);
   EXPECT_EQ(counter.allocations(), 0u);
   EXPECT_GE(v, 0.0);
+}
+
+// Each bin at its own ζ (recommend's per-line damping bands): the definition summed bin by bin with
+// shaping::residual_vibration (Eq. 2.19 by the shaping module), ζ 0.01 on the line's bins and 0.1 on the rest.
+TEST(Remaining, EachBinAtItsOwnDampingIsTheDefinition) {
+  const ad::WeightedBins bins = ad::weighted_bins(line(20.0, 0.05), 0.05);
+  const sh::Shaper zv = sh::design_zv(sh::Mode::from_hz(21.0, 0.05));
+  std::vector<double> zeta;
+  double expected = 0.0;
+  for (std::size_t k = 0; k < bins.power.size(); ++k) {
+    zeta.push_back(std::abs(bins.frequency_hz[k] - 20.0) <= 0.5 ? 0.01 : 0.1);
+    const double v = sh::residual_vibration(zv, sh::Mode::from_hz(1.02 * bins.frequency_hz[k], zeta.back()));
+    expected += std::max(v * bins.power[k] - bins.threshold, 0.0);
+  }
+  EXPECT_NEAR(ad::remaining_vibration(zv, bins, zeta, 1.02), expected / bins.total, 1e-12);
+  EXPECT_NE(ad::remaining_vibration(zv, bins, zeta, 1.02), ad::remaining_vibration(zv, bins, 0.1, 1.02));
+  zeta.pop_back();
+  EXPECT_THROW(ad::remaining_vibration(zv, bins, zeta, 1.0), clearshape::InvalidArgument);
 }
 
 TEST(Remaining, RejectsABadThreshold) {

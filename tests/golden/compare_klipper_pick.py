@@ -19,7 +19,8 @@ Prints one line per file: Klipper's pick and clearshape's two picks with Klipper
 the smoothing and max acceleration, and the margin against Klipper's pick + 1 point.
 
   /usr/bin/python3 tests/golden/compare_klipper_pick.py --golden KLIPPER_CHECKOUT
-writes, for the Klipper-format golden inputs (recommend_klipper_raw.csv and its PSD file), what
+writes, for the Klipper-format golden inputs (recommend_klipper_raw.csv, its PSD file and the three
+synthetic printer spectra of gen_klipper_broad.py), what
 tests/advise/test_klipper_pick.cpp compares with: Klipper's pick (name, frequency, impulses,
 vibrations, smoothing, max_accel) in klipper_pick.json, and the PSD Klipper scores (normalised by
 Klipper's parse_log, bins up to 200 Hz, full precision) as klipper_pick_<input>_scored.csv in
@@ -70,7 +71,8 @@ def clearshape_pick(binary, path, extra):
 
 
 GOLDEN_INPUTS = ["recommend_klipper_raw.csv", "recommend_klipper_raw_psd.csv",
-                 "recommend_klipper_broad_psd.csv", "recommend_klipper_shoulders_psd.csv"]  # gen_klipper_broad.py
+                 "recommend_klipper_broad_psd.csv", "recommend_klipper_shoulders_psd.csv",
+                 "recommend_klipper_narrow_psd.csv"]  # gen_klipper_broad.py
 
 
 def klipper_pick(cs, path):

@@ -24,12 +24,20 @@ std::vector<std::string> default_candidates(std::size_t modes);
 
 struct RecommendOptions {
   std::vector<std::string> candidates;        ///< empty: default_candidates(modes)
-  std::optional<double> design_damping;       ///< default: the first mode's ζ
+  /// Default: the first mode's ζ; when its line is unresolved (unresolved_bins), Klipper's 0.1 for
+  /// printer data, else the next resolved mode's ζ (Recommendation::design_damping_reason says which).
+  std::optional<double> design_damping;
   /// Test damping ratios; empty: damping_points ratios evenly over [damping_low, damping_high],
-  /// and without those the mode's ζ ± max(2σ, ζ/4) (clipped to [0.001, 0.9]).
+  /// and without those the mode's ζ ± max(2σ, ζ/4) (clipped to [0.001, 0.9]). Any of these
+  /// options holds every bin to the one band (no per-line bands).
   std::vector<double> test_damping_ratios;
   std::optional<double> damping_low, damping_high;
   std::size_t damping_points = 3;
+  /// A spectral mode whose half-power width 2ζf is at most this many bins (the first spectrum's
+  /// resolution) is unresolved: its ζ is no design damping, and its own bins are tested over its
+  /// band while the rest of the spectrum is tested without it (Recommendation::damping_bands).
+  /// 0: off (one band for every bin, the first mode's ζ).
+  double unresolved_bins = 2.0;
   /// Frequency uncertainty: scales 1 − k·σ_f/f, 1, 1 + k·σ_f/f with k = frequency_sigmas (0: none).
   double frequency_sigmas = 2.0;
   double si_min_half_band = 0.02;             ///< SI band half-width ≥ this fraction of f
@@ -112,11 +120,22 @@ struct DesignOffset {
   std::string reason;           ///< one line, for the figure and the JSON
 };
 
+/// The damping ratios a group of bins is tested over (docs/recommend.md, "Per-line damping bands").
+struct DampingBand {
+  double low_hz = 0.0, high_hz = 0.0;     ///< the bins it holds; the rest band: 0 … ∞ (every bin no other holds)
+  std::vector<double> ratios;
+  std::optional<std::size_t> mode;        ///< the unresolved mode (index into modes) whose line it is; none: the rest
+  std::string reason;                     ///< one line: where the band comes from
+};
+
 struct Recommendation {
   std::vector<ModeEstimate> modes;
-  std::vector<double> test_damping_ratios;
+  std::vector<double> test_damping_ratios;    ///< the rest band's (damping_bands.front())
+  /// The rest band first (every bin no other band holds), then one band per unresolved line.
+  std::vector<DampingBand> damping_bands;
   std::vector<double> frequency_scales;
   double design_damping = 0.0;
+  std::string design_damping_reason;          ///< one line: whose ζ, and why
   std::vector<CandidateResult> candidates;
   std::optional<std::size_t> chosen;          ///< index into candidates
   std::string reason;
@@ -135,5 +154,13 @@ struct Recommendation {
 /// with one mode, or an option out of range (update_grid_hz: finite and >= 0).
 Recommendation recommend(const std::vector<MeasuredSpectrum>& spectra, const std::vector<ModeEstimate>& modes,
                          const RecommendOptions& options = {});
+
+/// The test damping ratios of the band holding a bin at frequency_hz (the rest band's when none other does).
+const std::vector<double>& damping_ratios_at(const Recommendation& r, double frequency_hz);
+
+/// worst_response and power_after_shaper (remaining.hpp) with each frequency's own band (damping_ratios_at).
+std::vector<double> worst_response(const shaping::Shaper& shaper, const std::vector<double>& frequency_hz, const Recommendation& r);
+std::vector<double> power_after_shaper(const shaping::Shaper& shaper, const std::vector<double>& frequency_hz,
+                                       const std::vector<double>& power, const Recommendation& r);
 
 }  // namespace clearshape::advise

@@ -7,6 +7,7 @@
 // The worst case is taken over test damping ratios and over frequency scales s (the mode may
 // really sit at s·f: V is evaluated at s·f).
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "clearshape/advise/spectrum_input.hpp"
@@ -39,6 +40,11 @@ MeasuredSpectrum scored_spectrum(const MeasuredSpectrum& spectrum);
 
 /// remaining for one damping ratio and frequency scale.
 double remaining_vibration(const shaping::Shaper& shaper, const WeightedBins& bins, double damping_ratio,
+                           double frequency_scale = 1.0);
+
+/// remaining with each bin's own damping ratio (damping_ratio_per_bin[k] for bins.frequency_hz[k]).
+/// Throws InvalidArgument for a size that differs from the bins'.
+double remaining_vibration(const shaping::Shaper& shaper, const WeightedBins& bins, std::span<const double> damping_ratio_per_bin,
                            double frequency_scale = 1.0);
 
 /// The worst remaining over every spectrum, damping ratio and frequency scale.
