@@ -78,6 +78,28 @@ string(REPLACE "\n\n" "\n.\n" _license_body "${_license_body}")
 string(REPLACE "\n" "\n " CLEARSHAPE_LICENSE_BODY " ${_license_body}")
 configure_file(${PROJECT_SOURCE_DIR}/packaging/copyright.in ${PROJECT_BINARY_DIR}/packaging/copyright @ONLY)
 
+# The Python the module is built for (major.minor): the python3- package's Depends and the
+# wheel's Requires-Python.
+if(TARGET clearshape_python)
+  execute_process(COMMAND ${CLEARSHAPE_PYTHON_EXECUTABLE} -c "import sys; print(sys.version_info[0], sys.version_info[1])"
+                  OUTPUT_VARIABLE _py OUTPUT_STRIP_TRAILING_WHITESPACE COMMAND_ERROR_IS_FATAL ANY)
+  string(REPLACE " " ";" _py "${_py}")
+  list(GET _py 0 CLEARSHAPE_PY_MAJOR)
+  list(GET _py 1 CLEARSHAPE_PY_MINOR)
+  math(EXPR CLEARSHAPE_PY_NEXT "${CLEARSHAPE_PY_MINOR} + 1")
+  # A wheel and an sdist (docs/python.md): `python3 -m build --no-isolation <build>/python-dist`
+  # packs the package CMake built into <build>/python/clearshape (setup.py copies it).
+  set(_dist ${PROJECT_BINARY_DIR}/python-dist)
+  configure_file(${PROJECT_SOURCE_DIR}/packaging/python/pyproject.toml.in ${_dist}/pyproject.toml @ONLY)
+  configure_file(${PROJECT_SOURCE_DIR}/packaging/python/setup.py ${_dist}/setup.py COPYONLY)
+  configure_file(${PROJECT_SOURCE_DIR}/packaging/python/MANIFEST.in ${_dist}/MANIFEST.in COPYONLY)
+  configure_file(${PROJECT_SOURCE_DIR}/LICENSE ${_dist}/LICENSE COPYONLY)
+  file(CONFIGURE OUTPUT ${_dist}/README.md @ONLY CONTENT
+"# clearshape @PROJECT_VERSION@ (Python)\n\n@PROJECT_DESCRIPTION@: the Python module `clearshape`.\n\
+docs/python.md in the source describes it. The extension `clearshape._core` in this package was\n\
+built by CMake for Python @CLEARSHAPE_PY_MAJOR@.@CLEARSHAPE_PY_MINOR@ on Linux; neither the sdist nor the wheel compiles it.\n")
+endif()
+
 # The Debian packages, one per install component (docs/package.md): the CLI, the -dev files,
 # the Python module (when it is built). Debian revision 1 of the upstream version.
 set(CLEARSHAPE_DEB_COMPONENTS cli dev)
@@ -176,14 +198,8 @@ string(CONCAT CPACK_DEBIAN_PYTHON_DESCRIPTION "input shaping for machines with p
        "${_about}This package has the Python 3 module clearshape (import clearshape)\n"
        "and the parameter sweeps that clearshape sweep runs.")
 if(TARGET clearshape_python)
-  execute_process(COMMAND ${CLEARSHAPE_PYTHON_EXECUTABLE} -c "import sys; print(sys.version_info[0], sys.version_info[1])"
-                  OUTPUT_VARIABLE _py OUTPUT_STRIP_TRAILING_WHITESPACE COMMAND_ERROR_IS_FATAL ANY)
-  string(REPLACE " " ";" _py "${_py}")
-  list(GET _py 0 _py_major)
-  list(GET _py 1 _py_minor)
-  math(EXPR _py_next "${_py_minor} + 1")
   set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
-      "python3 (>= ${_py_major}.${_py_minor}~), python3 (<< ${_py_major}.${_py_next}), python3-numpy")
+      "python3 (>= ${CLEARSHAPE_PY_MAJOR}.${CLEARSHAPE_PY_MINOR}~), python3 (<< ${CLEARSHAPE_PY_MAJOR}.${CLEARSHAPE_PY_NEXT}), python3-numpy")
 endif()
 set(CPACK_DEBIAN_PYTHON_PACKAGE_RECOMMENDS "python3-h5py, python3-matplotlib")
 set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-distributed")

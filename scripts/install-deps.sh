@@ -21,13 +21,14 @@ run_packages=(
 )
 # make test adds the test frameworks, SciPy (golden data), the firmware tool chain and simavr,
 # Chromium (and ChromeDriver with Selenium: the report on an emulated phone), what sweeps and the real-time checks use, help2man (the .deb's man page), lintian
-# (the .debs' check, tests/package/deb_test.sh) and MuJoCo (the independent reference of the
-# arm's rigid-body dynamics, tests/arm/test_mujoco.cpp).
+# (the .debs' check, tests/package/deb_test.sh), build, wheel and venv (the Python wheel in a
+# venv, tests/package/wheel_test.sh) and MuJoCo (the independent reference of the arm's
+# rigid-body dynamics, tests/arm/test_mujoco.cpp).
 packages=(
   "${run_packages[@]}"
   libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3-scipy python3-pytest python3-h5py python3-distributed
-  help2man lintian libmujoco-dev
+  help2man lintian python3-build python3-wheel python3-venv libmujoco-dev
   chromium chromium-driver python3-selenium
   gcc-avr avr-libc simavr libsimavr-dev
   rt-tests
