@@ -5,6 +5,8 @@
 #               test through ctest
 #   make bench  build and run the benchmarks side by side with their SciPy/NumPy peers
 #   make test-sanitize  every test under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)
+#   make test-clean-root  the three .debs installed on a fresh Debian 12 root (debootstrap; root and
+#               the network needed, so not part of make test: docs/package.md)
 #   make fuzz   each libFuzzer target for FUZZ_SECONDS (clang, build-fuzz/; docs/data-safety.md)
 # What each costs on a fresh two-core Debian 12: README.md, "Set-up: two commands".
 BUILD_DIR ?= build
@@ -25,7 +27,7 @@ UNITY ?= ON
 # (a build tree made with Unix Makefiles; a new tree uses Ninja, see configure below).
 MAKEFLAGS += --no-print-directory
 
-.PHONY: run test bench deps deps-run configure configure-run build build-run clean test-sanitize fuzz
+.PHONY: run test bench deps deps-run configure configure-run build build-run clean test-sanitize fuzz test-clean-root
 FUZZ_SECONDS ?= 60
 
 deps:
@@ -69,6 +71,10 @@ test: build
 
 bench: build
 	@bash scripts/run-bench.sh $(BUILD_DIR)
+
+# Needs root and deb.debian.org; about 3 min on a fast link, most of it apt (docs/package.md).
+test-clean-root: build
+	@bash scripts/test-clean-root.sh $(BUILD_DIR)
 
 # The Python module is left out of the sanitizer trees: an ASan-built extension loads only into
 # a Python started with libasan preloaded. So is the package suite (-LE package): it checks the
