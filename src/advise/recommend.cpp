@@ -230,7 +230,7 @@ DampingBand line_band(const ModeEstimate& m, std::size_t index, double resolutio
   const double bound = o.unresolved_bins * resolution_hz / (2.0 * m.frequency_hz);
   b.ratios = evenly(lo, std::max(hi, bound), o.damping_points);
   b.mode = index;
-  b.reason = fmt::format("{}: its ζ {:.3g}–{:.3g}, up to that of a line {:g} bins wide ({:.3g}); the rest of the spectrum is tested without it",
+  b.reason = fmt::format("{}: its ζ band {:.3g}–{:.3g}, reaching at least a {:g}-bin-wide line's {:.3g}; the rest of the spectrum is tested without it",
                          line_text(m, index, resolution_hz), lo, hi, o.unresolved_bins, bound);
   return b;
 }

@@ -1,7 +1,7 @@
 // recommend's pick against Klipper's own pick, both judged by Klipper's own estimate (issue 20:
 // the pick leaves no more than Klipper's + 1 point). Klipper's calibrate_shaper was run unchanged
 // (tests/golden/compare_klipper_pick.py --golden → klipper_pick.json) on the Klipper-format golden
-// inputs; it also wrote the PSD Klipper scores (normalised by Klipper, full precision). Two inputs
+// inputs; it also wrote the PSD Klipper scores (normalised by Klipper, full precision). Three inputs
 // are synthetic broad multi-peak printer spectra (gen_klipper_broad.py) of the shape real printers'
 // files gave (docs/recommend.md, "On real printers' spectra"): before recommend scored such a file
 // as Klipper does and tested only the damping its data cannot exclude, its pick left 2.3 % and
