@@ -72,7 +72,7 @@ test: build
 bench: build
 	@bash scripts/run-bench.sh $(BUILD_DIR)
 
-# Needs root and deb.debian.org; about 3 min on a fast link, most of it apt (docs/package.md).
+# Needs root and deb.debian.org; 3–6 min, most of it apt downloading (docs/package.md).
 test-clean-root: build
 	@bash scripts/test-clean-root.sh $(BUILD_DIR)
 

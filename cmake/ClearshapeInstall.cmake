@@ -20,6 +20,45 @@ install(TARGETS ${_clearshape_module_targets} clearshape
         EXPORT clearshapeTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+
+# Beside them, one shared library with every module, libclearshape.so.<major>.<minor>.<patch>
+# (SONAME libclearshape.so.<major>.<minor>: the API may change between 0.x minors), linked from
+# the modules' own position-independent objects, so nothing is compiled twice: clearshape::shared.
+# Its usage requirements are the modules' public ones (headers, C++20, the Debian libraries the
+# headers use); the modules' private dependencies are linked into it.
+# Not in the sanitizer and fuzzing trees (make test-sanitize, make fuzz), which install nothing.
+if(NOT CLEARSHAPE_SANITIZE AND NOT CLEARSHAPE_FUZZ)
+  set(_shared_objects "")
+  set(_shared_usage "")
+  foreach(module IN LISTS CLEARSHAPE_MODULES)
+    get_target_property(_type clearshape_${module} TYPE)
+    if(_type STREQUAL "STATIC_LIBRARY")
+      list(APPEND _shared_objects $<TARGET_OBJECTS:clearshape_${module}>)
+    endif()
+    get_target_property(_libs clearshape_${module} INTERFACE_LINK_LIBRARIES)
+    foreach(lib IN LISTS _libs)
+      if(lib AND NOT lib MATCHES "clearshape|\\$<")
+        list(APPEND _shared_usage ${lib})
+      endif()
+    endforeach()
+  endforeach()
+  list(REMOVE_DUPLICATES _shared_usage)
+  add_library(clearshape_shared SHARED ${_shared_objects})
+  set_target_properties(clearshape_shared PROPERTIES OUTPUT_NAME clearshape EXPORT_NAME shared
+    VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
+    LINKER_LANGUAGE CXX)
+  target_compile_features(clearshape_shared INTERFACE cxx_std_20)
+  target_include_directories(clearshape_shared INTERFACE
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+    $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/generated>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  # The static modules after the objects only bring their private dependencies (nothing of theirs
+  # is left undefined); consumers get the public ones.
+  target_link_libraries(clearshape_shared PRIVATE clearshape PUBLIC ${_shared_usage})
+  add_library(clearshape::shared ALIAS clearshape_shared)
+  install(TARGETS clearshape_shared EXPORT clearshapeTargets
+          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime NAMELINK_COMPONENT dev)
+endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/clearshape ${PROJECT_BINARY_DIR}/generated/clearshape
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev)
 install(EXPORT clearshapeTargets NAMESPACE clearshape:: DESTINATION ${CLEARSHAPE_CMAKE_DIR}
@@ -100,10 +139,10 @@ docs/python.md in the source describes it. The extension `clearshape._core` in t
 built by CMake for Python @CLEARSHAPE_PY_MAJOR@.@CLEARSHAPE_PY_MINOR@ on Linux; neither the sdist nor the wheel compiles it.\n")
 endif()
 
-# The Debian packages, one per install component (docs/package.md): the CLI, the -dev files,
-# the Python module (when it is built). Debian revision 1 of the upstream version.
-set(CLEARSHAPE_DEB_COMPONENTS cli dev)
-set(CLEARSHAPE_DEB_NAMES clearshape libclearshape-dev)
+# The Debian packages, one per install component (docs/package.md): the CLI, the shared library
+# (named after its SONAME, Debian Policy 8.1), the -dev files, the Python module (when built). Debian revision 1 of the upstream version.
+set(CLEARSHAPE_DEB_COMPONENTS cli runtime dev)
+set(CLEARSHAPE_DEB_NAMES clearshape libclearshape${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR} libclearshape-dev)
 if(TARGET clearshape_python)
   list(APPEND CLEARSHAPE_DEB_COMPONENTS python)
   list(APPEND CLEARSHAPE_DEB_NAMES python3-clearshape)
@@ -150,9 +189,10 @@ else()
 endif()
 
 # Debian packages: `cpack -G DEB` in the build tree makes one .deb per component, the Debian
-# split: clearshape (the CLI, its man page), libclearshape-dev (headers, static libraries, CMake
-# and pkg-config files) and python3-clearshape. The -dev and python3- packages depend on the
-# same version of clearshape. dpkg-shlibdeps adds the shared libraries the CLI and the Python
+# split: clearshape (the CLI, its man page), libclearshape<major>.<minor> (the shared library),
+# libclearshape-dev (headers, static libraries, the shared library's link, CMake and pkg-config
+# files) and python3-clearshape. The -dev and python3- packages depend on the same version of
+# clearshape, -dev also on the shared library's package. dpkg-shlibdeps adds the shared libraries the CLI and the Python
 # extension load (generic libblas3 | libblas.so.3 since BLA_VENDOR is Generic,
 # cmake/ClearshapeDependencies.cmake); the -dev Depends are what clearshapeConfig.cmake finds
 # with find_dependency().
@@ -182,7 +222,14 @@ string(CONCAT _about "clearshape designs input shapers (ZV, ZVD, EI and others) 
 string(CONCAT CPACK_DEBIAN_CLI_DESCRIPTION "input shaping for machines with play - command-line tool\n"
        "${_about}This package has the command-line tool clearshape and its manual page.")
 set(CPACK_DEBIAN_CLI_PACKAGE_SUGGESTS "python3-clearshape")  # `clearshape sweep` runs its module
-set(CPACK_COMPONENT_DEV_DEPENDS cli)
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_SECTION libs)
+string(CONCAT CPACK_DEBIAN_RUNTIME_DESCRIPTION "input shaping for machines with play - shared library\n"
+       "${_about}This package has the shared library libclearshape.so.${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR} with every module.")
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)  # shlibs: the exact version (0.x)
+# The ldconfig trigger Debian wants (lintian: lacks-ldconfig-trigger); CPack 3.25 also writes
+# postinst/postrm that call ldconfig (docs/package.md, what lintian says).
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/packaging/triggers)
+set(CPACK_COMPONENT_DEV_DEPENDS cli runtime)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 string(CONCAT CPACK_DEBIAN_DEV_DESCRIPTION "input shaping for machines with play - development files\n"
        "${_about}This package has the C++20 headers, the static libraries, the CMake\n"

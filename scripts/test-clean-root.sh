@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The Debian packages on a clean Debian 12 root (docs/package.md, "A clean Debian 12 root"):
-# builds the three .debs from BUILD_DIR with cpack, makes a minimal bookworm root with
+# builds the four .debs from BUILD_DIR with cpack, makes a minimal bookworm root with
 # debootstrap, installs the packages there with apt (as a user would, Recommends included)
 # together with g++ and cmake, and runs inside it:
 #   1. the CLI: --version, a shaper design, the man page;
 #   2. a C++ consumer: tests/package/consumer (CMake find_package, no C++ standard set) building
-#      examples/02_design_shapers.cpp, which checks its own results; and the same example built
-#      with pkg-config alone;
+#      examples/02_design_shapers.cpp, which checks its own results, against the static modules
+#      and against the shared library (clearshape::shared); and the example built with pkg-config;
 #   3. Python: import clearshape, a design, importlib.metadata.version("clearshape").
 # Needs root (debootstrap, chroot, mount) and the network (deb.debian.org), so it is not part of
 # `make test`: `make test-clean-root` runs it. Takes a few minutes, mostly downloads.
@@ -36,7 +36,7 @@ step() { echo "test-clean-root: [$((SECONDS))s] $*"; }
 step "cpack -G DEB in $build"
 (cd "$build" && cpack -G DEB -B "$work/debs" > "$work/cpack.log" 2>&1) || { cat "$work/cpack.log" >&2; exit 1; }
 debs=("$work"/debs/*.deb)
-[[ ${#debs[@]} == 3 ]] || fail "want three .debs, cpack made: ${debs[*]}"
+[[ ${#debs[@]} == 4 ]] || fail "want four .debs, cpack made: ${debs[*]}"
 
 step "debootstrap bookworm (minbase) from $mirror"
 debootstrap --variant=minbase bookworm "$root" "$mirror" > "$work/debootstrap.log" 2>&1 \
@@ -47,7 +47,7 @@ mount --bind /dev/pts "$root/dev/pts"
 cp /etc/resolv.conf "$root/etc/resolv.conf"
 in_root() { chroot "$root" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root LANG=C.UTF-8 "$@"; }
 
-step "apt install the three packages, g++, cmake (and man to read the page)"
+step "apt install the four packages, g++, cmake (and man to read the page)"
 mkdir -p "$root/srv/debs" "$root/srv/consumer"
 cp "${debs[@]}" "$root/srv/debs/"
 cp "$source_dir/tests/package/consumer/CMakeLists.txt" "$source_dir/examples/02_design_shapers.cpp" "$root/srv/consumer/"
@@ -64,10 +64,12 @@ apt_install "${in_debs[@]}"
 all=$(count)
 apt_install g++ cmake make man-db
 echo "test-clean-root: packages installed: $before in the root, +$((cli - before)) with clearshape (the CLI)," \
-     "+$((all - cli)) with libclearshape-dev and python3-clearshape (Recommends included), +$(($(count) - all)) for g++, cmake, man"
-installed=$(in_root dpkg-query -W -f '${Package} ${Version}\n' clearshape libclearshape-dev python3-clearshape)
+     "+$((all - cli)) with the shared library, libclearshape-dev and python3-clearshape (Recommends included), +$(($(count) - all)) for g++, cmake, man"
+names=()
+for d in "${debs[@]}"; do names+=("$(dpkg-deb -f "$d" Package)"); done
+installed=$(in_root dpkg-query -W -f '${Package} ${Version} ${db:Status-Abbrev}\n' "${names[@]}")
 echo "$installed"
-[[ $(wc -l <<< "$installed") == 3 ]] || fail "not all three packages installed"
+[[ $(grep -c " ii *$" <<< "$installed") == 4 ]] || fail "not all four packages installed"
 
 step "1. the CLI"
 version=$(in_root clearshape --version)
@@ -85,6 +87,13 @@ grep -q "clearshape_DIR = /usr/lib/cmake/clearshape" "$work/consumer.log" || fai
 in_root cmake --build /srv/consumer/build > "$work/consumer-build.log" 2>&1 \
   || { cat "$work/consumer-build.log" >&2; fail "the consumer did not build"; }
 in_root /srv/consumer/build/consumer | tail -n 2
+in_root cmake -S /srv/consumer -B /srv/consumer/build-shared -DEXAMPLE_SOURCE=/srv/consumer/02_design_shapers.cpp \
+  -DCLEARSHAPE_TARGET=clearshape::shared > "$work/consumer-shared.log" 2>&1 \
+  || { cat "$work/consumer-shared.log" >&2; fail "the shared consumer's cmake failed"; }
+in_root cmake --build /srv/consumer/build-shared > "$work/consumer-shared-build.log" 2>&1 \
+  || { cat "$work/consumer-shared-build.log" >&2; fail "the shared consumer did not build"; }
+in_root ldd /srv/consumer/build-shared/consumer | grep "libclearshape.so" || fail "the shared consumer does not load libclearshape"
+in_root /srv/consumer/build-shared/consumer > /dev/null || fail "the shared consumer failed"
 in_root sh -c 'c++ -O1 /srv/consumer/02_design_shapers.cpp -o /srv/pc_consumer $(pkg-config --cflags --libs clearshape)' \
   || fail "the pkg-config consumer did not build"
 in_root /srv/pc_consumer > /dev/null || fail "the pkg-config consumer failed"

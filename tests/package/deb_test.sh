@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# `cpack -G DEB` (docs/package.md): builds the three .debs from the build tree — clearshape (the
-# CLI), libclearshape-dev (headers, static libraries, CMake and pkg-config files) and
+# `cpack -G DEB` (docs/package.md): builds the four .debs from the build tree — clearshape (the
+# CLI), libclearshape<M>.<m> (the shared library: SONAME, shlibs, ldconfig trigger),
+# libclearshape-dev (headers, static libraries, CMake and pkg-config files) and
 # python3-clearshape — and checks with dpkg-deb that each holds its files and no file is in two;
 # that -dev and python3- depend on the same version of clearshape, -dev on the -dev packages
 # find_dependency() needs, each on the shared libraries it loads (dpkg-shlibdeps) but not on the
@@ -20,8 +21,10 @@ fail() { echo "deb_test: $*" >&2; exit 1; }
 source=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt")
 upstream=$(sed -n 's/^CMAKE_PROJECT_VERSION:STATIC=//p' "$build/CMakeCache.txt")
 version=$upstream-1
-# The Debian split: exactly these three packages, each with its own files and no file twice.
-packages=(clearshape libclearshape-dev python3-clearshape)
+# The Debian split: exactly these four packages, each with its own files and no file twice. The
+# shared library's package is named after its SONAME libclearshape.so.<major>.<minor>.
+libpkg=libclearshape$(cut -d. -f1,2 <<< "$upstream")
+packages=(clearshape "$libpkg" libclearshape-dev python3-clearshape)
 declare -A deb
 for p in "${packages[@]}"; do
   deb[$p]=$work/${p}_${version}_amd64.deb
@@ -31,14 +34,25 @@ for p in "${packages[@]}"; do
   dpkg-deb -c "${deb[$p]}" > "$work/$p.contents"
   dpkg-deb -x "${deb[$p]}" "$work/root"
 done
-[[ $(ls "$work"/*.deb | wc -l) == 3 ]] || fail "more than the three packages: $(ls "$work"/*.deb)"
-dups=$(cat "$work"/*.contents | awk '$1 !~ /^d/ {print $NF}' | sort | uniq -d)
+[[ $(ls "$work"/*.deb | wc -l) == 4 ]] || fail "more than the four packages: $(ls "$work"/*.deb)"
+dups=$(cat "$work"/*.contents | awk '$1 ~ /^l/ {print $(NF - 2)} $1 ~ /^-/ {print $NF}' | sort | uniq -d)
 [[ -z $dups ]] || fail "files in more than one package (dpkg would refuse them): $dups"
+field() { dpkg-deb -f "${deb[$1]}" "$2"; }
 has() {  # has PACKAGE FILE...: each file is in that package
   local p=$1; shift
   for f in "$@"; do grep -q " $f\$" "$work/$p.contents" || fail "$f missing from $p: $(cat "$work/$p.contents")"; done
 }
 has clearshape ./usr/bin/clearshape ./usr/share/man/man1/clearshape.1.gz
+soname=${libpkg/libclearshape/libclearshape.so.}
+has "$libpkg" "./usr/lib/$soname.${upstream##*.}" "./usr/lib/$soname -> $soname.${upstream##*.}"
+has libclearshape-dev "./usr/lib/libclearshape.so -> $soname"
+[[ $(objdump -p "$work/root/usr/lib/$soname.${upstream##*.}" | awk '$1 == "SONAME" {print $2}') == "$soname" ]] \
+  || fail "the shared library's SONAME is not $soname"
+[[ $(dpkg-deb -I "${deb[$libpkg]}" shlibs) == "libclearshape ${soname#libclearshape.so.} $libpkg (= $version)" ]] \
+  || fail "$libpkg: shlibs is '$(dpkg-deb -I "${deb[$libpkg]}" shlibs 2>&1)'"
+[[ $(dpkg-deb -I "${deb[$libpkg]}" triggers) == "activate-noawait ldconfig" ]] || fail "$libpkg: no ldconfig trigger"
+[[ $(field "$libpkg" Section) == libs && $(field "$libpkg" Depends) == *libstdc++6* ]] \
+  || fail "$libpkg: Section $(field "$libpkg" Section), Depends $(field "$libpkg" Depends)"
 has libclearshape-dev ./usr/lib/cmake/clearshape/clearshapeConfig.cmake ./usr/lib/cmake/clearshape/clearshapeConfigVersion.cmake \
     ./usr/lib/pkgconfig/clearshape.pc ./usr/include/clearshape/shaping/design.hpp ./usr/lib/libclearshape_shaping.a
 has python3-clearshape ./usr/lib/python3/dist-packages/clearshape/__init__.py \
@@ -49,13 +63,12 @@ grep -q "./usr/lib/python3/dist-packages/clearshape/_core" "$work/python3-clears
 
 # Depends: the -dev and python3- packages need the same version of the CLI's package; the CLI's
 # package needs only shared libraries (dpkg-shlibdeps), no -dev package, no Python.
-field() { dpkg-deb -f "${deb[$1]}" "$2"; }
 for d in libc6 libstdc++6; do
   [[ $(field clearshape Depends) == *"$d"* ]] || fail "clearshape Depends lacks $d: $(field clearshape Depends)"
 done
 [[ $(field clearshape Depends) != *-dev* && $(field clearshape Depends) != *python3* ]] \
   || fail "clearshape depends on -dev or Python packages: $(field clearshape Depends)"
-for d in "clearshape (= $version)" libceres-dev libsundials-dev libnlopt-cxx-dev libtomlplusplus-dev; do
+for d in "clearshape (= $version)" "$libpkg (= $version)" libceres-dev libsundials-dev libnlopt-cxx-dev libtomlplusplus-dev; do
   [[ ", $(field libclearshape-dev Depends)," == *", $d,"* ]] || fail "libclearshape-dev Depends lacks $d: $(field libclearshape-dev Depends)"
 done
 py=$(/usr/bin/python3 -c 'import sys; print(sys.version_info[0], sys.version_info[1])')
@@ -96,7 +109,7 @@ for p in "${packages[@]}"; do
     || fail "/usr/share/doc/$p/copyright missing or not the same as clearshape's"
 done
 
-# lintian (Debian's package checker): no error (E:) on any of the three; the warnings left are
+# lintian (Debian's package checker): no error (E:) on any of the four; the warnings left are
 # listed in docs/package.md.
 command -v lintian > /dev/null || fail "lintian not installed (scripts/install-deps.sh installs it)"
 rc=0; lintian --fail-on error --tag-display-limit 0 "${deb[@]}" > "$work/lintian.txt" 2>&1 || rc=$?

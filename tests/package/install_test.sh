@@ -3,6 +3,7 @@
 #   1. a separate CMake project builds examples/02_design_shapers.cpp against the installed
 #      clearshape::clearshape (find_package, nothing from the source or build tree) and runs it;
 #      it sets no C++ standard: C++20 must come from the exported targets (cxx_std_20);
+#      1b. the same against the shared library clearshape::shared (SONAME libclearshape.so.M.m);
 #   2. the same example built with the installed pkg-config file only, and run;
 #   3. the installed Python module imports from the prefix and designs a shaper, and its package
 #      metadata answers importlib.metadata.version("clearshape") with the CLI's version.
@@ -40,6 +41,26 @@ grep -Eq -- '-std=(c|gnu)\+\+20' "$work/consumer/compile_commands.json" \
   || { echo "install_test: the installed targets do not require C++20 (cxx_std_20)" >&2; cat "$work/consumer.log" >&2; exit 1; }
 cmake --build "$work/consumer" > "$work/consumer-build.log" 2>&1 || { cat "$work/consumer-build.log" >&2; exit 1; }
 "$work/consumer/consumer"
+
+# 1b. The same against the shared library clearshape::shared: it needs libclearshape.so.<M>.<m>
+# (the SONAME) and runs from the prefix's lib; again no C++ standard set.
+soname=$(objdump -p "$prefix"/lib/libclearshape.so | awk '$1 == "SONAME" {print $2}')
+[[ $soname =~ ^libclearshape\.so\.[0-9]+\.[0-9]+$ && -f $prefix/lib/$soname ]] \
+  || { echo "install_test: the shared library's SONAME is '$soname'" >&2; ls -l "$prefix/lib" >&2; exit 1; }
+cmake -S "$source/tests/package/consumer" -B "$work/consumer-shared" -DCMAKE_BUILD_TYPE=Release \
+      -DCMAKE_PREFIX_PATH="$prefix" -DEXAMPLE_SOURCE="$example" -DCLEARSHAPE_TARGET=clearshape::shared \
+      -DCMAKE_EXPORT_COMPILE_COMMANDS=ON > "$work/consumer-shared.log" 2>&1 \
+  || { cat "$work/consumer-shared.log" >&2; exit 1; }
+grep -Eq -- '-std=(c|gnu)\+\+20' "$work/consumer-shared/compile_commands.json" \
+  || { echo "install_test: clearshape::shared does not require C++20" >&2; exit 1; }
+cmake --build "$work/consumer-shared" > "$work/consumer-shared-build.log" 2>&1 \
+  || { cat "$work/consumer-shared-build.log" >&2; exit 1; }
+objdump -p "$work/consumer-shared/consumer" | grep -q "NEEDED *$soname\$" \
+  || { echo "install_test: the shared consumer does not load $soname" >&2; exit 1; }
+objdump -t "$work/consumer-shared/consumer" | grep "clearshape7shaping.*design" > "$work/design-symbols"
+[[ -s $work/design-symbols ]] && ! grep -qv "\*UND\*" "$work/design-symbols" \
+  || { echo "install_test: the shared consumer has clearshape's design code linked in statically" >&2; exit 1; }
+LD_LIBRARY_PATH="$prefix/lib" "$work/consumer-shared/consumer" > /dev/null
 
 # 2. pkg-config consumer.
 flags=$(PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --cflags --libs clearshape)
