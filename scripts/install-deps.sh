@@ -20,10 +20,11 @@ run_packages=(
   python3 python3-numpy python3-matplotlib python3-jinja2 fonts-dejavu-core
 )
 # make test adds the test frameworks, SciPy (golden data), the firmware tool chain and simavr,
-# Chromium (and ChromeDriver with Selenium: the report on an emulated phone), what sweeps and the real-time checks use, help2man (the .deb's man page), lintian
-# (the .debs' check, tests/package/deb_test.sh), build, wheel and venv (the Python wheel in a
-# venv, tests/package/wheel_test.sh) and MuJoCo (the independent reference of the arm's
-# rigid-body dynamics, tests/arm/test_mujoco.cpp).
+# Chromium (with ChromeDriver and Selenium: the report on an emulated phone), what sweeps and the
+# real-time checks use, help2man (the .deb's man page), lintian (the .debs' check,
+# tests/package/deb_test.sh), build, wheel and venv (the Python wheel in a venv,
+# tests/package/wheel_test.sh) and MuJoCo (the independent reference of the arm's rigid-body
+# dynamics, tests/arm/test_mujoco.cpp).
 packages=(
   "${run_packages[@]}"
   libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev
