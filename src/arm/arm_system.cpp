@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -45,6 +46,7 @@ ArmSystem::ArmSystem(const ArmModel& model, std::span<const plant::Command> comm
   d_tau_v_.setZero(dof_);
   d_tau_phi_rate_.setZero(dof_);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(dof_);
+  ydot_.assign(static_cast<std::size_t>(size_), 0.0);
 }
 
 JointTerms ArmSystem::terms(int i, double t, const double* y) const noexcept {
@@ -288,7 +290,13 @@ std::vector<double> ArmSystem::discontinuities_s() const {
   return out;
 }
 
-void ArmSystem::record(double t, const double* y, ArmTrace& tr, Eigen::Index row) {
+void ArmSystem::record(double t, const double* y, const double* ydot, ArmTrace& tr, Eigen::Index row) {
+  // q̈ at the sample: the derivative of the integrator's interpolating polynomial if it has one
+  // (no extra KDL solves), else f(t, y) (docs/arm.md §1, "Sensors", for its accuracy)
+  if (ydot == nullptr) {
+    ydot = ydot_.data();
+    if (rhs(t, y, ydot_.data()) != 0) std::fill(ydot_.begin(), ydot_.end(), std::numeric_limits<double>::quiet_NaN());
+  }
   double contact = 0.0;
   for (int i = 0; i < dof_; ++i) {
     const auto k = static_cast<std::size_t>(i);
@@ -303,12 +311,16 @@ void ArmSystem::record(double t, const double* y, ArmTrace& tr, Eigen::Index row
     tr.contact_torque_n_m(row, i) = jt.contact_torque;
     q_(i) = y[iq_ + i];
     v_(i) = y[iv_ + i];
+    qdd_(i) = ydot[iv_ + i];
     contact += jt.contact_energy;
   }
   tr.time_s.push_back(t);
-  tr.tool_position_m.row(row) = workspace_.tip_position_m(q_).transpose();
-  tr.kinetic_j.push_back(workspace_.kinetic_energy_j(q_, v_));
-  tr.potential_j.push_back(workspace_.potential_energy_j(q_));
+  const ChainWorkspace::Sample chain = workspace_.sample(q_, v_, qdd_, model_.imu.mount_m);
+  tr.tool_position_m.row(row) = chain.tip_pose.translation().transpose();
+  tr.gyro_rad_s.row(row) = chain.gyro_rad_s.transpose();
+  tr.accel_m_s2.row(row) = chain.accel_m_s2.transpose();
+  tr.kinetic_j.push_back(chain.kinetic_j);
+  tr.potential_j.push_back(chain.potential_j);
   tr.contact_energy_j.push_back(contact);
 }
 

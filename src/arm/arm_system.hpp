@@ -41,7 +41,8 @@ class ArmSystem {
   bool check_consistency(double t, const double* y, std::vector<ArmEvent>& events) noexcept;
   /// Times (delay included) where a command jumps, sorted.
   std::vector<double> discontinuities_s() const;
-  void record(double t, const double* y, ArmTrace& trace, Eigen::Index row);
+  /// One output sample; `ydot` is ẏ(t) (q̈ for the accelerometer), or nullptr to evaluate f(t, y).
+  void record(double t, const double* y, const double* ydot, ArmTrace& trace, Eigen::Index row);
   std::string describe(double t, const double* y) const;
 
  private:
@@ -60,6 +61,7 @@ class ArmSystem {
   Eigen::VectorXd q_, v_, tau_, bias_, qdd_;
   Eigen::MatrixXd mass_, mass_step_, d_tau_, d_rigid_;
   Eigen::VectorXd q_step_, v_step_, bias_step_, d_tau_q_, d_tau_v_, d_tau_phi_rate_;
+  std::vector<double> ydot_;  // record()'s right-hand side (q̈ for the accelerometer)
   Eigen::LLT<Eigen::MatrixXd> llt_;
 };
 

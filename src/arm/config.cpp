@@ -1,9 +1,12 @@
 // The arm's TOML: drives, gears, play, contact, friction and encoders per joint (docs/arm.md).
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -123,6 +126,23 @@ plant::EncoderConfig read_encoder(const TomlSection& t) {
   return e;
 }
 
+// [imu]: the last link's gyroscope and accelerometer (ArmImu); absent ranges are unlimited.
+ArmImu read_imu(const TomlSection& t) {
+  ArmImu imu;
+  if (t.has("mount_m")) {
+    const std::vector<double> m = t.numbers("mount_m");
+    if (m.size() != 3) t.fail("mount_m", fmt::format("has {} numbers; allowed: 3 (x, y, z in the tip link's frame, m)", m.size()));
+    imu.mount_m = Eigen::Vector3d(m[0], m[1], m[2]);
+  }
+  imu.gyro_noise_rad_s = non_negative(t, "gyro_noise_rad_s", 0.0);
+  imu.accel_noise_m_s2 = non_negative(t, "accel_noise_m_s2", 0.0);
+  if (t.has("gyro_range_rad_s")) imu.gyro_range_rad_s = t.positive("gyro_range_rad_s", 1.0);
+  if (t.has("accel_range_m_s2")) imu.accel_range_m_s2 = t.positive("accel_range_m_s2", 1.0);
+  imu.seed = static_cast<std::uint64_t>(t.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  t.finish("mount_m, gyro_noise_rad_s, accel_noise_m_s2, gyro_range_rad_s, accel_range_m_s2, seed");
+  return imu;
+}
+
 ArmJoint read_joint(const TomlSection& t) {
   ArmJoint j;
   j.name = t.text("name");
@@ -176,6 +196,16 @@ std::string read_text(const std::string& path, const char* what) {
 
 }  // namespace
 
+void ArmImu::validate() const {
+  if (!mount_m.allFinite()) throw InvalidArgument("imu.mount_m must hold 3 finite values (m, in the tip link's frame)");
+  require_non_negative("imu.gyro_noise_rad_s", gyro_noise_rad_s);
+  require_non_negative("imu.accel_noise_m_s2", accel_noise_m_s2);
+  for (const auto& [field, range] : {std::pair{"imu.gyro_range_rad_s", gyro_range_rad_s},
+                                     std::pair{"imu.accel_range_m_s2", accel_range_m_s2}}) {
+    if (!(range > 0.0)) throw_invalid(field, range, "> 0 (infinity: unlimited)");
+  }
+}
+
 void ArmModel::validate() const {
   if (static_cast<int>(joints.size()) != chain.dof()) {
     throw InvalidArgument(fmt::format("arm '{}' has {} joint configurations for {} chain joints; allowed: one per joint",
@@ -191,6 +221,7 @@ void ArmModel::validate() const {
     require_non_negative(field + ".half_play_rad", j.half_play_rad);
     j.friction.validate(field.c_str());
   }
+  imu.validate();
 }
 
 ArmModel arm_from_text(std::string_view urdf, const std::string& urdf_file, std::string_view toml,
@@ -208,8 +239,9 @@ ArmModel arm_from_text(std::string_view urdf, const std::string& urdf_file, std:
     }
     arm->finish("name, gravity_m_s2");
   }
-  ArmModel model{name, chain, match_joints(root, chain)};
-  root.finish("arm, joint");
+  ArmModel model{name, chain, match_joints(root, chain), {}};
+  if (const auto imu = root.table("imu")) model.imu = read_imu(*imu);
+  root.finish("arm, joint, imu");
   model.validate();
   return model;
 }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 
 #include <fmt/format.h>
@@ -67,8 +68,9 @@ class Integrator {
     const auto n = static_cast<sunindextype>(system.size());
     y_ = N_VNew_Serial(n, ctx_);
     atol_ = N_VNew_Serial(n, ctx_);
+    ydot_ = N_VNew_Serial(n, ctx_);
     mem_ = CVodeCreate(CV_BDF, ctx_);
-    if (!y_ || !atol_ || !mem_) throw RuntimeError("CVODE: cannot allocate the integrator");
+    if (!y_ || !atol_ || !ydot_ || !mem_) throw RuntimeError("CVODE: cannot allocate the integrator");
     N_VConst(0.0, y_);
     system.tolerances(o, N_VGetArrayPointer(atol_));
     check(CVodeInit(mem_, rhs_callback, 0.0, y_), "CVodeInit");
@@ -91,6 +93,7 @@ class Integrator {
     if (linear_) SUNLinSolFree(linear_);
     if (matrix_) SUNMatDestroy(matrix_);
     if (atol_) N_VDestroy(atol_);
+    if (ydot_) N_VDestroy(ydot_);
     if (y_) N_VDestroy(y_);
     if (ctx_) SUNContext_Free(&ctx_);
   }
@@ -104,6 +107,14 @@ class Integrator {
     check(CVodeSetStopTime(mem_, stop_s), "CVodeSetStopTime");
   }
   int advance(double tout, double& t) noexcept { return CVode(mem_, tout, y_, &t, CV_NORMAL); }
+  /// ẏ(t) of CVODE's interpolating polynomial (no right-hand side evaluation), or nullptr when no
+  /// step has been taken since the last restart (the polynomial is not set up yet).
+  const double* derivative(double t) {
+    long steps = 0;
+    CVodeGetNumSteps(mem_, &steps);
+    if (steps == 0 || CVodeGetDky(mem_, t, 1, ydot_) != CV_SUCCESS) return nullptr;
+    return N_VGetArrayPointer(ydot_);
+  }
   void roots(int* found) { check(CVodeGetRootInfo(mem_, found), "CVodeGetRootInfo"); }
   /// Steps and right-hand sides since the start (CVodeReInit resets CVODE's own counters).
   void totals(bool carry) {
@@ -128,6 +139,7 @@ class Integrator {
   SUNContext ctx_ = nullptr;
   N_Vector y_ = nullptr;
   N_Vector atol_ = nullptr;
+  N_Vector ydot_ = nullptr;
   SUNMatrix matrix_ = nullptr;
   SUNLinearSolver linear_ = nullptr;
   void* mem_ = nullptr;
@@ -138,9 +150,20 @@ void allocate(ArmTrace& tr, Eigen::Index rows, int dof) {
                              &tr.link_rate_rad_s, &tr.contact_torque_n_m}) {
     m->setZero(rows, dof);
   }
-  tr.tool_position_m.setZero(rows, 3);
+  for (Eigen::MatrixXd* m : {&tr.tool_position_m, &tr.gyro_rad_s, &tr.accel_m_s2}) m->setZero(rows, 3);
   for (std::vector<double>* v : {&tr.time_s, &tr.kinetic_j, &tr.potential_j, &tr.contact_energy_j}) {
     v->reserve(static_cast<std::size_t>(rows));
+  }
+}
+
+// The IMU's true readings → white noise N(0, σ²) per axis and sample, then ±range (ArmImu).
+void measure(Eigen::MatrixXd& m, double sigma, double range, std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    for (Eigen::Index c = 0; c < m.cols(); ++c) {
+      const double noisy = sigma > 0.0 ? m(r, c) + sigma * normal(rng) : m(r, c);
+      m(r, c) = std::clamp(noisy, -range, range);
+    }
   }
 }
 
@@ -164,7 +187,7 @@ ArmTrace simulate_arm(const ArmModel& model, std::span<const plant::Command> com
   double stop = next_jump(t);
   cv.restart(t, stop);
   std::vector<int> found(static_cast<std::size_t>(system.root_count()));
-  system.record(t, cv.y(), trace, 0);
+  system.record(t, cv.y(), nullptr, trace, 0);
   bool after_root = false;
   for (Eigen::Index k = 1; k < rows; ++k) {
     const double tout = static_cast<double>(k) / options.output_rate_hz;
@@ -196,8 +219,11 @@ ArmTrace simulate_arm(const ArmModel& model, std::span<const plant::Command> com
       if (restart) cv.restart(t, stop);
     }
     if (system.check_consistency(t, cv.y(), trace.events)) cv.restart(t, stop);
-    system.record(t, cv.y(), trace, k);
+    system.record(t, cv.y(), cv.derivative(t), trace, k);
   }
+  std::mt19937_64 rng(model.imu.seed);
+  measure(trace.gyro_rad_s, model.imu.gyro_noise_rad_s, model.imu.gyro_range_rad_s, rng);
+  measure(trace.accel_m_s2, model.imu.accel_noise_m_s2, model.imu.accel_range_m_s2, rng);
   cv.totals(false);
   trace.steps = cv.carried_steps + cv.current_steps;
   trace.rhs_evaluations = cv.carried_rhs + cv.current_rhs;

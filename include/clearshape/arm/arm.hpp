@@ -8,9 +8,13 @@
 //   M(q) q̈ + C(q, q̇) q̇ + g(q) = τ_contact(q, θ_m/N, q̇, ω_m/N) + τ_friction(q̇).
 // An ArmModel is an immutable design read from a URDF (the chain) and a TOML (drives, gears,
 // play, contact, friction and encoders per joint).
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "clearshape/arm/chain.hpp"
 #include "clearshape/plant/contact_law.hpp"
@@ -30,10 +34,26 @@ struct ArmJoint {
   plant::EncoderConfig encoder{};  ///< on the motor shaft
 };
 
+/// The 3-axis gyroscope and accelerometer on the last link (the URDF's tip link), read in that
+/// link's frame: gyro = the link's angular velocity, accelerometer = the specific force a − g at
+/// the mount point (what an IMU measures). Per sample: truth + white noise N(0, σ²) (seeded
+/// std::mt19937_64) → clipped at ±range per axis.
+struct ArmImu {
+  Eigen::Vector3d mount_m = Eigen::Vector3d::Zero();  ///< in the tip link's frame; 0: the tool point
+  double gyro_noise_rad_s = 0.0;   ///< σ per axis and sample, >= 0
+  double accel_noise_m_s2 = 0.0;   ///< σ per axis and sample, >= 0
+  double gyro_range_rad_s = std::numeric_limits<double>::infinity();  ///< full scale ±, > 0
+  double accel_range_m_s2 = std::numeric_limits<double>::infinity();  ///< full scale ±, > 0
+  std::uint64_t seed = 1;
+  /// Throws InvalidArgument naming "imu.field" and the allowed range.
+  void validate() const;
+};
+
 struct ArmModel {
   std::string name;
   RigidChain chain;
   std::vector<ArmJoint> joints;  ///< one per revolute joint of the chain, in chain order
+  ArmImu imu{};                  ///< on the last link
   /// Throws InvalidArgument naming "joint[i].field" and the allowed range.
   void validate() const;
   int dof() const noexcept { return chain.dof(); }

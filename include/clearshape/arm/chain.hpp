@@ -69,11 +69,24 @@ class ChainWorkspace {
   void gravity_torque(const Eigen::VectorXd& q, Eigen::VectorXd& tau);
   /// The tip link's origin in the root frame (m), by KDL's forward kinematics.
   Eigen::Vector3d tip_position_m(const Eigen::VectorXd& q);
-  /// Potential energy −Σ m_i gᵀ c_i(q) of every link's centre of mass c_i (J): from forward
-  /// kinematics and the masses, independent of the dynamics solvers (energy checks).
-  double potential_energy_j(const Eigen::VectorXd& q);
-  /// Kinetic energy ½ q̇ᵀ M(q) q̇ (J).
-  double kinetic_energy_j(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
+  /// The tip link's frame in the root frame (its rotation and origin), by KDL's forward kinematics.
+  Eigen::Isometry3d tip_pose(const Eigen::VectorXd& q);
+  /// One output sample of the chain, from a single outward pass of the recursive Newton–Euler
+  /// algorithm over KDL's segments with the base accelerating at −g (Featherstone, Rigid Body
+  /// Dynamics Algorithms, 2008, §5.3): each link's spatial velocity v_i and acceleration a_i in
+  /// its own frame. The energies come from forward kinematics and the inertias, independently of
+  /// KDL's dynamics solvers (energy checks).
+  struct Sample {
+    Eigen::Isometry3d tip_pose;   ///< the tip link's frame in the root frame (rotation, origin m)
+    Eigen::Vector3d gyro_rad_s;   ///< the tip link's angular velocity, in its frame
+    /// The specific force a − g at `mount_m` (in the tip link's frame), in that frame: what an
+    /// accelerometer there reads (a point's classical acceleration is the spatial one + ω × v).
+    Eigen::Vector3d accel_m_s2;
+    double kinetic_j = 0.0;    ///< ½ Σ v_iᵀ I_i v_i (= ½ q̇ᵀ M(q) q̇)
+    double potential_j = 0.0;  ///< −Σ m_i gᵀ c_i of every link's centre of mass c_i
+  };
+  Sample sample(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                const Eigen::Vector3d& mount_m);
 
  private:
   struct Impl;

@@ -61,7 +61,11 @@ struct ArmTrace {
   Eigen::MatrixXd link_rate_rad_s;     ///< q̇
   Eigen::MatrixXd contact_torque_n_m;  ///< torque of the play on each link
   Eigen::MatrixXd tool_position_m;     ///< the URDF's tip link origin in the root frame
-  std::vector<double> kinetic_j;       ///< ½ q̇ᵀ M q̇
+  /// The last link's IMU (ArmModel::imu), samples × 3 in the tip link's frame, noise and range
+  /// applied: its angular velocity, and the specific force a − g at the mount point.
+  Eigen::MatrixXd gyro_rad_s;
+  Eigen::MatrixXd accel_m_s2;
+  std::vector<double> kinetic_j;       ///< ½ Σ vᵀ I v over the links (= ½ q̇ᵀ M q̇)
   std::vector<double> potential_j;     ///< −Σ m gᵀ c (from forward kinematics)
   std::vector<double> contact_energy_j;  ///< Σ elastic energy stored in the plays
   std::vector<ArmEvent> events;
