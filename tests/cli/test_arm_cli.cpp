@@ -146,6 +146,11 @@ TEST(ArmCli, SimulatedMoveWithoutPlayEndsAtItsTarget) {
   const auto t = clearshape::io::read_table(dir / "run.csv");
   EXPECT_NEAR(t.column("shoulder_link_deg").back(), 1.2 * 180 / M_PI, 0.01);
   EXPECT_NEAR(t.column("elbow_link_deg").back(), 0.6 * 180 / M_PI, 0.01);
+  // the motor's encoder (3000 lines × 4 per motor turn) over the gear ratio is the gearbox output
+  EXPECT_NEAR(t.column("shoulder_encoder_deg").back() / 50.0, t.column("shoulder_output_deg").back(), 0.03 / 50.0);
+  // the last link's IMU at rest: no rotation, +g along z (scara-2's axes are vertical)
+  EXPECT_NEAR(t.column("gyro_z_rad_s").back(), 0.0, 1e-6);
+  EXPECT_NEAR(t.column("accel_z_m_s2").back(), 9.80665, 1e-9);
   // the move (0.75 s), 1 s of settling, and the ZVD at the centre's shoulder mode: one period
   const double zvd_s = 1.0 / golden_modes_hz(0.0).first;
   EXPECT_NEAR(t.column("time_s").back() - t.column("time_s").front(), 0.75 + 1.0 + zvd_s, 2e-3);

@@ -40,6 +40,11 @@ def test_scara_tool_and_motor_follow_their_closed_forms():
     # the link ends within the play (±0.25°) of the output, and the play was hit
     assert abs(q[-1, 0] - run["output_angle_rad"][-1, 0]) < 0.26 * DEG
     assert any(e["onset"] and e["joint"] == 0 for e in run["events"])
+    # the last link's IMU (planar closed form): ω_z = q̇1 + q̇2, +g along z, nothing out of the plane
+    rate = run["link_rate_rad_s"]
+    np.testing.assert_allclose(run["gyro_rad_s"][:, 2], rate[:, 0] + rate[:, 1], atol=1e-12)
+    np.testing.assert_allclose(run["gyro_rad_s"][:, :2], 0.0, atol=1e-12)
+    np.testing.assert_allclose(run["accel_m_s2"][:, 2], 9.80665, atol=1e-12)
 
 
 def test_own_texts_without_play_make_the_link_follow():

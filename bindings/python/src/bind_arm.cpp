@@ -76,6 +76,8 @@ py::dict simulate_arm(const DoubleArray& commands, double sample_time_s, const s
   d["link_rate_rad_s"] = to_array2(tr.link_rate_rad_s);
   d["contact_torque_n_m"] = to_array2(tr.contact_torque_n_m);
   d["tool_position_m"] = to_array2(tr.tool_position_m);
+  d["gyro_rad_s"] = to_array2(tr.gyro_rad_s);
+  d["accel_m_s2"] = to_array2(tr.accel_m_s2);
   d["kinetic_j"] = to_array(tr.kinetic_j);
   d["potential_j"] = to_array(tr.potential_j);
   d["contact_energy_j"] = to_array(tr.contact_energy_j);
@@ -187,7 +189,8 @@ texts. commands: one row per joint, samples every sample_time_s in the drive's u
 degrees for a Kp = 1 position drive: a link move of A degrees is N·A), interpolated 'linear' or
 held ('zero_order_hold'), the last value held after the end. Returns a dict: time_s, per joint
 (samples × joints) motor_angle_rad, encoder_angle_rad, output_angle_rad (θ_m/N),
-link_angle_rad, link_rate_rad_s, contact_torque_n_m; tool_position_m (samples × 3); the
+link_angle_rad, link_rate_rad_s, contact_torque_n_m; tool_position_m (samples × 3); the last
+link's IMU in its frame, gyro_rad_s and accel_m_s2 (specific force a − g; samples × 3); the
 energies kinetic_j, potential_j, contact_energy_j; events (onsets and separations); joints,
 gear_ratio, steps.)doc");
   m.def("arm_modes", &arm_modes, py::arg("pose_rad"), py::arg("arm") = "scara-2", py::arg("urdf") = py::none(),
