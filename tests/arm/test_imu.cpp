@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -20,6 +22,12 @@ namespace clearshape::arm {
 namespace {
 
 constexpr double kStandardGravity_m_s2 = 9.80665;
+
+std::string sci(double x) {  // a measured error for the test's XML report
+  std::ostringstream o;
+  o << std::scientific << std::setprecision(2) << x;
+  return o.str();
+}
 
 // Three joints about z, y and x with tilted origins and a tilted tool: every axis of the IMU moves.
 std::string three_axis_urdf() {
@@ -88,8 +96,8 @@ TEST(ArmImu, PlanarArmsMatchTheClosedForm) {
       worst_accel = std::max(worst_accel, std::abs(s.accel_m_s2(a) - accel) / (1.0 + std::abs(accel)));
     }
   }
-  RecordProperty("gyro_error", std::to_string(worst_gyro));
-  RecordProperty("accel_error", std::to_string(worst_accel));
+  RecordProperty("gyro_error", sci(worst_gyro));
+  RecordProperty("accel_error", sci(worst_accel));
   EXPECT_LT(worst_gyro, 1e-12);
   EXPECT_LT(worst_accel, 1e-9);  // relative to 1 + |reading|, accelerations up to 60 m/s²
 }
@@ -116,8 +124,8 @@ TEST(ArmImu, ThreeAxisChainMatchesTheToolFrameAlongAKnownPath) {
     peak_gyro = std::max(peak_gyro, s.gyro_rad_s.norm());
     peak_accel = std::max(peak_accel, s.accel_m_s2.norm());
   }
-  RecordProperty("gyro_error_relative", std::to_string(worst_gyro / peak_gyro));
-  RecordProperty("accel_error_relative", std::to_string(worst_accel / peak_accel));
+  RecordProperty("gyro_error_relative", sci(worst_gyro / peak_gyro));
+  RecordProperty("accel_error_relative", sci(worst_accel / peak_accel));
   EXPECT_GT(peak_gyro, 5.0);  // rad/s: a fast three-axis motion
   EXPECT_GT(peak_accel, 15.0);
   EXPECT_LT(worst_gyro, 2e-6 * peak_gyro) << worst_gyro;     // the difference's own error: O(h²)
@@ -172,8 +180,8 @@ TEST(ArmImu, SimulatedMoveMatchesTheToolFrameOfTheLinkAngles) {
     peak_gyro = std::max(peak_gyro, gyro.norm());
     peak_accel = std::max(peak_accel, (accel + pose[k].linear().transpose() * arm.chain.gravity_m_s2()).norm());
   }
-  RecordProperty("gyro_error_relative", std::to_string(worst_gyro / peak_gyro));
-  RecordProperty("accel_error_relative", std::to_string(worst_accel / peak_accel));
+  RecordProperty("gyro_error_relative", sci(worst_gyro / peak_gyro));
+  RecordProperty("accel_error_relative", sci(worst_accel / peak_accel));
   EXPECT_GT(peak_gyro, 3.0);
   EXPECT_GT(peak_accel, 10.0);  // m/s², gravity taken out
   EXPECT_LT(worst_gyro, 1e-4 * peak_gyro) << worst_gyro << " of " << peak_gyro;
