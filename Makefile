@@ -5,7 +5,7 @@
 #               test through ctest
 #   make bench  build and run the benchmarks side by side with their SciPy/NumPy peers
 #   make test-sanitize  every test under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)
-#   make test-clean-root  the three .debs installed on a fresh Debian 12 root (debootstrap; root and
+#   make test-clean-root  the four .debs and the wheel, three users following the docs on a fresh Debian 12 root (debootstrap; root and
 #               the network needed, so not part of make test: docs/package.md)
 #   make fuzz   each libFuzzer target for FUZZ_SECONDS (clang, build-fuzz/; docs/data-safety.md)
 # What each costs on a fresh two-core Debian 12: README.md, "Set-up: two commands".
