@@ -35,6 +35,7 @@ std::string output_kind(const std::filesystem::path& path);
 
 }  // namespace clearshape::cli
 
+#include "clearshape/arm/clearance_aware.hpp"
 #include "clearshape/arm/trajectory.hpp"
 
 namespace clearshape::cli {
@@ -42,17 +43,35 @@ namespace clearshape::cli {
 /// A synchronised jerk-limited move, optionally shaped (arm move, arm simulate).
 struct MoveRequest {
   std::string from, to;
-  std::string shaper = "none";  ///< none | fixed | scheduled
+  std::string shaper = "none";  ///< none | fixed | scheduled | clearance-aware
   std::string method = "zvd";
   bool every_mode = false;
   double velocity = 2.0, acceleration = 20.0, jerk = 400.0;  ///< every joint, at the link
   double sample_time_s = 1e-3;
+  // clearance-aware (arm/clearance_aware.hpp): the design's search and its start places
+  int evaluations = 40;      ///< of the objective, 10-100000
+  int slots = 8;             ///< impulse slots, 2-32
+  double grid_s = 0.0;       ///< slot spacing (s, 0-1; 0: a quarter period of the end pose's lowest mode)
+  std::string start_places;  ///< "f1,f2;f1,f2;…" (φ/β per joint in [-1, 1]); empty: the library's five
+  double design_settle_s = 1.5;  ///< simulated after the shaped command in each trial (s, 0.1-10)
+  int threads = 2;           ///< parallel simulations, 1-64
 };
 /// --from, --to (required when `required`), --shaper, --method, --every-mode, --velocity,
 /// --acceleration, --jerk, --sample-time.
 void add_move_options(CLI::App& app, MoveRequest& move, bool required);
 /// The (shaped) move; `summary` receives one line per joint on its design.
 arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& move, std::string& summary);
+
+/// --start-places "f1,f2;…" → one vector per start place (φ_i/β_i, each in [-1, 1]);
+/// InvalidArgument naming --start-places and the allowed values.
+std::vector<Eigen::VectorXd> parse_start_places(const std::string& text, const arm::ArmModel& arm);
+/// The clearance-aware design's options from the request (arm_clearance_aware.cpp).
+arm::ArmClearanceAwareOptions clearance_aware_options(const arm::ArmModel& arm, const MoveRequest& move);
+/// The move shaped by design_clearance_aware_move (one shaper on every joint); `summary` receives
+/// the design: its shaper, per start place the tool residual unshaped and shaped, the worst ratio
+/// (WORSE than unshaped flagged), the evaluations and the design's wall time.
+arm::JointTrajectory clearance_aware_move(const arm::ArmModel& arm, const MoveRequest& move,
+                                          const arm::JointTrajectory& unshaped, std::string& summary);
 
 /// Registers `arm modes` under `arm` (cmd_arm_modes.cpp).
 void setup_arm_modes(CLI::App& arm);

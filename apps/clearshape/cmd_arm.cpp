@@ -24,8 +24,9 @@ void add_move_options(CLI::App& app, MoveRequest& m, bool required) {
   app.add_option("--from", m.from, "Start pose: one angle per joint, comma-separated (rad)")->required(required);
   app.add_option("--to", m.to, "End pose: one angle per joint, comma-separated (rad)")->required(required);
   app.add_option("--shaper", m.shaper,
-                 "none; fixed: each joint's shaper designed at the workspace centre; scheduled: at the end pose")
-      ->check(CLI::IsMember({"none", "fixed", "scheduled"}))
+                 "none; fixed: each joint's shaper designed at the workspace centre; scheduled: at the end pose; "
+                 "clearance-aware: one positive shaper for every joint optimised on the arm with its play")
+      ->check(CLI::IsMember({"none", "fixed", "scheduled", "clearance-aware"}))
       ->capture_default_str();
   app.add_option("--method", m.method, "Shaper design (zv, zvd, zvdd, zvddd, mzv, ei, ei2, ei3)")
       ->check(CLI::IsMember({"zv", "zvd", "zvdd", "zvddd", "mzv", "ei", "ei2", "ei3"}))
@@ -39,6 +40,21 @@ void add_move_options(CLI::App& app, MoveRequest& m, bool required) {
       ->check(CLI::Range(1e-6, 1e7))->capture_default_str();
   app.add_option("--sample-time", m.sample_time_s, "Sample time of the trajectory (s, 1e-5-0.1)")
       ->check(CLI::Range(1e-5, 0.1))->capture_default_str();
+  app.add_option("--evaluations", m.evaluations, "clearance-aware: evaluations of the objective (10-100000)")
+      ->check(CLI::Range(10, 100000))->capture_default_str();
+  app.add_option("--slots", m.slots, "clearance-aware: impulse slots (2-32)")
+      ->check(CLI::Range(2, 32))->capture_default_str();
+  app.add_option("--grid-s", m.grid_s,
+                 "clearance-aware: slot spacing (s, 0-1; 0: a quarter period of the end pose's lowest mode)")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  app.add_option("--start-places", m.start_places,
+                 "clearance-aware: where the links start in their plays, 'f1,f2;f1,f2;…' (each in [-1, 1]; "
+                 "default: all at -1, 0, +1 and the two mixed corners)");
+  app.add_option("--design-settle-s", m.design_settle_s,
+                 "clearance-aware: simulated time after the shaped command in each trial (s, 0.1-10)")
+      ->check(CLI::Range(0.1, 10.0))->capture_default_str();
+  app.add_option("--threads", m.threads, "clearance-aware: parallel simulations (1-64); the design does not depend on it")
+      ->check(CLI::Range(1, 64))->capture_default_str();
 }
 
 arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& m, std::string& summary) {
@@ -50,6 +66,7 @@ arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& m, 
   summary = fmt::format("move        {} -> {} rad, {:.4f} s unshaped\n", format_angles(q0), format_angles(q1),
                         t.time_s.back());
   if (m.shaper == "none") return t;
+  if (m.shaper == "clearance-aware") return clearance_aware_move(arm, m, t, summary);
   arm::MoveShaping shaping;
   shaping.schedule = m.shaper == "fixed" ? arm::ShaperSchedule::fixed : arm::ShaperSchedule::end_pose;
   shaping.method = shaping::method_from_string(m.method);
