@@ -1,12 +1,15 @@
 // Python: the arm as a plant (docs/arm.md) — the built-in arms' texts and a simulation of a
 // built-in arm or of one's own URDF + TOML under one command per joint.
+#include <chrono>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
+#include "clearshape/arm/clearance_aware.hpp"
 #include "clearshape/arm/simulation.hpp"
 #include "clearshape/arm/trajectory.hpp"
 
@@ -122,7 +125,7 @@ arm::ShaperSchedule schedule_of(const std::string& text) {
   for (const auto s : {arm::ShaperSchedule::none, arm::ShaperSchedule::fixed, arm::ShaperSchedule::end_pose}) {
     if (text == arm::to_string(s)) return s;
   }
-  throw InvalidArgument("schedule = '" + text + "'; allowed: unshaped, fixed, scheduled");
+  throw InvalidArgument("schedule = '" + text + "'; allowed: unshaped, fixed, scheduled, clearance-aware");
 }
 
 std::vector<signal::AxisLimits> limits_of(const DoubleArray& limits, int dof) {
@@ -136,18 +139,78 @@ std::vector<signal::AxisLimits> limits_of(const DoubleArray& limits, int dof) {
   return out;
 }
 
+/// The clearance-aware design's knobs (arm_move's keyword arguments; arm/clearance_aware.hpp).
+struct ClearanceAwareArgs {
+  int evaluations = 40;
+  int slots = 8;
+  double grid_s = 0.0;
+  std::optional<DoubleArray> start_places;
+  double settle_s = 1.5;
+  int threads = 2;
+};
+
+// One shaper for every joint by design_clearance_aware_move; its summary into `design`.
+std::vector<shaping::Shaper> clearance_aware_shapers(const arm::ArmModel& model, const arm::PointToPoint& move,
+                                                     std::span<const signal::AxisLimits> limits,
+                                                     double sample_time_s, const ClearanceAwareArgs& a,
+                                                     py::dict& design) {
+  if (a.evaluations < 10 || a.evaluations > 100000) {
+    throw InvalidArgument("evaluations = " + std::to_string(a.evaluations) + "; allowed: 10 … 100000");
+  }
+  arm::ArmClearanceAwareOptions o;
+  o.play.limits.assign(limits.begin(), limits.end());
+  o.play.sample_time_s = sample_time_s;
+  o.play.settle_s = a.settle_s;
+  o.slots = a.slots;
+  o.grid_s = a.grid_s;
+  o.max_evaluations = a.evaluations;
+  o.threads = a.threads;
+  if (a.start_places) {
+    const DoubleArray& p = *a.start_places;
+    if (p.ndim() != 2 || p.shape(1) != model.dof() || p.shape(0) < 1) {
+      throw InvalidArgument("start_places must be a places × " + std::to_string(model.dof()) +
+                            " array of φ/β in [-1, 1] (one row per start place)");
+    }
+    auto v = p.unchecked<2>();
+    for (py::ssize_t r = 0; r < p.shape(0); ++r) {
+      Eigen::VectorXd f(model.dof());
+      for (int j = 0; j < model.dof(); ++j) f(j) = v(r, j);
+      o.start_places.push_back(f);
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const arm::ArmClearanceAwareResult d = arm::design_clearance_aware_move(model, move, o);
+  Eigen::MatrixXd places(static_cast<Eigen::Index>(d.start_places.size()), model.dof());
+  for (std::size_t r = 0; r < d.start_places.size(); ++r) places.row(static_cast<Eigen::Index>(r)) = d.start_places[r];
+  design["start_places"] = to_array2(places);
+  design["unshaped_residual_m"] = to_array(d.unshaped_residual_m);
+  design["shaped_residual_m"] = to_array(d.shaped_residual_m);
+  design["worst_ratio"] = d.worst_ratio;
+  design["worse_than_unshaped"] = d.worse_than_unshaped;
+  design["evaluations"] = d.evaluations;
+  design["design_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return std::vector<shaping::Shaper>(static_cast<std::size_t>(model.dof()), d.shaper);
+}
+
 py::dict arm_move(const DoubleArray& start_rad, const DoubleArray& end_rad, const DoubleArray& limits,
                   double sample_time_s, const std::string& name, const std::optional<std::string>& urdf,
                   const std::optional<std::string>& toml, const std::string& schedule, const std::string& method,
                   double vtol, bool every_mode, const std::optional<std::string>& json_path,
-                  const std::optional<std::string>& csv_path) {
+                  const std::optional<std::string>& csv_path, int evaluations, int slots, double grid_s,
+                  const std::optional<DoubleArray>& start_places, double design_settle_s, int threads) {
   const arm::ArmModel model = model_of(name, urdf, toml);
-  const Eigen::VectorXd q1 = to_pose(end_rad, "end_rad");
-  const arm::JointTrajectory move =
-      arm::plan_move(model, to_pose(start_rad, "start_rad"), q1, limits_of(limits, model.dof()), sample_time_s);
-  const std::vector<shaping::Shaper> shapers = arm::joint_shapers(
-      model, q1, {.schedule = schedule_of(schedule), .method = shaping::method_from_string(method), .vtol = vtol,
-                  .every_mode = every_mode});
+  const arm::PointToPoint p2p{to_pose(start_rad, "start_rad"), to_pose(end_rad, "end_rad")};
+  const Eigen::VectorXd& q1 = p2p.to_rad;
+  const std::vector<signal::AxisLimits> axis_limits = limits_of(limits, model.dof());
+  const arm::JointTrajectory move = arm::plan_move(model, p2p.from_rad, q1, axis_limits, sample_time_s);
+  py::dict design;
+  const std::vector<shaping::Shaper> shapers =
+      schedule == "clearance-aware"
+          ? clearance_aware_shapers(model, p2p, axis_limits, sample_time_s,
+                                    {evaluations, slots, grid_s, start_places, design_settle_s, threads}, design)
+          : arm::joint_shapers(model, q1,
+                               {.schedule = schedule_of(schedule), .method = shaping::method_from_string(method),
+                                .vtol = vtol, .every_mode = every_mode});
   const arm::JointTrajectory t = arm::shape_trajectory(move, shapers);
   if (json_path) arm::write_trajectory_json(*json_path, t);
   if (csv_path) arm::write_trajectory_csv(*csv_path, t);
@@ -166,6 +229,7 @@ py::dict arm_move(const DoubleArray& start_rad, const DoubleArray& end_rad, cons
   d["commands"] = to_array2(commands.transpose());
   d["move_duration_s"] = move.time_s.back();
   d["shapers"] = shapers;
+  if (schedule == "clearance-aware") d["design"] = design;
   return d;
 }
 
@@ -203,15 +267,22 @@ response to its own gearbox output) and dominant_mode (per joint).)doc");
         py::arg("sample_time_s") = 1e-3, py::arg("arm") = "scara-2", py::arg("urdf") = py::none(),
         py::arg("toml") = py::none(), py::arg("schedule") = "unshaped", py::arg("method") = "zvd",
         py::arg("vtol") = 0.05, py::arg("every_mode") = false, py::arg("json_path") = py::none(),
-        py::arg("csv_path") = py::none(),
+        py::arg("csv_path") = py::none(), py::arg("evaluations") = 40, py::arg("slots") = 8,
+        py::arg("grid_s") = 0.0, py::arg("start_places") = py::none(), py::arg("design_settle_s") = 1.5,
+        py::arg("threads") = 2,
         R"doc(A synchronised jerk-limited move of every joint (docs/arm.md §7), limits a joints × 3 array
 (velocity, acceleration, jerk at the link, rad units), each joint shaped by `method` at its
 dominant mode: schedule 'unshaped', 'fixed' (at the workspace centre) or 'scheduled' (at the end
-pose); every_mode shapes every joint at all the pose's modes. Optionally written as a ROS
+pose) — or 'clearance-aware': one positive shaper for every joint optimised by simulating the arm
+with its play from start places in the plays (arm/clearance_aware.hpp; evaluations 10-100000,
+slots 2-32, grid_s 0-1 s with 0 a quarter period of the end pose's lowest mode, start_places a
+places × joints array of φ/β in [-1, 1] or None for the five defaults, design_settle_s, threads
+1-64); every_mode shapes every joint at all the pose's modes. Optionally written as a ROS
 JointTrajectory JSON (json_path) and a CSV (csv_path). Returns joint_names, time_s,
 position_rad, velocity_rad_s, acceleration_rad_s2 (samples × joints), commands (joints ×
-samples: the drives' commands, ready for simulate_arm), move_duration_s (before shaping) and
-shapers.)doc");
+samples: the drives' commands, ready for simulate_arm), move_duration_s (before shaping),
+shapers and, for 'clearance-aware', design (start_places, unshaped_residual_m,
+shaped_residual_m, worst_ratio, worse_than_unshaped, evaluations, design_time_s).)doc");
 }
 
 }  // namespace clearshape::python
