@@ -74,15 +74,16 @@ std::string design_summary(const arm::ArmClearanceAwareResult& d, double seconds
 }  // namespace
 
 arm::JointTrajectory clearance_aware_move(const arm::ArmModel& arm, const MoveRequest& m,
-                                          const arm::JointTrajectory& unshaped, std::string& summary) {
+                                          const arm::JointTrajectory& unshaped, std::string& summary,
+                                          std::vector<shaping::Shaper>& applied) {
   const arm::ArmClearanceAwareOptions options = clearance_aware_options(arm, m);
   const arm::PointToPoint move{parse_angles(m.from, "--from", arm), parse_angles(m.to, "--to", arm)};
   const auto start = std::chrono::steady_clock::now();
   const arm::ArmClearanceAwareResult d = arm::design_clearance_aware_move(arm, move, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary += design_summary(d, seconds);
-  const std::vector<shaping::Shaper> shapers(static_cast<std::size_t>(arm.dof()), d.shaper);
-  return arm::shape_trajectory(unshaped, shapers);
+  applied.assign(static_cast<std::size_t>(arm.dof()), d.shaper);
+  return arm::shape_trajectory(unshaped, applied);
 }
 
 }  // namespace clearshape::cli

@@ -59,8 +59,10 @@ struct MoveRequest {
 /// --from, --to (required when `required`), --shaper, --method, --every-mode, --velocity,
 /// --acceleration, --jerk, --sample-time.
 void add_move_options(CLI::App& app, MoveRequest& move, bool required);
-/// The (shaped) move; `summary` receives one line per joint on its design.
-arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& move, std::string& summary);
+/// The (shaped) move; `summary` receives one line per joint on its design, `applied` (when given)
+/// the shaper of each joint (empty for none).
+arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& move, std::string& summary,
+                                std::vector<shaping::Shaper>* applied = nullptr);
 
 /// --start-places "f1,f2;…" → one vector per start place (φ_i/β_i, each in [-1, 1]);
 /// InvalidArgument naming --start-places and the allowed values.
@@ -71,7 +73,8 @@ arm::ArmClearanceAwareOptions clearance_aware_options(const arm::ArmModel& arm, 
 /// the design: its shaper, per start place the tool residual unshaped and shaped, the worst ratio
 /// (WORSE than unshaped flagged), the evaluations and the design's wall time.
 arm::JointTrajectory clearance_aware_move(const arm::ArmModel& arm, const MoveRequest& move,
-                                          const arm::JointTrajectory& unshaped, std::string& summary);
+                                          const arm::JointTrajectory& unshaped, std::string& summary,
+                                          std::vector<shaping::Shaper>& applied);
 
 /// Registers `arm modes` under `arm` (cmd_arm_modes.cpp).
 void setup_arm_modes(CLI::App& arm);

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "arm_options.hpp"
+#include "clearshape/arm/shaper_export.hpp"
 #include "clearshape/arm/simulation.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/table.hpp"
@@ -57,7 +58,21 @@ void add_move_options(CLI::App& app, MoveRequest& m, bool required) {
       ->check(CLI::Range(1, 64))->capture_default_str();
 }
 
-arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& m, std::string& summary) {
+namespace {
+
+// The linear design --shaper fixed|scheduled names (arm/trajectory.hpp).
+arm::MoveShaping arm_move_shaping(const MoveRequest& m) {
+  arm::MoveShaping shaping;
+  shaping.schedule = m.shaper == "fixed" ? arm::ShaperSchedule::fixed : arm::ShaperSchedule::end_pose;
+  shaping.method = shaping::method_from_string(m.method);
+  shaping.every_mode = m.every_mode;
+  return shaping;
+}
+
+}  // namespace
+
+arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& m, std::string& summary,
+                                std::vector<shaping::Shaper>* applied) {
   const Eigen::VectorXd q0 = parse_angles(m.from, "--from", arm);
   const Eigen::VectorXd q1 = parse_angles(m.to, "--to", arm);
   const std::vector<signal::AxisLimits> limits(static_cast<std::size_t>(arm.dof()),
@@ -66,12 +81,11 @@ arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& m, 
   summary = fmt::format("move        {} -> {} rad, {:.4f} s unshaped\n", format_angles(q0), format_angles(q1),
                         t.time_s.back());
   if (m.shaper == "none") return t;
-  if (m.shaper == "clearance-aware") return clearance_aware_move(arm, m, t, summary);
-  arm::MoveShaping shaping;
-  shaping.schedule = m.shaper == "fixed" ? arm::ShaperSchedule::fixed : arm::ShaperSchedule::end_pose;
-  shaping.method = shaping::method_from_string(m.method);
-  shaping.every_mode = m.every_mode;
-  const auto shapers = arm::joint_shapers(arm, q1, shaping);
+  std::vector<shaping::Shaper> own;
+  std::vector<shaping::Shaper>& shapers = applied != nullptr ? *applied : own;
+  if (m.shaper == "clearance-aware") return clearance_aware_move(arm, m, t, summary, shapers);
+  const arm::MoveShaping shaping = arm_move_shaping(m);
+  shapers = arm::joint_shapers(arm, q1, shaping);
   const Eigen::VectorXd pose = m.shaper == "fixed" ? arm::workspace_centre(arm) : q1;
   const arm::ArmModes modes = arm::joint_modes(arm, pose, shaping.modes);
   for (int i = 0; i < arm.dof(); ++i) {
@@ -89,15 +103,35 @@ namespace {
 struct MoveState {
   ArmSource source;
   MoveRequest move;
-  std::string out;
+  std::string out, export_dir;
 };
 
+// --export: one C header per joint (arm/shaper_export.hpp), the linear designs with their modes.
+void export_headers(const arm::ArmModel& model, const MoveState& st, std::span<const shaping::Shaper> shapers) {
+  const double dt = st.move.sample_time_s;
+  const auto files =
+      st.move.shaper == "clearance-aware"
+          ? arm::joint_shaper_headers(model, shapers, dt, "cs",
+                                      fmt::format("clearshape arm move --arm {} --from {} --to {} --shaper "
+                                                  "clearance-aware (arm/clearance_aware.hpp)",
+                                                  model.name, st.move.from, st.move.to))
+          : arm::joint_shaper_headers(model, parse_angles(st.move.to, "--to", model), arm_move_shaping(st.move), dt);
+  arm::write_joint_shaper_headers(st.export_dir, files);
+  for (const auto& f : files) fmt::print("written     {}\n", (std::filesystem::path(st.export_dir) / f.file_name).string());
+}
+
 void run_move(const MoveState& st) {
+  if (!st.export_dir.empty() && st.move.shaper == "none") {
+    throw InvalidArgument("--export: --shaper none has no shaper to export; allowed with --shaper fixed, scheduled "
+                          "or clearance-aware");
+  }
   const arm::ArmModel model = load_arm(st.source);
   std::string summary;
-  const arm::JointTrajectory t = build_move(model, st.move, summary);
+  std::vector<shaping::Shaper> shapers;
+  const arm::JointTrajectory t = build_move(model, st.move, summary, &shapers);
   fmt::print("arm         {} ({} joints)\n{}duration    {:.4f} s, {} samples\n", model.name, model.dof(), summary,
              t.time_s.back(), t.time_s.size());
+  if (!st.export_dir.empty()) export_headers(model, st, shapers);
   if (st.out.empty()) return;
   if (output_kind(st.out) == ".json") {
     arm::write_trajectory_json(st.out, t);
@@ -115,6 +149,9 @@ void setup_move(CLI::App& parent) {
       st->source);
   add_move_options(*sub, st->move, true);
   sub->add_option("-o,--out", st->out, "Write the trajectory: a .json (ROS JointTrajectory) or .csv file");
+  sub->add_option("--export", st->export_dir,
+                  "Write each joint's shaper as a C header cs_<joint>.h into this existing folder (not with --shaper none)")
+      ->check(CLI::ExistingDirectory);
   sub->callback([st] { run_move(*st); });
 }
 

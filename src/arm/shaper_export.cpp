@@ -1,5 +1,7 @@
 #include "clearshape/arm/shaper_export.hpp"
 
+#include <functional>
+
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
@@ -46,6 +48,20 @@ exports::ShaperDesign design_of(const shaping::Shaper& shaper, const ArmModes& m
   return d;
 }
 
+// One header per joint, joint i's design from `design_of_joint(i)`.
+std::vector<JointShaperFile> joint_headers_from(const ArmModel& arm, double sample_time_s, const std::string& prefix,
+                                                const std::function<exports::ShaperDesign(int)>& design_of_joint) {
+  exports::ExportOptions options;
+  options.sample_time_s = sample_time_s;
+  std::vector<JointShaperFile> out;
+  for (int i = 0; i < arm.dof(); ++i) {
+    const std::string& joint = arm.joints[static_cast<std::size_t>(i)].name;
+    options.c_name = c_name_of(prefix, joint);
+    out.push_back({joint, options.c_name + ".h", options.c_name, exports::to_c_header(design_of_joint(i), options).text});
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<JointShaperFile> joint_shaper_headers(const ArmModel& arm, const Eigen::VectorXd& end_pose_rad,
@@ -60,17 +76,27 @@ std::vector<JointShaperFile> joint_shaper_headers(const ArmModel& arm, const Eig
   const std::string command = fmt::format("arm::joint_shaper_headers: arm {}, {} shapers ({}{}) at q = ({}) rad", arm.name,
                                           to_string(shaping.schedule), shaping::to_string(shaping.method),
                                           shaping.every_mode ? ", every mode" : "", fmt::join(pose, ", "));
-  exports::ExportOptions options;
-  options.sample_time_s = sample_time_s;
-  std::vector<JointShaperFile> out;
-  for (int i = 0; i < arm.dof(); ++i) {
-    const std::string& joint = arm.joints[static_cast<std::size_t>(i)].name;
-    options.c_name = c_name_of(prefix, joint);
-    const exports::ExportText text =
-        exports::to_c_header(design_of(shapers[static_cast<std::size_t>(i)], modes, i, shaping, command), options);
-    out.push_back({joint, options.c_name + ".h", options.c_name, text.text});
+  return joint_headers_from(arm, sample_time_s, prefix, [&](int i) {
+    return design_of(shapers[static_cast<std::size_t>(i)], modes, i, shaping, command);
+  });
+}
+
+std::vector<JointShaperFile> joint_shaper_headers(const ArmModel& arm, std::span<const shaping::Shaper> shapers,
+                                                  double sample_time_s, const std::string& prefix,
+                                                  const std::string& command) {
+  if (shapers.size() != static_cast<std::size_t>(arm.dof())) {
+    throw_invalid("joint_shaper_headers: shapers", static_cast<double>(shapers.size()),
+                  fmt::format("{} (one per joint)", arm.dof()));
   }
-  return out;
+  return joint_headers_from(arm, sample_time_s, prefix, [&](int i) {
+    return exports::ShaperDesign{.shaper = shapers[static_cast<std::size_t>(i)],
+                                 .method = shaping::Method::custom,
+                                 .mode = std::nullopt,
+                                 .second_mode = std::nullopt,
+                                 .vtol = std::nullopt,
+                                 .band_hz = std::nullopt,
+                                 .command = command};
+  });
 }
 
 void write_joint_shaper_headers(const std::filesystem::path& folder, std::span<const JointShaperFile> files) {

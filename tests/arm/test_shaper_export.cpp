@@ -80,5 +80,29 @@ TEST(ArmShaperExport, BothModesAndRefusals) {
   EXPECT_THROW(joint_shaper_headers(arm, Eigen::Vector2d(0, 0), {}, 1e-3, "9x"), InvalidArgument);
 }
 
+// Given shapers (the clearance-aware design's kind: impulses between samples): each joint's header
+// holds its own shaper's taps by the first-order hold split of the header comment above.
+TEST(ArmShaperExport, GivenShapersGiveTheirFirstOrderHoldTaps) {
+  const ArmModel arm = builtin_arm("scara-2");
+  const std::vector<shaping::Shaper> shapers{shaping::Shaper("a", {{0.0, 0.25}, {0.0125, 0.75}}),
+                                             shaping::Shaper("b", {{0.0, 0.5}, {0.002, 0.5}})};
+  const auto files = joint_shaper_headers(arm, shapers, 5e-3, "cs", "a test");
+  ASSERT_EQ(files.size(), 2u);
+  // 0.0125 s = 2.5 samples: 0.75 split half and half between delays 2 and 3
+  EXPECT_EQ(define_list(files[0].text, "CS_SHOULDER_DELAYS"), (std::vector<double>{0, 2, 3}));
+  const std::vector<double> w = define_list(files[0].text, "CS_SHOULDER_TAPS_DOUBLE");
+  ASSERT_EQ(w.size(), 3u);
+  EXPECT_NEAR(w[0], 0.25, 1e-15);
+  EXPECT_NEAR(w[1], 0.375, 1e-15);
+  EXPECT_NEAR(w[2], 0.375, 1e-15);
+  // 0.002 s = 0.4 samples: 0.5·0.6 joins the first impulse at 0, 0.5·0.4 goes to delay 1
+  const std::vector<double> elbow = define_list(files[1].text, "CS_ELBOW_TAPS_DOUBLE");
+  ASSERT_EQ(elbow.size(), 2u);
+  EXPECT_NEAR(elbow[0], 0.8, 1e-15);
+  EXPECT_NEAR(elbow[1], 0.2, 1e-15);
+  EXPECT_NE(files[1].text.find("a test"), std::string::npos);
+  EXPECT_THROW(joint_shaper_headers(arm, std::span(shapers).first(1), 5e-3, "cs", "x"), InvalidArgument);
+}
+
 }  // namespace
 }  // namespace clearshape::arm

@@ -1,5 +1,6 @@
 // clearshape arm move --shaper clearance-aware: the trajectory it writes is the library's design
-// (arm/clearance_aware.hpp) on the same move and options, shaped the same way, to the bit; played
+// (arm/clearance_aware.hpp) on the same move and options, shaped the same way, to the bit, and its
+// --export headers are arm::joint_shaper_headers of that design, byte for byte; played
 // on scara-2 with 0.5° of play from the design's start places it leaves less tool residual (Eq.
 // 5.1, arm/benchmark.hpp) than the unshaped move on a benchmark move whose links rattle; bad
 // options exit 2 naming the option and its range.
@@ -7,11 +8,14 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "clearshape/arm/clearance_aware.hpp"
+#include "clearshape/arm/shaper_export.hpp"
 #include "support/cli.hpp"
 #include "support/paths.hpp"
 
@@ -45,9 +49,11 @@ TEST(ArmClearanceAwareCli, WritesTheLibrarysDesignAndLeavesLessResidualThanUnsha
   const ArmModel arm = scara_with_half_degree_play();
   const PointToPoint move = pick_and_place_moves(arm, 12, 1)[9];  // rattles: docs/arm.md §7
   const fs::path dir = clearshape::testing::fresh_temp_dir("arm_clearance_aware_cli");
+  fs::create_directories(dir / "headers");
   const auto r = run_cli(fmt::format("arm move --play-deg 0.5 --from {} --to {} --shaper clearance-aware "
-                                     "--evaluations 12 -o {}",
-                                     angles(move.from_rad), angles(move.to_rad), (dir / "move.json").string()));
+                                     "--evaluations 12 -o {} --export {}",
+                                     angles(move.from_rad), angles(move.to_rad), (dir / "move.json").string(),
+                                     (dir / "headers").string()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("worst ratio to unshaped"), std::string::npos) << r.out;
 
@@ -65,6 +71,15 @@ TEST(ArmClearanceAwareCli, WritesTheLibrarysDesignAndLeavesLessResidualThanUnsha
   EXPECT_EQ(written.position_rad, expected.position_rad);  // bit for bit
   EXPECT_EQ(written.velocity_rad_s, expected.velocity_rad_s);
   EXPECT_EQ(d.worse_than_unshaped, r.out.find("WORSE") != std::string::npos) << r.out;
+  const std::string command = fmt::format("clearshape arm move --arm scara-2 --from {} --to {} --shaper "
+                                          "clearance-aware (arm/clearance_aware.hpp)",
+                                          angles(move.from_rad), angles(move.to_rad));
+  const std::vector<shaping::Shaper> shapers(2, d.shaper);
+  for (const JointShaperFile& f : joint_shaper_headers(arm, shapers, 1e-3, "cs", command)) {
+    std::ifstream in(dir / "headers" / f.file_name);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text, f.text) << f.file_name;
+  }
 
   double unshaped = 0.0, shaped = 0.0;
   for (const Eigen::VectorXd& place : d.start_places) {
@@ -90,6 +105,9 @@ TEST(ArmClearanceAwareCli, BadOptionsExit2NamingTheOption) {
     EXPECT_EQ(r.exit_code, 2) << option << ": " << r.err;
     EXPECT_NE(r.err.find(named), std::string::npos) << option << ": " << r.err;
   }
+  const auto none = run_cli("arm move --from 0,1.5 --to 1.2,0.6 --export .");  // no shaper to export
+  EXPECT_EQ(none.exit_code, 2) << none.err;
+  EXPECT_NE(none.err.find("--export"), std::string::npos) << none.err;
 }
 
 }  // namespace

@@ -29,6 +29,14 @@ std::vector<JointShaperFile> joint_shaper_headers(const ArmModel& arm, const Eig
                                                   const MoveShaping& shaping, double sample_time_s,
                                                   const std::string& prefix = "cs");
 
+/// One header per joint for given shapers (one per joint, e.g. the clearance-aware design of
+/// arm/clearance_aware.hpp on every joint), exported as custom shapers without a design mode;
+/// `command` describes the design in each header's comment. Throws InvalidArgument for a shaper
+/// count other than the joints', a bad sample time or prefix.
+std::vector<JointShaperFile> joint_shaper_headers(const ArmModel& arm, std::span<const shaping::Shaper> shapers,
+                                                  double sample_time_s, const std::string& prefix,
+                                                  const std::string& command);
+
 /// Writes the headers into `folder`, all or none (io::AtomicBatch).
 void write_joint_shaper_headers(const std::filesystem::path& folder, std::span<const JointShaperFile> files);
 
