@@ -29,6 +29,7 @@ struct ModesState {
   double step_deg = 1.0;
   double max_damping = 0.05;
   std::string excitation = "step";
+  std::string sensor = "links";
   double ramp_velocity = 0.02;
   bool json = false;
 };
@@ -147,6 +148,7 @@ void run_modes(const ModesState& st) {
     o.step_deg = st.step_deg;
     o.identification.max_damping_ratio = st.max_damping;
     o.excitation = st.excitation == "step" ? arm::ModeMapExcitation::step : arm::ModeMapExcitation::loaded_ramp;
+    o.sensor = st.sensor == "gyro" ? arm::ModeMapSensor::last_link_gyro : arm::ModeMapSensor::link_rates;
     o.ramp_velocity_rad_s = st.ramp_velocity;
     const arm::ModeMap map = arm::identify_mode_map(model, arm::pose_grid(model, st.grid), o);
     rows = map_rows(map);
@@ -184,6 +186,10 @@ void setup_arm_modes(CLI::App& parent) {
       ->check(CLI::Range(1, 10))->capture_default_str();
   sub->add_option("--step-deg", st->step_deg, "Each identification run's step of one joint at the link (deg, 0.01-30)")
       ->check(CLI::Range(0.01, 30.0))->capture_default_str();
+  sub->add_option("--sensor", st->sensor,
+                  "--identify from: links (every link's rate) or gyro (the last link's 3-axis gyroscope alone)")
+      ->check(CLI::IsMember({"links", "gyro"}))
+      ->capture_default_str();
   sub->add_option("--excitation", st->excitation,
                   "step: a step of each joint in turn; loaded-ramp: all joints ramp slowly, friction keeps "
                   "every link on a flank (for arms with play)")

@@ -78,9 +78,10 @@ Excitation ramp_excitation(const ArmModel& arm, const Eigen::VectorXd& pose, con
   return {"loaded ramp", plan_move(arm, from, end, limits, 1.0 / o.output_rate_hz), start_s};
 }
 
-/// Every link's rate in the excitation's free-response window.
-std::vector<UniformSeries> record_rates(const ArmModel& arm, const Excitation& e, const Eigen::VectorXd& phi0,
-                                        const ModeMapOptions& o) {
+/// Every link's rate in the excitation's free-response window, or the last link's gyro axes that
+/// turn in it (peak above 1e-9 rad/s: a planar arm's out-of-plane axes carry nothing); each named.
+std::vector<std::pair<std::string, UniformSeries>> record_rates(const ArmModel& arm, const Excitation& e,
+                                                                const Eigen::VectorXd& phi0, const ModeMapOptions& o) {
   ArmSimulationOptions sim;
   sim.duration_s = e.window_start_s + o.window_s;
   sim.output_rate_hz = o.output_rate_hz;
@@ -89,11 +90,15 @@ std::vector<UniformSeries> record_rates(const ArmModel& arm, const Excitation& e
   const ArmTrace trace = simulate_arm(arm, drive_commands(arm, e.move), sim);
   const auto k0 = static_cast<Eigen::Index>(
       std::lower_bound(trace.time_s.begin(), trace.time_s.end(), e.window_start_s - 1e-12) - trace.time_s.begin());
-  std::vector<UniformSeries> out;
-  for (int i = 0; i < arm.dof(); ++i) {
-    const Eigen::VectorXd w = trace.link_rate_rad_s.col(i).tail(trace.link_rate_rad_s.rows() - k0);
-    out.push_back({trace.time_s[static_cast<std::size_t>(k0)], 1.0 / o.output_rate_hz,
-                   std::vector<double>(w.data(), w.data() + w.size())});
+  const bool gyro = o.sensor == ModeMapSensor::last_link_gyro;
+  const Eigen::MatrixXd& rates = gyro ? trace.gyro_rad_s : trace.link_rate_rad_s;
+  std::vector<std::pair<std::string, UniformSeries>> out;
+  for (Eigen::Index i = 0; i < rates.cols(); ++i) {
+    const Eigen::VectorXd w = rates.col(i).tail(rates.rows() - k0);
+    if (gyro && w.cwiseAbs().maxCoeff() <= 1e-9) continue;
+    out.emplace_back(gyro ? std::string("last link's gyro ") + "xyz"[i] : "rate of " + arm.joints[static_cast<std::size_t>(i)].name,
+                     UniformSeries{trace.time_s[static_cast<std::size_t>(k0)], 1.0 / o.output_rate_hz,
+                                   std::vector<double>(w.data(), w.data() + w.size())});
   }
   return out;
 }
@@ -172,9 +177,7 @@ ModeMapPoint identify_point(const ArmModel& arm, const Eigen::VectorXd& pose, co
     try {
       const Eigen::VectorXd from = e.move.position_rad.row(0).transpose();
       const auto rates = record_rates(arm, e, resting_on_flanks(arm, from, p.linearised, ramp ? -1.0 : 0.0), o);
-      for (std::size_t i = 0; i < rates.size(); ++i) {
-        identify_record(rates[i], mo, e.name + ", rate of " + arm.joints[i].name, estimates, p.failures);
-      }
+      for (const auto& [name, series] : rates) identify_record(series, mo, e.name + ", " + name, estimates, p.failures);
     } catch (const std::runtime_error& e_run) {
       p.failures.push_back(e.name + ": " + e_run.what());
     }

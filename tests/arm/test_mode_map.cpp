@@ -111,6 +111,23 @@ TEST(ArmModeMap, WithPlayALoadedRampFindsTheLinearisedModes) {
   EXPECT_THROW(identify_mode_map(arm, {Eigen::Vector2d(0, 0)}, o), InvalidArgument);
 }
 
+// The last link's gyroscope alone (its z axis on scara-2: the sum of the link rates) finds the
+// first linearised mode at every pose as the link rates do.
+TEST(ArmModeMap, LastLinkGyroAloneFindsTheLinearisedModes) {
+  const ArmModel arm = without_play(builtin_arm("scara-2"));
+  ModeMapOptions o;
+  o.sensor = ModeMapSensor::last_link_gyro;
+  const ModeMap map = identify_mode_map(arm, pose_grid(arm, 3), o);
+  int second_found = 0;
+  for (const ModeMapPoint& p : map.points) {
+    const MapMode* first = near(p, 0, 0.001);
+    ASSERT_NE(first, nullptr) << p.pose_rad.transpose();
+    second_found += near(p, 1, 0.01) != nullptr ? 1 : 0;
+    for (const std::string& f : p.failures) EXPECT_EQ(f.find("gyro x"), std::string::npos) << f;
+  }
+  EXPECT_GE(second_found, 3);
+}
+
 TEST(ArmModeMap, RefusesBadOptionsAndPoses) {
   const ArmModel arm = builtin_arm("scara-2");
   EXPECT_THROW(identify_mode_map(arm, {Eigen::Vector3d(0, 0, 0)}), InvalidArgument);

@@ -36,8 +36,13 @@ enum class ModeMapExcitation {
   loaded_ramp,
 };
 
+/// What the identification reads: every link's rate (a gyro on each link), or only the last
+/// link's 3-axis gyroscope (ArmTrace::gyro_rad_s, the arm's [imu]), its axes that turn in the window.
+enum class ModeMapSensor { link_rates, last_link_gyro };
+
 struct ModeMapOptions {
   ModeMapExcitation excitation = ModeMapExcitation::step;
+  ModeMapSensor sensor = ModeMapSensor::link_rates;
   double step_deg = 1.0;  ///< each run's step of one joint at the link (deg), > 0
   /// Limits of that step per joint (rad/s, rad/s², rad/s³); empty: 2 rad/s, 40 rad/s², 4000 rad/s³.
   std::vector<signal::AxisLimits> limits;
