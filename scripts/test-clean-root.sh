@@ -227,8 +227,8 @@ for f in results.h5 results.csv results.json improvement_map.png; do
 done
 points=$(($(wc -l < "$root$user_dir/$out/results.csv") - 1))
 echo "test-clean-root: $points points, results.h5, .csv, .json and improvement_map.png byte-identical (Dask, local)"
-failed=$(/usr/bin/python3 -c "import csv, sys; print(sum(r['status'] != 'ok' for r in csv.DictReader(open(sys.argv[1]))))" \
-  "$root$user_dir/$out/results.csv")
+count_failed='import csv, sys; print(sum(r["status"] != "ok" for r in csv.DictReader(open(sys.argv[1]))))'
+failed=$(/usr/bin/python3 -c "$count_failed" "$root$user_dir/$out/results.csv")
 [[ $points -gt 0 && $failed == 0 ]] || fail "$out/results.csv: $points points, $failed not ok"
 
 step "ok: root of $(du -shx "$root" | cut -f1), $(count) packages"
