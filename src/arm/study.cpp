@@ -2,11 +2,8 @@
 // mode map over a grid of poses, results.json and tables.md.
 #include "clearshape/arm/study.hpp"
 
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <numbers>
-#include <thread>
 
 #include <fmt/format.h>
 #include <kdl/chain.hpp>
@@ -14,35 +11,13 @@
 #include "chain_data.hpp"
 #include "clearshape/arm/modes.hpp"
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/parallel.hpp"
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/json.hpp"
 
 namespace clearshape::arm {
 
 namespace {
-
-// Runs task(k) for k = 0 … n−1 on `threads` threads, each taking the next task; results go by index,
-// so they do not depend on the thread count. The first exception is rethrown.
-template <class Task>
-void parallel_tasks(std::size_t n, int threads, const Task& task) {
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::atomic<bool> failed{false};
-  const auto worker = [&] {
-    for (std::size_t k = next++; k < n && !failed; k = next++) {
-      try {
-        task(k);
-      } catch (...) {
-        if (!failed.exchange(true)) error = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int j = 1; j < threads; ++j) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
 
 MoveShaping shaping_of(const ArmStudySpec& spec, const std::string& design) {
   MoveShaping s;
@@ -166,7 +141,7 @@ ArmStudyResult run_arm_study(const ArmStudySpec& spec, const ArmModel& arm) {
   for (std::size_t d = 0; d < names.size(); ++d) {
     for (std::size_t m = 0; m < n_moves && d != ca_index; ++m) tasks.emplace_back(d, m);
   }
-  parallel_tasks(tasks.size(), spec.threads, [&](std::size_t k) {
+  parallel_for(tasks.size(), spec.threads, [&](std::size_t k) {
     const auto [d, m] = tasks[k];
     if (d == ca_index) {
       r.clearance_aware[m] = design_clearance_aware_move(arm, r.moves[m], ca_options);

@@ -1,18 +1,16 @@
 #include "clearshape/study/rig_calibration.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <mutex>
 #include <ostream>
-#include <thread>
 
 #include <fmt/format.h>
 #include <nlopt.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/parallel.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/dsp/encoder_speed.hpp"
 #include "clearshape/dsp/sosfilt.hpp"
@@ -120,35 +118,20 @@ struct RunJob {
 // the worker threads, each j once; it must write only to j's own slot).
 void run_jobs(const rig::RigTruth& truth, const Protocol& protocol, const std::vector<RunJob>& jobs,
               std::uint64_t seed, int threads, const std::function<void(std::size_t, const Record&)>& use) {
-  std::atomic<std::size_t> next{0};
-  std::mutex error_mutex;
-  std::exception_ptr error;
-  auto worker = [&]() {
-    for (std::size_t j = next.fetch_add(1); j < jobs.size(); j = next.fetch_add(1)) {
-      try {
-        const InputSpec& in = *jobs[j].input;
-        RunRequest req;
-        req.id = jobs[j].id;
-        req.seed = run_seed(seed, req.id);
-        req.command = signal::sample(in.signal, protocol.sample_rate_hz, protocol.record_s);
-        req.record_s = protocol.record_s;
-        rig::SimRigOptions o;
-        o.mode = protocol.mode;
-        o.sample_rate_hz = protocol.sample_rate_hz;
-        o.seed = req.seed;
-        auto sim = rig::make_sim_rig_with_truth(o, truth);
-        use(j, execute_run(*sim, req));
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  parallel_for(jobs.size(), threads, [&](std::size_t j) {
+    const InputSpec& in = *jobs[j].input;
+    RunRequest req;
+    req.id = jobs[j].id;
+    req.seed = run_seed(seed, req.id);
+    req.command = signal::sample(in.signal, protocol.sample_rate_hz, protocol.record_s);
+    req.record_s = protocol.record_s;
+    rig::SimRigOptions o;
+    o.mode = protocol.mode;
+    o.sample_rate_hz = protocol.sample_rate_hz;
+    o.seed = req.seed;
+    auto sim = rig::make_sim_rig_with_truth(o, truth);
+    use(j, execute_run(*sim, req));
+  });
 }
 
 }  // namespace

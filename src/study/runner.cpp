@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/parallel.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/io/table.hpp"
@@ -164,44 +165,23 @@ UniformSeries Context::command_of(const InputSpec& input, double record_s) const
 namespace {
 
 // Obtains the pending requests from the run source on `threads` workers (the caller is one),
-// writing each run's record as it finishes; the first error stops the rest and is rethrown.
+// writing each run's record as it finishes. An error stops the runs after it; the one rethrown is
+// the first failing run in request order (parallel_for), so it does not depend on thread timing.
 void obtain_pending(Context& c, const std::vector<RunRequest>& requests, const std::vector<std::size_t>& pending,
                     std::vector<std::optional<Record>>& found, const std::string& stage) {
   io::create_folder(c.runs_dir);
-  std::atomic<std::size_t> next{0};
   std::atomic<std::size_t> done{0};
-  std::mutex error_mutex;
-  std::exception_ptr error;
-  auto worker = [&]() {
-    while (true) {
-      const std::size_t j = next.fetch_add(1);
-      if (j >= pending.size()) return;
-      {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (error) return;
-      }
-      const RunRequest& req = requests[pending[j]];
-      try {
-        const auto t0 = std::chrono::steady_clock::now();
-        ObtainedRun obtained = c.source->obtain(req);
-        Record& rec = obtained.record;
-        write_record(c.runs_dir, rec, req, c.hash, c.source->description(), obtained.counters);
-        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const std::size_t d = done.fetch_add(1) + 1;
-        c.log(fmt::format("{}: {} done in {:.2f} s ({}/{})", stage, req.id, dt, d, pending.size()));
-        found[pending[j]] = std::move(rec);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-      }
-    }
-  };
-  const int n = std::min<int>(c.threads, static_cast<int>(pending.size()));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  parallel_for(pending.size(), c.threads, [&](std::size_t j) {
+    const RunRequest& req = requests[pending[j]];
+    const auto t0 = std::chrono::steady_clock::now();
+    ObtainedRun obtained = c.source->obtain(req);
+    Record& rec = obtained.record;
+    write_record(c.runs_dir, rec, req, c.hash, c.source->description(), obtained.counters);
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::size_t d = done.fetch_add(1) + 1;
+    c.log(fmt::format("{}: {} done in {:.2f} s ({}/{})", stage, req.id, dt, d, pending.size()));
+    found[pending[j]] = std::move(rec);
+  });
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <thread>
 
 #include <unistd.h>
 
@@ -46,6 +47,20 @@ class CountingSource final : public st::RunSource {
   std::set<std::string> lacking_;
   mutable std::mutex mutex_;
   mutable std::set<std::string> asked_;
+};
+
+// A rig whose every run fails; the first repetition of each input fails last (after 0.2 s).
+class FailingSource final : public st::RunSource {
+ public:
+  std::string kind() const override { return "failing"; }
+  std::string description() const override { return "a rig that fails every run"; }
+  int parallel_runs() const override { return 4; }
+  bool has(const st::PlannedRun&) const override { return true; }
+  bool reuse_finished_runs() const override { return false; }
+  st::ObtainedRun obtain(const st::RunRequest& request) const override {
+    if (request.id.ends_with("/r01")) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    throw clearshape::InvalidArgument("run " + request.id + " failed");
+  }
 };
 
 std::filesystem::path temp_dir(const std::string& name) {
@@ -87,5 +102,22 @@ TEST(RunSource, MissingRunsSkipTheirStagesByName) {
   for (const auto& id : source->asked()) EXPECT_EQ(id.rfind("unshaped/", 0), 0u) << id;  // no rig test ran
   EXPECT_NO_THROW(result.table("4.3-clearance"));
   EXPECT_THROW(result.table("B.1"), clearshape::InvalidArgument);
+  std::filesystem::remove_all(o.out_dir);
+}
+
+// Runs go in parallel, yet the error a study reports is the first failing run in request order,
+// not the first to fail in time (a CLI test once named r02 where it expected r01).
+TEST(RunSource, TheErrorNamesTheFirstFailingRunWhateverTheTiming) {
+  const auto p = st::quick_variant(st::load_protocol(studies_path("thesis-position.toml")));
+  st::StudyOptions o;
+  o.out_dir = temp_dir("clearshape_run_source_failing");
+  o.threads = 3;
+  o.source = std::make_shared<FailingSource>();
+  try {
+    st::run_study(p, o);
+    ADD_FAILURE() << "a study on a rig that fails every run returned";
+  } catch (const clearshape::InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("/r01 failed"), std::string::npos) << e.what();
+  }
   std::filesystem::remove_all(o.out_dir);
 }
