@@ -78,27 +78,49 @@ Excitation ramp_excitation(const ArmModel& arm, const Eigen::VectorXd& pose, con
   return {"loaded ramp", plan_move(arm, from, end, limits, 1.0 / o.output_rate_hz), start_s};
 }
 
-/// Every link's rate in the excitation's free-response window, or the last link's gyro axes that
-/// turn in it (peak above 1e-9 rad/s: a planar arm's out-of-plane axes carry nothing); each named.
-std::vector<std::pair<std::string, UniformSeries>> record_rates(const ArmModel& arm, const Excitation& e,
-                                                                const Eigen::VectorXd& phi0, const ModeMapOptions& o) {
+/// The excitation simulated from the links resting on their flanks (resting_on_flanks).
+SimulatedRun simulate_run(const ArmModel& arm, const Excitation& e, const ArmModes& modes, const ModeMapOptions& o,
+                          int joint) {
+  const bool ramp = o.excitation == ModeMapExcitation::loaded_ramp;
   ArmSimulationOptions sim;
   sim.duration_s = e.window_start_s + o.window_s;
   sim.output_rate_hz = o.output_rate_hz;
   sim.solver = o.solver;
-  sim.initial.relative_angle_rad = phi0;
-  const ArmTrace trace = simulate_arm(arm, drive_commands(arm, e.move), sim);
-  const auto k0 = static_cast<Eigen::Index>(
-      std::lower_bound(trace.time_s.begin(), trace.time_s.end(), e.window_start_s - 1e-12) - trace.time_s.begin());
-  const bool gyro = o.sensor == ModeMapSensor::last_link_gyro;
-  const Eigen::MatrixXd& rates = gyro ? trace.gyro_rad_s : trace.link_rate_rad_s;
+  const Eigen::VectorXd from = e.move.position_rad.row(0).transpose();
+  sim.initial.relative_angle_rad = resting_on_flanks(arm, from, modes, ramp ? -1.0 : 0.0);
+  return {o.excitation, joint, e.name, e.window_start_s, simulate_arm(arm, drive_commands(arm, e.move), sim)};
+}
+
+/// A run's window, from its first sample at or after window_start_s to the trace's end; the
+/// sample time is the trace's mean step, as io::uniform_sample_time takes it from a recorded file.
+RunRecord window_of(const SimulatedRun& run) {
+  const std::vector<double>& t = run.trace.time_s;
+  if (t.size() < 2) throw RuntimeError("run '" + run.name + "': the simulation gave fewer than 2 samples");
+  const auto k0 = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), run.window_start_s - 1e-12) - t.begin());
+  const auto n = static_cast<Eigen::Index>(t.size() - std::min(k0, t.size() - 1));
+  const double dt = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  return {run.name, t[t.size() - static_cast<std::size_t>(n)], dt, run.trace.link_rate_rad_s.bottomRows(n),
+          run.trace.gyro_rad_s.bottomRows(n)};
+}
+
+/// The records options.sensor reads from a run: every link's rate, or the last link's gyro axes
+/// that turn in the window (peak above 1e-9 rad/s: a planar arm's out-of-plane axes carry nothing).
+std::vector<std::pair<std::string, UniformSeries>> sensor_records(const ArmModel& arm, const RunRecord& run,
+                                                                  ModeMapSensor sensor) {
+  const bool gyro = sensor == ModeMapSensor::last_link_gyro;
+  const Eigen::MatrixXd& rates = gyro ? run.gyro_rad_s : run.link_rate_rad_s;
+  const Eigen::Index want = gyro ? 3 : arm.dof();
+  if (rates.cols() != want || rates.rows() == 0) {
+    throw InvalidArgument("mode_map_from_runs: run '" + run.name + "' has " + std::to_string(rates.cols()) +
+                          (gyro ? " gyro axes" : " link rates") + "; allowed: " + std::to_string(want) +
+                          " columns of samples for sensor " + (gyro ? "last_link_gyro" : "link_rates"));
+  }
   std::vector<std::pair<std::string, UniformSeries>> out;
   for (Eigen::Index i = 0; i < rates.cols(); ++i) {
-    const Eigen::VectorXd w = rates.col(i).tail(rates.rows() - k0);
+    const Eigen::VectorXd w = rates.col(i);
     if (gyro && w.cwiseAbs().maxCoeff() <= 1e-9) continue;
     out.emplace_back(gyro ? std::string("last link's gyro ") + "xyz"[i] : "rate of " + arm.joints[static_cast<std::size_t>(i)].name,
-                     UniformSeries{trace.time_s[static_cast<std::size_t>(k0)], 1.0 / o.output_rate_hz,
-                                   std::vector<double>(w.data(), w.data() + w.size())});
+                     UniformSeries{run.start_s, run.sample_time_s, std::vector<double>(w.data(), w.data() + w.size())});
   }
   return out;
 }
@@ -164,28 +186,43 @@ void identify_record(const UniformSeries& rate, const ident::ModeOptions& mo, co
   }
 }
 
-ModeMapPoint identify_point(const ArmModel& arm, const Eigen::VectorXd& pose, const ModeMapOptions& o) {
-  ModeMapPoint p{pose, {}, joint_modes(arm, pose, o.linearisation), {}};
+ModeMapPoint identify_point(const ArmModel& arm, const PoseRuns& pr, const ModeMapOptions& o) {
+  ModeMapPoint p{pr.pose_rad, {}, joint_modes(arm, pr.pose_rad, o.linearisation), pr.failures};
   ident::ModeOptions mo = o.identification;
   if (mo.modes == 0) mo.modes = static_cast<std::size_t>(arm.dof());
-  const bool ramp = o.excitation == ModeMapExcitation::loaded_ramp;
-  std::vector<Excitation> runs;
-  if (ramp) runs.push_back(ramp_excitation(arm, pose, o));
-  for (int j = 0; !ramp && j < arm.dof(); ++j) runs.push_back(step_excitation(arm, pose, j, o));
   std::vector<RunEstimate> estimates;
-  for (const Excitation& e : runs) {
-    try {
-      const Eigen::VectorXd from = e.move.position_rad.row(0).transpose();
-      const auto rates = record_rates(arm, e, resting_on_flanks(arm, from, p.linearised, ramp ? -1.0 : 0.0), o);
-      for (const auto& [name, series] : rates) identify_record(series, mo, e.name + ", " + name, estimates, p.failures);
-    } catch (const std::runtime_error& e_run) {
-      p.failures.push_back(e.name + ": " + e_run.what());
+  for (const RunRecord& run : pr.runs) {
+    for (const auto& [name, series] : sensor_records(arm, run, o.sensor)) {
+      identify_record(series, mo, run.name + ", " + name, estimates, p.failures);
     }
   }
   p.modes = merge_estimates(std::move(estimates), o.merge_tolerance);
   for (MapMode& m : p.modes) set_nearest_linear(m, p.linearised);
   mark_harmonics(p.modes, o.harmonic_tolerance);
   return p;
+}
+
+/// The runs of options.excitation at one pose, simulated; a failed simulation in `failures`.
+SimulatedPose simulate_pose(const ArmModel& arm, const Eigen::VectorXd& pose, const ModeMapOptions& o) {
+  SimulatedPose sp{pose, {}, {}};
+  const ArmModes modes = joint_modes(arm, pose, o.linearisation);
+  const bool ramp = o.excitation == ModeMapExcitation::loaded_ramp;
+  for (int j = ramp ? -1 : 0; j < (ramp ? 0 : arm.dof()); ++j) {
+    const Excitation e = ramp ? ramp_excitation(arm, pose, o) : step_excitation(arm, pose, j, o);
+    try {
+      sp.runs.push_back(simulate_run(arm, e, modes, o, j));
+    } catch (const std::runtime_error& e_run) {
+      sp.failures.push_back(e.name + ": " + e_run.what());
+    }
+  }
+  return sp;
+}
+
+void require_pose(const ArmModel& arm, const Eigen::VectorXd& pose, std::size_t index, const char* function) {
+  if (pose.size() != arm.dof() || !pose.allFinite()) {
+    throw InvalidArgument(std::string(function) + ": poses[" + std::to_string(index) + "]: allowed " +
+                          std::to_string(arm.dof()) + " finite angles (rad)");
+  }
 }
 
 }  // namespace
@@ -236,19 +273,41 @@ std::vector<Eigen::VectorXd> pose_grid(const ArmModel& arm, int points_per_joint
   return poses;
 }
 
-ModeMap identify_mode_map(const ArmModel& arm, const std::vector<Eigen::VectorXd>& poses,
-                          const ModeMapOptions& options) {
+std::vector<SimulatedPose> simulate_mode_runs(const ArmModel& arm, const std::vector<Eigen::VectorXd>& poses,
+                                              const ModeMapOptions& options) {
+  options.validate(arm.dof());
+  std::vector<SimulatedPose> out;
+  for (std::size_t p = 0; p < poses.size(); ++p) {
+    require_pose(arm, poses[p], p, "identify_mode_map");
+    out.push_back(simulate_pose(arm, poses[p], options));
+  }
+  return out;
+}
+
+std::vector<PoseRuns> simulated_windows(const std::vector<SimulatedPose>& simulated) {
+  std::vector<PoseRuns> out;
+  for (const SimulatedPose& sp : simulated) {
+    PoseRuns pr{sp.pose_rad, {}, sp.failures};
+    for (const SimulatedRun& run : sp.runs) pr.runs.push_back(window_of(run));
+    out.push_back(std::move(pr));
+  }
+  return out;
+}
+
+ModeMap mode_map_from_runs(const ArmModel& arm, const std::vector<PoseRuns>& poses, const ModeMapOptions& options) {
   options.validate(arm.dof());
   ModeMap map{arm.name, {}, {}};
   for (const ArmJoint& j : arm.joints) map.joint_names.push_back(j.name);
   for (std::size_t p = 0; p < poses.size(); ++p) {
-    if (poses[p].size() != arm.dof() || !poses[p].allFinite()) {
-      throw InvalidArgument("identify_mode_map: poses[" + std::to_string(p) + "]: allowed " +
-                            std::to_string(arm.dof()) + " finite angles (rad)");
-    }
+    require_pose(arm, poses[p].pose_rad, p, "mode_map_from_runs");
     map.points.push_back(identify_point(arm, poses[p], options));
   }
   return map;
+}
+
+ModeMap identify_mode_map(const ArmModel& arm, const std::vector<Eigen::VectorXd>& poses,
+                          const ModeMapOptions& options) {
+  return mode_map_from_runs(arm, simulated_windows(simulate_mode_runs(arm, poses, options)), options);
 }
 
 }  // namespace clearshape::arm

@@ -96,14 +96,63 @@ struct ModeMap {
   std::vector<ModeMapPoint> points;
 };
 
+/// One run's rate signals in its free-response window, sampled uniformly from start_s (rows:
+/// time): every link's rate (samples × joints) and the last link's 3-axis gyro (samples × 3, its
+/// frame). Either may be empty (not recorded); ModeMapOptions::sensor says which one is read.
+struct RunRecord {
+  std::string name;  ///< the excitation, in failures: "loaded ramp", "step of shoulder"
+  double start_s = 0.0;
+  double sample_time_s = 1e-3;
+  Eigen::MatrixXd link_rate_rad_s;
+  Eigen::MatrixXd gyro_rad_s;
+};
+
+/// The runs at one pose, and the runs that gave no record (a failed simulation).
+struct PoseRuns {
+  Eigen::VectorXd pose_rad;
+  std::vector<RunRecord> runs;
+  std::vector<std::string> failures;
+};
+
+/// A simulated run of identify_mode_map: its excitation, the whole trace and the window's start.
+struct SimulatedRun {
+  ModeMapExcitation excitation = ModeMapExcitation::step;
+  int joint = -1;              ///< the stepped joint (step), −1 (loaded_ramp)
+  std::string name;            ///< "loaded ramp", "step of shoulder"
+  double window_start_s = 0.0;
+  ArmTrace trace;
+};
+
+struct SimulatedPose {
+  Eigen::VectorXd pose_rad;
+  std::vector<SimulatedRun> runs;
+  std::vector<std::string> failures;  ///< runs whose simulation failed ("step of elbow: reason")
+};
+
 /// A grid of poses: `points_per_joint` values per joint at the centres of equal cells of its URDF
 /// range, lower + (k + ½)(upper − lower)/N (a continuous joint: of [−π, π)); the first joint
 /// varies slowest. Throws InvalidArgument for points_per_joint < 1 or a grid above 10 000 poses.
 std::vector<Eigen::VectorXd> pose_grid(const ArmModel& arm, int points_per_joint);
 
-/// The mode map of `arm` at `poses` (one angle per joint each). Throws InvalidArgument for bad
-/// options or poses; a run whose identification fails is listed in the point's failures.
+/// The mode map of `arm` at `poses` (one angle per joint each): simulate_mode_runs, then
+/// mode_map_from_runs on their windows. Throws InvalidArgument for bad options or poses; a run
+/// whose identification fails is listed in the point's failures.
 ModeMap identify_mode_map(const ArmModel& arm, const std::vector<Eigen::VectorXd>& poses,
                           const ModeMapOptions& options = {});
+
+/// The runs identify_mode_map simulates at `poses` (options.excitation), whole traces kept.
+std::vector<SimulatedPose> simulate_mode_runs(const ArmModel& arm, const std::vector<Eigen::VectorXd>& poses,
+                                              const ModeMapOptions& options = {});
+
+/// The window of each simulated run (window_start_s to the trace's end) as a RunRecord.
+std::vector<PoseRuns> simulated_windows(const std::vector<SimulatedPose>& simulated);
+
+/// The mode map from runs at poses, simulated or recorded (the one identification of the map):
+/// each record of options.sensor — every link's rate, or each gyro axis that turns (peak above
+/// 1e-9 rad/s) — is identified, the estimates of a pose merged, set beside joint_modes at the
+/// pose and harmonics marked. Throws InvalidArgument for bad options, a pose of the wrong size,
+/// or a run without the records options.sensor reads.
+ModeMap mode_map_from_runs(const ArmModel& arm, const std::vector<PoseRuns>& poses,
+                           const ModeMapOptions& options = {});
 
 }  // namespace clearshape::arm
