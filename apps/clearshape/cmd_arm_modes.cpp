@@ -1,6 +1,8 @@
 // clearshape arm modes: the arm's linearised modes at a pose (arm/modes.hpp), or with --identify
 // the mode map identified from simulated step runs on a grid of poses beside them
-// (arm/mode_map.hpp). A table on stdout; -o writes CSV or JSON.
+// (arm/mode_map.hpp; --write-recordings DIR writes those runs as recordings), or with
+// --recordings MANIFEST the map from recorded runs (arm/mode_recordings.hpp). A table on stdout;
+// -o writes CSV or JSON.
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -13,6 +15,7 @@
 
 #include "arm_options.hpp"
 #include "clearshape/arm/mode_map.hpp"
+#include "clearshape/arm/mode_recordings.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/io/json.hpp"
 #include "clearshape/io/table.hpp"
@@ -23,7 +26,7 @@ namespace {
 
 struct ModesState {
   ArmSource source;
-  std::string pose, out;
+  std::string pose, out, recordings, write_recordings;
   bool identify = false;
   int grid = 3;
   double step_deg = 1.0;
@@ -102,11 +105,12 @@ std::vector<std::vector<double>> columns(const std::vector<ModeRow>& rows, int d
   return c;
 }
 
-nlohmann::ordered_json to_json(const arm::ArmModel& model, const std::vector<ModeRow>& rows, bool identified,
+nlohmann::ordered_json to_json(const arm::ArmModel& model, const std::vector<ModeRow>& rows, const std::string& source,
                                const nlohmann::ordered_json* failures) {
+  const bool identified = failures != nullptr;
   nlohmann::ordered_json doc = io::make_document();
   doc["arm"] = model.name;
-  doc["source"] = identified ? "identified from simulated step runs (arm::identify_mode_map)" : "linearised (arm::joint_modes)";
+  doc["source"] = source;
   const auto names = column_names(model);
   const auto c = columns(rows, model.dof());
   doc["modes"] = nlohmann::ordered_json::array();
@@ -138,19 +142,41 @@ void print_table(const std::vector<ModeRow>& rows, bool identified) {
   }
 }
 
+arm::ModeMapOptions map_options(const ModesState& st) {
+  arm::ModeMapOptions o;
+  o.step_deg = st.step_deg;
+  o.identification.max_damping_ratio = st.max_damping;
+  o.excitation = st.excitation == "step" ? arm::ModeMapExcitation::step : arm::ModeMapExcitation::loaded_ramp;
+  o.sensor = st.sensor == "gyro" ? arm::ModeMapSensor::last_link_gyro : arm::ModeMapSensor::link_rates;
+  o.ramp_velocity_rad_s = st.ramp_velocity;
+  return o;
+}
+
+/// The map from --recordings, or simulated on --grid (written as recordings with --write-recordings).
+arm::ModeMap identified_map(const arm::ArmModel& model, const ModesState& st, std::string& source) {
+  const arm::ModeMapOptions o = map_options(st);
+  if (!st.recordings.empty()) {
+    source = "identified from the recorded runs of " + st.recordings + " (arm::mode_map_from_recordings)";
+    return arm::mode_map_from_recordings(model, arm::read_mode_recordings(st.recordings, model), o);
+  }
+  source = "identified from simulated " + st.excitation + " runs (arm::identify_mode_map)";
+  const auto simulated = arm::simulate_mode_runs(model, arm::pose_grid(model, st.grid), o);
+  if (!st.write_recordings.empty()) {
+    const auto manifest = arm::write_mode_recordings(st.write_recordings, model, simulated);
+    fmt::print(stderr, "clearshape arm modes: wrote the runs as recordings, {}\n", manifest.string());
+  }
+  return arm::mode_map_from_runs(model, arm::simulated_windows(simulated), o);
+}
+
 void run_modes(const ModesState& st) {
   const arm::ArmModel model = load_arm(st.source);
   if (st.identify && !st.pose.empty()) throw InvalidArgument("--pose and --identify: give one (--identify uses --grid)");
+  const bool identified = st.identify || !st.recordings.empty();
   std::vector<ModeRow> rows;
   std::optional<nlohmann::ordered_json> failures;
-  if (st.identify) {
-    arm::ModeMapOptions o;
-    o.step_deg = st.step_deg;
-    o.identification.max_damping_ratio = st.max_damping;
-    o.excitation = st.excitation == "step" ? arm::ModeMapExcitation::step : arm::ModeMapExcitation::loaded_ramp;
-    o.sensor = st.sensor == "gyro" ? arm::ModeMapSensor::last_link_gyro : arm::ModeMapSensor::link_rates;
-    o.ramp_velocity_rad_s = st.ramp_velocity;
-    const arm::ModeMap map = arm::identify_mode_map(model, arm::pose_grid(model, st.grid), o);
+  std::string source = "linearised (arm::joint_modes)";
+  if (identified) {
+    const arm::ModeMap map = identified_map(model, st, source);
     rows = map_rows(map);
     failures = map_failures(map);
   } else {
@@ -159,11 +185,11 @@ void run_modes(const ModesState& st) {
   }
   const std::string kind = st.out.empty() ? "" : output_kind(st.out);
   if (st.json) {
-    print_json(to_json(model, rows, st.identify, failures ? &*failures : nullptr));
+    print_json(to_json(model, rows, source, failures ? &*failures : nullptr));
   } else {
-    print_table(rows, st.identify);
+    print_table(rows, identified);
   }
-  if (kind == ".json") io::write_json(st.out, to_json(model, rows, st.identify, failures ? &*failures : nullptr));
+  if (kind == ".json") io::write_json(st.out, to_json(model, rows, source, failures ? &*failures : nullptr));
   if (kind == ".csv") {
     const auto c = columns(rows, model.dof());
     std::vector<const std::vector<double>*> pointers;
@@ -178,25 +204,34 @@ void setup_arm_modes(CLI::App& parent) {
   auto st = std::make_shared<ModesState>();
   CLI::App* sub = add_arm_subcommand(
       parent, "modes", "The arm's modes at a pose, linearised on closed plays; --identify: identified from simulated "
-               "step runs on a grid of poses, beside the linearised ones (docs/arm.md §7)",
+               "runs on a grid of poses, --recordings: from recorded runs, beside the linearised ones (docs/arm.md §7)",
       st->source);
-  sub->add_option("--pose", st->pose, "One angle per joint, comma-separated (rad); default the workspace centre");
-  sub->add_flag("--identify", st->identify, "Identify the modes from simulated 1° step runs at every pose of --grid");
-  sub->add_option("--grid", st->grid, "Poses per joint of the identification grid (1-10; cell centres of the ranges)")
+  CLI::Option* pose = sub->add_option("--pose", st->pose, "One angle per joint, comma-separated (rad); default the workspace centre");
+  CLI::Option* identify = sub->add_flag("--identify", st->identify, "Identify the modes from simulated runs at every pose of --grid");
+  CLI::Option* grid = sub->add_option("--grid", st->grid, "Poses per joint of the identification grid (1-10; cell centres of the ranges)")
       ->check(CLI::Range(1, 10))->capture_default_str();
-  sub->add_option("--step-deg", st->step_deg, "Each identification run's step of one joint at the link (deg, 0.01-30)")
+  CLI::Option* step = sub->add_option("--step-deg", st->step_deg, "Each identification run's step of one joint at the link (deg, 0.01-30)")
       ->check(CLI::Range(0.01, 30.0))->capture_default_str();
   sub->add_option("--sensor", st->sensor,
-                  "--identify from: links (every link's rate) or gyro (the last link's 3-axis gyroscope alone)")
+                  "--identify or --recordings from: links (every link's rate) or gyro (the last link's 3-axis "
+                  "gyroscope alone)")
       ->check(CLI::IsMember({"links", "gyro"}))
       ->capture_default_str();
-  sub->add_option("--excitation", st->excitation,
+  CLI::Option* excitation = sub->add_option("--excitation", st->excitation,
                   "step: a step of each joint in turn; loaded-ramp: all joints ramp slowly, friction keeps "
                   "every link on a flank (for arms with play)")
       ->check(CLI::IsMember({"step", "loaded-ramp"}))
       ->capture_default_str();
-  sub->add_option("--ramp-velocity", st->ramp_velocity, "loaded-ramp: every joint's rate (rad/s, 1e-3-1)")
+  CLI::Option* ramp = sub->add_option("--ramp-velocity", st->ramp_velocity, "loaded-ramp: every joint's rate (rad/s, 1e-3-1)")
       ->check(CLI::Range(1e-3, 1.0))->capture_default_str();
+  sub->add_option("--write-recordings", st->write_recordings,
+                  "--identify: also write the simulated runs as recordings (CSV per run + manifest.toml) into this "
+                  "folder: the template for --recordings")
+      ->needs(identify);
+  sub->add_option("--recordings", st->recordings,
+                  "Identify the map from recorded runs listed in this manifest (TOML; docs/arm.md §7, \"From recorded "
+                  "runs\")")
+      ->excludes(pose)->excludes(identify)->excludes(grid)->excludes(step)->excludes(excitation)->excludes(ramp);
   sub->add_option("--max-damping", st->max_damping, "Report identified modes with damping ratio below this (0.001-1)")
       ->check(CLI::Range(0.001, 1.0))->capture_default_str();
   sub->add_flag("--json", st->json, "Print JSON instead of the table");
