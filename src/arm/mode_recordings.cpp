@@ -43,8 +43,9 @@ ModeRecordingColumns read_recording_columns(const TomlSection& top, const ArmMod
                                       arm.dof(), joint_list(arm)));
   }
   if (t->has("gyro")) c.gyro = t->texts("gyro");
-  if (c.gyro.size() != 3) {
-    t->fail("gyro", fmt::format("has {} names; allowed: 3 (the x, y, z axes of the last link's gyro)", c.gyro.size()));
+  if (c.gyro.size() != 3 || std::all_of(c.gyro.begin(), c.gyro.end(), [](const std::string& n) { return n.empty(); })) {
+    t->fail("gyro", fmt::format("has {} names; allowed: 3, for the x, y, z axes of the last link's gyro (\"\": an axis "
+                                "not read), at least one not empty", c.gyro.size()));
   }
   const std::string unit = t->text("rate_unit", "rad/s");
   if (unit != "rad/s" && unit != "deg/s") t->fail("rate_unit", fmt::format("is '{}'; allowed: rad/s, deg/s", unit));
@@ -209,7 +210,9 @@ RunRecord read_recorded_run(const RecordedRun& run, const ModeRecordingColumns& 
   const bool gyro = sensor == ModeMapSensor::last_link_gyro;
   const std::vector<std::string>& names = gyro ? columns.gyro : columns.link_rates;
   Eigen::MatrixXd rates(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(names.size()));
+  rates.setZero();
   for (std::size_t c = 0; c < names.size(); ++c) {
+    if (names[c].empty()) continue;  // a gyro axis not read: zeros, which mode_map_from_runs skips
     const std::vector<double>& v = recorded_column(t, names[c], gyro ? "gyro" : "link_rates");
     for (std::size_t k = 0; k < n; ++k) {
       rates(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(c)) = columns.rate_scale * v[k0 + k];

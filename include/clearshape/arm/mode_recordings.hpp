@@ -10,7 +10,8 @@
 //   [columns]                       # optional; these are the defaults
 //   time = "time_s"                 # seconds, strictly increasing, uniform
 //   link_rates = ["shoulder_link_rate_rad_s", "elbow_link_rate_rad_s"]  # <joint>_link_rate_rad_s
-//   gyro = ["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"]            # the last link's gyro
+//   gyro = ["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"]            # the last link's gyro;
+//                                   # "" for an axis not read (one that only carries the gyro's noise)
 //   rate_unit = "rad/s"             # or "deg/s", for every rate column
 //   [[run]]
 //   file = "pose01-loaded-ramp.csv" # relative to the manifest's folder
@@ -38,7 +39,7 @@ inline constexpr const char* kModeRecordingsFormat = "clearshape-arm-recordings-
 struct ModeRecordingColumns {
   std::string time = "time_s";
   std::vector<std::string> link_rates;  ///< one per joint; empty: <joint>_link_rate_rad_s
-  std::vector<std::string> gyro{"gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"};
+  std::vector<std::string> gyro{"gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s"};  ///< "": axis not read
   double rate_scale = 1.0;              ///< rad/s per unit of the rate columns (rate_unit)
 };
 
