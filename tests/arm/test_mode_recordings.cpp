@@ -168,6 +168,51 @@ TEST_F(ArmModeRecordings, NoisyRoundedFilesStillAgree) {
   }
 }
 
+// Step runs (one per joint, named in the manifest) written and read back give the simulated map;
+// the same files with other column names, in deg/s and a window 0.1 s shorter (window_start_s,
+// window_s) give the map of the simulated windows shortened by 100 samples.
+TEST_F(ArmModeRecordings, StepRunsAndOtherColumnsUnitsAndWindows) {
+  ArmModel stiff = *arm_;
+  for (ArmJoint& j : stiff.joints) j.half_play_rad = 0.0;
+  ModeMapOptions o;  // step runs, link rates
+  const Eigen::VectorXd pose = Eigen::Vector2d(0.0, 1.2);
+  const auto simulated = simulate_mode_runs(stiff, {pose}, o);
+  const fs::path manifest = write_mode_recordings(*dir_ / "steps", stiff, simulated);
+  const ModeRecordings rec = read_mode_recordings(manifest, stiff);
+  ASSERT_EQ(rec.runs.size(), 2u);
+  EXPECT_EQ(rec.runs[1].excitation, ModeMapExcitation::step);
+  EXPECT_EQ(rec.runs[1].joint, 1);
+  const ModeMap reference = mode_map_from_runs(stiff, simulated_windows(simulated), o);
+  ASSERT_FALSE(reference.points[0].modes.empty());
+  expect_same_map(mode_map_from_recordings(stiff, rec, o), reference, 1e-9);
+
+  std::string text = "format = \"clearshape-arm-recordings-1\"\n[columns]\ntime = \"t\"\nlink_rates = [\"w1\", \"w2\"]\n"
+                     "rate_unit = \"deg/s\"\n";
+  for (const RecordedRun& run : rec.runs) {
+    const io::Table t = io::read_table(run.file);
+    std::vector<double> w1 = t.column("shoulder_link_rate_rad_s"), w2 = t.column("elbow_link_rate_rad_s");
+    for (double& x : w1) x *= 180.0 / std::numbers::pi;
+    for (double& x : w2) x *= 180.0 / std::numbers::pi;
+    const std::string name = "deg-" + run.file.filename().string();
+    io::write_csv(*dir_ / "steps" / name, {"t", "w1", "w2"}, {&t.column("time_s"), &w1, &w2});
+    const double window_s = t.column("time_s").back() - run.window_start_s - 0.1;
+    text += fmt::format("[[run]]\nfile = \"{}\"\npose_rad = [0.0, 1.2]\nexcitation = \"step\"\njoint = \"{}\"\n"
+                        "window_start_s = {}\nwindow_s = {}\n",
+                        name, arm_->joints[static_cast<std::size_t>(run.joint)].name, run.window_start_s, window_s);
+  }
+  io::write_text_atomic(*dir_ / "steps" / "deg.toml", text);
+  std::vector<PoseRuns> shorter = simulated_windows(simulated);
+  for (RunRecord& r : shorter[0].runs) {
+    r.link_rate_rad_s = r.link_rate_rad_s.topRows(r.link_rate_rad_s.rows() - 100).eval();
+    r.gyro_rad_s = r.gyro_rad_s.topRows(r.gyro_rad_s.rows() - 100).eval();
+  }
+  const ModeMap short_reference = mode_map_from_runs(stiff, shorter, o);
+  ASSERT_FALSE(short_reference.points[0].modes.empty());
+  EXPECT_NE(short_reference.points[0].modes[0].natural_frequency_hz, reference.points[0].modes[0].natural_frequency_hz);
+  expect_same_map(mode_map_from_recordings(stiff, read_mode_recordings(*dir_ / "steps" / "deg.toml", stiff), o),
+                  short_reference, 1e-9);
+}
+
 // --- refusals -------------------------------------------------------------------------------
 
 void write_file(const fs::path& path, const std::string& text) {
