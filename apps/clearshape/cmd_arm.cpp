@@ -203,6 +203,7 @@ void write_trace(const std::string& path, const arm::ArmModel& model, const arm:
     add(j + "_link_deg", trace.link_angle_rad.col(i), 180.0 / M_PI);
     add(j + "_output_deg", trace.output_angle_rad.col(i), 180.0 / M_PI);
     add(j + "_encoder_deg", trace.encoder_angle_rad.col(i), 180.0 / M_PI);  // the motor's encoder
+    add(j + "_link_rate_rad_s", trace.link_rate_rad_s.col(i), 1.0);  // the column arm modes --recordings reads
   }
   for (int c = 0; c < 3; ++c) add(std::string("tool_") + "xyz"[c] + "_m", trace.tool_position_m.col(c), 1.0);
   for (int c = 0; c < 3; ++c) add(std::string("gyro_") + "xyz"[c] + "_rad_s", trace.gyro_rad_s.col(c), 1.0);
@@ -247,8 +248,9 @@ void setup_simulate(CLI::App& parent) {
   sub->add_option("--rate", st->rate_hz, "Output samples per second (Hz, 10-100000)")
       ->check(CLI::Range(10.0, 1e5))->capture_default_str();
   sub->add_option("-o,--out", st->out, "Write the run as CSV: time_s, per joint link, gearbox-output and motor "
-                                       "encoder angles (deg), the tool position (m), the last link's gyroscope "
-                                       "(rad/s) and accelerometer (m/s², specific force) in its frame");
+                                       "encoder angles (deg) and the link's rate (rad/s), the tool position (m), "
+                                       "the last link's gyroscope (rad/s) and accelerometer (m/s², specific force) "
+                                       "in its frame");
   sub->callback([st] { run_simulate(*st); });
 }
 
