@@ -240,7 +240,7 @@ std::string manifest_text(const std::string& run, const std::string& top = "") {
 constexpr const char* kGoodRun = "file = \"run.csv\"\npose_rad = [0.1, 0.2]\nexcitation = \"loaded-ramp\"";
 
 /// The message of the InputError that reading (and, with `identify`, identifying) the manifest throws.
-std::string refusal(const fs::path& dir, const std::string& manifest, const std::string& csv, bool identify = false) {
+std::string recordings_refusal(const fs::path& dir, const std::string& manifest, const std::string& csv, bool identify = false) {
   fs::remove_all(dir);
   if (!manifest.empty()) write_file(dir / "manifest.toml", manifest);
   if (!csv.empty()) write_file(dir / "run.csv", csv);
@@ -257,51 +257,51 @@ std::string refusal(const fs::path& dir, const std::string& manifest, const std:
 TEST_F(ArmModeRecordings, RefusesABadManifestNamingLineAndKey) {
   const fs::path d = *dir_ / "bad";
   const std::string csv = small_csv();
-  EXPECT_EQ(refusal(d, manifest_text(kGoodRun), csv), "(accepted)");
-  EXPECT_NE(refusal(d, manifest_text(kGoodRun), csv, true).find("(accepted)"), std::string::npos);
-  EXPECT_NE(refusal(d / "none", "", "").find("cannot read the arm recordings manifest"), std::string::npos);
-  EXPECT_NE(refusal(d, "format = \"x\"\n", csv).find("allowed: 'clearshape-arm-recordings-1'"), std::string::npos);
-  EXPECT_NE(refusal(d, manifest_text(kGoodRun, "arm = \"vertical-2\""), csv).find("allowed: 'scara-2'"), std::string::npos);
-  EXPECT_NE(refusal(d, "format = \"clearshape-arm-recordings-1\"\n", csv).find("no [[run]]"), std::string::npos);
-  const std::string missing = refusal(d, manifest_text("file = \"gone.csv\"\npose_rad = [0, 0]\nexcitation = \"step\""), csv);
+  EXPECT_EQ(recordings_refusal(d, manifest_text(kGoodRun), csv), "(accepted)");
+  EXPECT_NE(recordings_refusal(d, manifest_text(kGoodRun), csv, true).find("(accepted)"), std::string::npos);
+  EXPECT_NE(recordings_refusal(d / "none", "", "").find("cannot read the arm recordings manifest"), std::string::npos);
+  EXPECT_NE(recordings_refusal(d, "format = \"x\"\n", csv).find("allowed: 'clearshape-arm-recordings-1'"), std::string::npos);
+  EXPECT_NE(recordings_refusal(d, manifest_text(kGoodRun, "arm = \"vertical-2\""), csv).find("allowed: 'scara-2'"), std::string::npos);
+  EXPECT_NE(recordings_refusal(d, "format = \"clearshape-arm-recordings-1\"\n", csv).find("no [[run]]"), std::string::npos);
+  const std::string missing = recordings_refusal(d, manifest_text("file = \"gone.csv\"\npose_rad = [0, 0]\nexcitation = \"step\""), csv);
   EXPECT_NE(missing.find("manifest.toml:4: field 'run[0].file'"), std::string::npos) << missing;
   EXPECT_NE(missing.find("gone.csv' does not exist"), std::string::npos) << missing;
-  const std::string pose = refusal(d, manifest_text("file = \"run.csv\"\npose_rad = [0, 0, 0]\nexcitation = \"step\""), csv);
+  const std::string pose = recordings_refusal(d, manifest_text("file = \"run.csv\"\npose_rad = [0, 0, 0]\nexcitation = \"step\""), csv);
   EXPECT_NE(pose.find("has 3 angles; allowed: 2 (one per joint: shoulder, elbow; rad)"), std::string::npos) << pose;
-  const std::string range = refusal(d, manifest_text("file = \"run.csv\"\npose_rad = [0, 3]\nexcitation = \"loaded-ramp\""), csv);
+  const std::string range = recordings_refusal(d, manifest_text("file = \"run.csv\"\npose_rad = [0, 3]\nexcitation = \"loaded-ramp\""), csv);
   EXPECT_NE(range.find("elbow = 3 rad is outside the joint's range; allowed: [-2.6, 2.6] rad"), std::string::npos) << range;
-  const std::string exc = refusal(d, manifest_text("file = \"run.csv\"\npose_rad = [0, 0]\nexcitation = \"chirp\""), csv);
+  const std::string exc = recordings_refusal(d, manifest_text("file = \"run.csv\"\npose_rad = [0, 0]\nexcitation = \"chirp\""), csv);
   EXPECT_NE(exc.find("allowed: loaded-ramp, step"), std::string::npos) << exc;
-  const std::string joint = refusal(d, manifest_text("file = \"run.csv\"\npose_rad = [0, 0]\nexcitation = \"step\"\n"
+  const std::string joint = recordings_refusal(d, manifest_text("file = \"run.csv\"\npose_rad = [0, 0]\nexcitation = \"step\"\n"
                                                      "joint = \"wrist\""), csv);
   EXPECT_NE(joint.find("allowed: shoulder, elbow"), std::string::npos) << joint;
-  EXPECT_NE(refusal(d, manifest_text(std::string(kGoodRun) + "\nspeed = 1"), csv).find("speed"), std::string::npos);
-  EXPECT_NE(refusal(d, manifest_text(kGoodRun, "[columns]\nlink_rates = [\"a\"]"), csv).find("allowed: one per joint"),
+  EXPECT_NE(recordings_refusal(d, manifest_text(std::string(kGoodRun) + "\nspeed = 1"), csv).find("speed"), std::string::npos);
+  EXPECT_NE(recordings_refusal(d, manifest_text(kGoodRun, "[columns]\nlink_rates = [\"a\"]"), csv).find("allowed: one per joint"),
             std::string::npos);
-  EXPECT_NE(refusal(d, manifest_text(kGoodRun, "[columns]\nrate_unit = \"rpm\""), csv).find("allowed: rad/s, deg/s"),
+  EXPECT_NE(recordings_refusal(d, manifest_text(kGoodRun, "[columns]\nrate_unit = \"rpm\""), csv).find("allowed: rad/s, deg/s"),
             std::string::npos);
-  EXPECT_NE(refusal(d, manifest_text(kGoodRun, "[columns]\ngyro = [\"\", \"\", \"\"]"), csv).find("at least one not empty"),
+  EXPECT_NE(recordings_refusal(d, manifest_text(kGoodRun, "[columns]\ngyro = [\"\", \"\", \"\"]"), csv).find("at least one not empty"),
             std::string::npos);
 }
 
 TEST_F(ArmModeRecordings, RefusesABadRecordingNamingFileAndLine) {
   const fs::path d = *dir_ / "bad_file";
   const std::string run = manifest_text(kGoodRun);
-  const std::string column = refusal(d, run, small_csv(60, "time_s,a,b,gyro_x_rad_s,gyro_y_rad_s,gyro_z_rad_s"), true);
+  const std::string column = recordings_refusal(d, run, small_csv(60, "time_s,a,b,gyro_x_rad_s,gyro_y_rad_s,gyro_z_rad_s"), true);
   EXPECT_NE(column.find("run.csv:1: field 'shoulder_link_rate_rad_s'"), std::string::npos) << column;
   EXPECT_NE(column.find("available: time_s, a, b"), std::string::npos) << column;
   const std::string kHeader = "time_s,shoulder_link_rate_rad_s,elbow_link_rate_rad_s,gyro_x_rad_s,gyro_y_rad_s,gyro_z_rad_s";
   const std::string irregular = small_csv(60, kHeader, 30, "0.0305,0,0,0,0,1");
-  const std::string uneven = refusal(d, run, irregular, true);
+  const std::string uneven = recordings_refusal(d, run, irregular, true);
   EXPECT_NE(uneven.find("irregular sampling"), std::string::npos) << uneven;
   EXPECT_NE(uneven.find("run.csv:32: field 'time_s'"), std::string::npos) << uneven;  // row 30; the header is line 1
-  const std::string shortrun = refusal(d, run, small_csv(40), true);
+  const std::string shortrun = recordings_refusal(d, run, small_csv(40), true);
   EXPECT_NE(shortrun.find("holds 40 samples"), std::string::npos) << shortrun;
   EXPECT_NE(shortrun.find("allowed: at least 50"), std::string::npos) << shortrun;
-  const std::string late = refusal(d, manifest_text(std::string(kGoodRun) + "\nwindow_start_s = 0.02"), small_csv(), true);
+  const std::string late = recordings_refusal(d, manifest_text(std::string(kGoodRun) + "\nwindow_start_s = 0.02"), small_csv(), true);
   EXPECT_NE(late.find("holds 40 samples"), std::string::npos) << late;
   const std::string nan = small_csv(60, kHeader, 10, "0.010,nan,0,0,0,1");
-  const std::string not_finite = refusal(d, run, nan, true);
+  const std::string not_finite = recordings_refusal(d, run, nan, true);
   EXPECT_NE(not_finite.find("run.csv:12"), std::string::npos) << not_finite;
   EXPECT_NE(not_finite.find("not finite"), std::string::npos) << not_finite;
 }
