@@ -14,6 +14,7 @@ from ._core import (  # noqa: F401
     Shaper,
     StreamingShaper,
     analyse_calibration,
+    arm_mode_map,
     arm_modes,
     arm_move,
     arm_names,

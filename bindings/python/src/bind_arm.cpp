@@ -8,12 +8,23 @@
 
 #include <pybind11/stl.h>
 
+#include "arm_model.hpp"
 #include "arrays.hpp"
 #include "clearshape/arm/clearance_aware.hpp"
 #include "clearshape/arm/simulation.hpp"
 #include "clearshape/arm/trajectory.hpp"
 
 namespace clearshape::python {
+
+arm::ArmModel arm_model_of(const std::string& name, const std::optional<std::string>& urdf,
+                           const std::optional<std::string>& toml) {
+  if (urdf.has_value() != toml.has_value()) {
+    throw InvalidArgument("urdf and toml go together: give both texts (one's own arm) or neither (a built-in arm)");
+  }
+  if (urdf) return arm::arm_from_text(*urdf, "<urdf argument>", *toml, "<toml argument>");
+  return arm::builtin_arm(name);
+}
+
 namespace {
 
 // A samples × columns copy of an Eigen matrix.
@@ -24,15 +35,6 @@ py::array_t<double> to_array2(const Eigen::MatrixXd& m) {
     for (Eigen::Index c = 0; c < m.cols(); ++c) view(r, c) = m(r, c);
   }
   return out;
-}
-
-arm::ArmModel model_of(const std::string& name, const std::optional<std::string>& urdf,
-                       const std::optional<std::string>& toml) {
-  if (urdf.has_value() != toml.has_value()) {
-    throw InvalidArgument("urdf and toml go together: give both texts (one's own arm) or neither (a built-in arm)");
-  }
-  if (urdf) return arm::arm_from_text(*urdf, "<urdf argument>", *toml, "<toml argument>");
-  return arm::builtin_arm(name);
 }
 
 std::vector<plant::Command> commands_of(const DoubleArray& commands, double sample_time_s, int dof,
@@ -59,7 +61,7 @@ py::dict simulate_arm(const DoubleArray& commands, double sample_time_s, const s
                       double duration_s, double output_rate_hz, const std::string& interpolation,
                       double relative_tolerance) {
   require_positive("sample_time_s", sample_time_s);
-  const arm::ArmModel model = model_of(name, urdf, toml);
+  const arm::ArmModel model = arm_model_of(name, urdf, toml);
   const std::vector<plant::Command> cmd = commands_of(commands, sample_time_s, model.dof(), interpolation);
   arm::ArmSimulationOptions o;
   o.duration_s = duration_s;
@@ -109,7 +111,7 @@ Eigen::VectorXd to_pose(const DoubleArray& a, const char* name) {
 
 py::dict arm_modes(const DoubleArray& pose_rad, const std::string& name, const std::optional<std::string>& urdf,
                    const std::optional<std::string>& toml, double flank_penetration_rad) {
-  const arm::ArmModel model = model_of(name, urdf, toml);
+  const arm::ArmModel model = arm_model_of(name, urdf, toml);
   const arm::ArmModes m = arm::joint_modes(model, to_pose(pose_rad, "pose_rad"), {flank_penetration_rad});
   const Eigen::VectorXd f = m.natural_frequency_rad_s / (2.0 * 3.14159265358979323846);
   py::dict d;
@@ -198,7 +200,7 @@ py::dict arm_move(const DoubleArray& start_rad, const DoubleArray& end_rad, cons
                   double vtol, bool every_mode, const std::optional<std::string>& json_path,
                   const std::optional<std::string>& csv_path, int evaluations, int slots, double grid_s,
                   const std::optional<DoubleArray>& start_places, double design_settle_s, int threads) {
-  const arm::ArmModel model = model_of(name, urdf, toml);
+  const arm::ArmModel model = arm_model_of(name, urdf, toml);
   const arm::PointToPoint p2p{to_pose(start_rad, "start_rad"), to_pose(end_rad, "end_rad")};
   const Eigen::VectorXd& q1 = p2p.to_rad;
   const std::vector<signal::AxisLimits> axis_limits = limits_of(limits, model.dof());
@@ -283,6 +285,7 @@ position_rad, velocity_rad_s, acceleration_rad_s2 (samples × joints), commands 
 samples: the drives' commands, ready for simulate_arm), move_duration_s (before shaping),
 shapers and, for 'clearance-aware', design (start_places, unshaped_residual_m,
 shaped_residual_m, worst_ratio, worse_than_unshaped, evaluations, design_time_s).)doc");
+  bind_arm_mode_map(m);
 }
 
 }  // namespace clearshape::python
