@@ -37,7 +37,7 @@ std::vector<Eigen::VectorXd> parse_start_places(const std::string& text, const a
 
 arm::ArmClearanceAwareOptions clearance_aware_options(const arm::ArmModel& arm, const MoveRequest& m) {
   arm::ArmClearanceAwareOptions o;
-  o.play.limits.assign(static_cast<std::size_t>(arm.dof()), {m.velocity, m.acceleration, m.jerk});
+  o.play.limits = joint_limits(arm, m);
   o.play.sample_time_s = m.sample_time_s;
   o.play.settle_s = m.design_settle_s;
   o.slots = m.slots;

@@ -43,11 +43,11 @@ arm::ArmModel load_arm(const ArmSource& source) {
   return model;
 }
 
-Eigen::VectorXd parse_angles(const std::string& text, const std::string& option, const arm::ArmModel& arm) {
-  std::string joints;
-  for (const auto& j : arm.joints) joints += (joints.empty() ? "" : ", ") + j.name;
-  const std::string allowed = fmt::format("; allowed: {} comma-separated finite angles in rad (joints: {})",
-                                          arm.dof(), joints);
+namespace {
+
+// "a,b,…" → the numbers; `complaint(item)` for an item that is not a finite number.
+template <class Complaint>
+std::vector<double> parse_numbers(const std::string& text, const Complaint& complaint) {
   std::vector<double> values;
   std::stringstream in(text);
   for (std::string item; std::getline(in, item, ',');) {
@@ -58,15 +58,48 @@ Eigen::VectorXd parse_angles(const std::string& text, const std::string& option,
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(v)) {
-      throw InvalidArgument(fmt::format("{} = '{}': '{}' is not an angle{}", option, text, item, allowed));
-    }
+    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(v)) complaint(item);
     values.push_back(v);
   }
+  return values;
+}
+
+std::string joint_names(const arm::ArmModel& arm) {
+  std::string joints;
+  for (const auto& j : arm.joints) joints += (joints.empty() ? "" : ", ") + j.name;
+  return joints;
+}
+
+}  // namespace
+
+Eigen::VectorXd parse_angles(const std::string& text, const std::string& option, const arm::ArmModel& arm) {
+  const std::string allowed = fmt::format("; allowed: {} comma-separated finite angles in rad (joints: {})",
+                                          arm.dof(), joint_names(arm));
+  const std::vector<double> values = parse_numbers(text, [&](const std::string& item) {
+    throw InvalidArgument(fmt::format("{} = '{}': '{}' is not an angle{}", option, text, item, allowed));
+  });
   if (values.size() != static_cast<std::size_t>(arm.dof())) {
     throw InvalidArgument(fmt::format("{} = '{}' has {} angles{}", option, text, values.size(), allowed));
   }
   return Eigen::Map<const Eigen::VectorXd>(values.data(), arm.dof());
+}
+
+std::vector<double> parse_joint_values(const std::string& text, const std::string& option, const arm::ArmModel& arm,
+                                       const std::string& unit, double lo, double hi) {
+  const std::string allowed = fmt::format("; allowed: one value for every joint or {} comma-separated, each in "
+                                          "[{:g}, {:g}] {} (joints: {})",
+                                          arm.dof(), lo, hi, unit, joint_names(arm));
+  std::vector<double> values = parse_numbers(text, [&](const std::string& item) {
+    throw InvalidArgument(fmt::format("{} = '{}': '{}' is not a number{}", option, text, item, allowed));
+  });
+  if (values.size() == 1) values.assign(static_cast<std::size_t>(arm.dof()), values.front());
+  if (values.size() != static_cast<std::size_t>(arm.dof())) {
+    throw InvalidArgument(fmt::format("{} = '{}' has {} values{}", option, text, values.size(), allowed));
+  }
+  for (const double v : values) {
+    if (!(v >= lo && v <= hi)) throw InvalidArgument(fmt::format("{} = '{}': {:g} is out of range{}", option, text, v, allowed));
+  }
+  return values;
 }
 
 std::string format_angles(const Eigen::VectorXd& q) {

@@ -3,6 +3,7 @@
 // (built-in or URDF + TOML, with an optional play for every joint), angle lists, output files.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <Eigen/Dense>
@@ -28,6 +29,10 @@ arm::ArmModel load_arm(const ArmSource& source);
 
 /// "a,b,…" → one angle per joint (rad). InvalidArgument naming `option` and the joints.
 Eigen::VectorXd parse_angles(const std::string& text, const std::string& option, const arm::ArmModel& arm);
+/// "v" (every joint) or "v1,v2,…" (one per joint) → one value per joint, each in [lo, hi].
+/// InvalidArgument naming `option`, the joints, the unit and the range.
+std::vector<double> parse_joint_values(const std::string& text, const std::string& option, const arm::ArmModel& arm,
+                                       const std::string& unit, double lo, double hi);
 std::string format_angles(const Eigen::VectorXd& q);
 
 /// ".json" or ".csv" (lower case) of `-o`; InvalidArgument naming -o otherwise.
@@ -46,7 +51,8 @@ struct MoveRequest {
   std::string shaper = "none";  ///< none | fixed | scheduled | clearance-aware
   std::string method = "zvd";
   bool every_mode = false;
-  double velocity = 2.0, acceleration = 20.0, jerk = 400.0;  ///< every joint, at the link
+  /// Limits at the link: one value for every joint or one per joint, comma-separated.
+  std::string velocity = "2", acceleration = "20", jerk = "400";
   double sample_time_s = 1e-3;
   // clearance-aware (arm/clearance_aware.hpp): the design's search and its start places
   int evaluations = 40;      ///< of the objective, 10-100000
@@ -59,6 +65,8 @@ struct MoveRequest {
 /// --from, --to (required when `required`), --shaper, --method, --every-mode, --velocity,
 /// --acceleration, --jerk, --sample-time.
 void add_move_options(CLI::App& app, MoveRequest& move, bool required);
+/// Each joint's limits from --velocity, --acceleration, --jerk (InvalidArgument naming the option).
+std::vector<signal::AxisLimits> joint_limits(const arm::ArmModel& arm, const MoveRequest& move);
 /// The (shaped) move; `summary` receives one line per joint on its design, `applied` (when given)
 /// the shaper of each joint (empty for none).
 arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& move, std::string& summary,

@@ -33,12 +33,13 @@ void add_move_options(CLI::App& app, MoveRequest& m, bool required) {
       ->check(CLI::IsMember({"zv", "zvd", "zvdd", "zvddd", "mzv", "ei", "ei2", "ei3"}))
       ->capture_default_str();
   app.add_flag("--every-mode", m.every_mode, "Shape every mode of the design pose, not each joint's dominant one");
-  app.add_option("--velocity", m.velocity, "Velocity limit of every joint (rad/s, 1e-6-1e3)")
-      ->check(CLI::Range(1e-6, 1e3))->capture_default_str();
-  app.add_option("--acceleration", m.acceleration, "Acceleration limit of every joint (rad/s², 1e-6-1e5)")
-      ->check(CLI::Range(1e-6, 1e5))->capture_default_str();
-  app.add_option("--jerk", m.jerk, "Jerk limit of every joint (rad/s³, 1e-6-1e7)")
-      ->check(CLI::Range(1e-6, 1e7))->capture_default_str();
+  app.add_option("--velocity", m.velocity, "Velocity limit at the link: one for every joint or one per joint, comma-separated (rad/s, 1e-6-1e3)")
+      ->capture_default_str();
+  app.add_option("--acceleration", m.acceleration,
+                 "Acceleration limit at the link: one for every joint or one per joint (rad/s², 1e-6-1e5)")
+      ->capture_default_str();
+  app.add_option("--jerk", m.jerk, "Jerk limit at the link: one for every joint or one per joint (rad/s³, 1e-6-1e7)")
+      ->capture_default_str();
   app.add_option("--sample-time", m.sample_time_s, "Sample time of the trajectory (s, 1e-5-0.1)")
       ->check(CLI::Range(1e-5, 0.1))->capture_default_str();
   app.add_option("--evaluations", m.evaluations, "clearance-aware: evaluations of the objective (10-100000)")
@@ -71,13 +72,20 @@ arm::MoveShaping arm_move_shaping(const MoveRequest& m) {
 
 }  // namespace
 
+std::vector<signal::AxisLimits> joint_limits(const arm::ArmModel& arm, const MoveRequest& m) {
+  const auto v = parse_joint_values(m.velocity, "--velocity", arm, "rad/s", 1e-6, 1e3);
+  const auto a = parse_joint_values(m.acceleration, "--acceleration", arm, "rad/s²", 1e-6, 1e5);
+  const auto j = parse_joint_values(m.jerk, "--jerk", arm, "rad/s³", 1e-6, 1e7);
+  std::vector<signal::AxisLimits> limits;
+  for (std::size_t i = 0; i < v.size(); ++i) limits.push_back({v[i], a[i], j[i]});
+  return limits;
+}
+
 arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& m, std::string& summary,
                                 std::vector<shaping::Shaper>* applied) {
   const Eigen::VectorXd q0 = parse_angles(m.from, "--from", arm);
   const Eigen::VectorXd q1 = parse_angles(m.to, "--to", arm);
-  const std::vector<signal::AxisLimits> limits(static_cast<std::size_t>(arm.dof()),
-                                               {m.velocity, m.acceleration, m.jerk});
-  arm::JointTrajectory t = arm::plan_move(arm, q0, q1, limits, m.sample_time_s);
+  arm::JointTrajectory t = arm::plan_move(arm, q0, q1, joint_limits(arm, m), m.sample_time_s);
   summary = fmt::format("move        {} -> {} rad, {:.4f} s unshaped\n", format_angles(q0), format_angles(q1),
                         t.time_s.back());
   if (m.shaper == "none") return t;

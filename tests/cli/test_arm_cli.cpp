@@ -5,6 +5,7 @@
 // exit 2 naming the option.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -136,6 +137,29 @@ TEST(ArmCli, ShapedMoveWritesJointTrajectoryJsonAndCsv) {
   EXPECT_DOUBLE_EQ(csv.column("shoulder_rad").back(), 1.2);
 }
 
+// Limits per joint (issue 24 item 4, "limits per axis"): the elbow held to 0.5 rad/s sets the
+// move's length; the synchronised shoulder then stays below its own 2 rad/s, and the elbow reaches
+// exactly its limit (a trapezoid's cruise). One value still means every joint.
+TEST(ArmCli, LimitsPerJointBindTheSlowerJoint) {
+  const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_limits");
+  const std::string move = "arm move --from 0,0 --to 1,0.5 --acceleration 20 --jerk 400 ";
+  auto r = run_cli(move + "--velocity 2,0.5 -o " + (dir / "per-joint.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli(move + "--velocity 0.5 -o " + (dir / "every.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto peak = [](const nlohmann::json& d, int joint) {
+    double v = 0.0;
+    for (const auto& p : d["points"]) v = std::max(v, std::abs(p["velocities"][joint].get<double>()));
+    return v;
+  };
+  const auto per_joint = read_json(dir / "per-joint.json"), every = read_json(dir / "every.json");
+  EXPECT_NEAR(peak(per_joint, 1), 0.5, 1e-9);
+  EXPECT_GT(peak(per_joint, 0), 0.5);  // the shoulder is allowed more than the elbow …
+  EXPECT_LT(peak(per_joint, 0), 2.0);  // … and is slowed to end with it
+  EXPECT_NEAR(peak(every, 0), 0.5, 1e-9);  // one value: the shoulder held to 0.5 too, a longer move
+  EXPECT_GT(every["points"].size(), per_joint["points"].size());
+}
+
 TEST(ArmCli, SimulatedMoveWithoutPlayEndsAtItsTarget) {
   const fs::path dir = clearshape::testing::fresh_temp_dir("arm_cli_simulate");
   auto r = run_cli("arm move --from 0,1.5 --to 1.2,0.6 --shaper fixed -o " + (dir / "m.json").string());
@@ -181,6 +205,9 @@ TEST(ArmCli, BadInputExits2NamingTheOption) {
       {"arm modes --play-deg 20", "--play-deg"},
       {"arm modes --arm nope", "--arm: nope not in {scara-2,vertical-2}"},
       {"arm simulate", "give either --trajectory FILE or --from and --to"},
+      {"arm move --from 0,0 --to 1,0 --velocity 2,0.5,1", "--velocity = '2,0.5,1' has 3 values; allowed: one value for every joint or 2"},
+      {"arm move --from 0,0 --to 1,0 --jerk 0", "--jerk = '0': 0 is out of range; allowed: one value for every joint or 2 comma-separated, each in [1e-06, 1e+07] rad/s³"},
+      {"arm move --from 0,0 --to 1,0 --acceleration 1,x", "--acceleration = '1,x': 'x' is not a number"},
   };
   for (const auto& [args, message] : cases) {
     const auto r = run_cli(args);
