@@ -337,6 +337,7 @@ void SerialRig::on_activate() {
   m.next_tick = 0;
   m.last_tick = 0;
   m.pending_flags = 0;
+  m.read_failure = Impl::ReadFailure::none;
   m.tx_pending_size = 0;
   m.port_failed = false;
   m.stop_receiver = false;
@@ -412,6 +413,17 @@ std::vector<std::string> SerialRig::degradation() const {
                               options_.late_tolerance_s * 1e3, options_.max_late_fraction * 100.0));
   }
   if (!stop_problem_.empty()) why.push_back("STOP was not confirmed: " + stop_problem_);
+  if (impl_) {
+    switch (impl_->read_failure) {
+      case Impl::ReadFailure::timeout:
+        why.push_back(fmt::format("no sample came within {:g} s (read_timeout_s): the board stopped sending or "
+                                  "the host fell that far behind", options_.read_timeout_s));
+        break;
+      case Impl::ReadFailure::port_failed: why.push_back("the serial port failed (unplugged or closed)"); break;
+      case Impl::ReadFailure::tick_repeated: why.push_back("the board's tick went back (it restarted)"); break;
+      case Impl::ReadFailure::none: break;
+    }
+  }
   return why;
 }
 

@@ -47,6 +47,8 @@ struct SerialRig::Impl {
   bool have_tick = false;
   std::uint32_t last_tick = 0;     // the last tick read (COMMAND.tick)
   std::uint32_t pending_flags = 0; // MeasurementFlag bits for the next sample (rejected writes)
+  /// Why read() last returned device_error outside the record's own checks (for degradation()).
+  enum class ReadFailure : std::uint8_t { none, timeout, port_failed, tick_repeated } read_failure = ReadFailure::none;
   std::uint8_t tx_pending[2 * CS_WIRE_MAX_FRAME]{};
   std::size_t tx_pending_size = 0;
 

@@ -139,7 +139,12 @@ Status SerialRig::on_read(Measurement& out) noexcept {
   const auto deadline = Impl::Clock::now() + std::chrono::duration_cast<Impl::Clock::duration>(
                                                   std::chrono::duration<double>(options_.read_timeout_s));
   while (!m.ring.pop(s)) {
-    if (m.port_failed.load(std::memory_order_acquire) || Impl::Clock::now() >= deadline) {
+    if (m.port_failed.load(std::memory_order_acquire)) {
+      m.read_failure = Impl::ReadFailure::port_failed;
+      return Status::device_error;
+    }
+    if (Impl::Clock::now() >= deadline) {
+      m.read_failure = Impl::ReadFailure::timeout;
       return Status::device_error;
     }
     const timespec pause{0, 50'000};  // 50 µs: well under one sample period
@@ -148,7 +153,10 @@ Status SerialRig::on_read(Measurement& out) noexcept {
   // The 32-bit tick unwrapped to 64 bits (it wraps after 49 days at 1 kHz). A tick that does
   // not advance means the board restarted or repeats itself: the run cannot go on.
   const auto step = static_cast<std::int32_t>(s.tick - m.last_tick);
-  if (m.have_tick && step <= 0) return Status::device_error;
+  if (m.have_tick && step <= 0) {
+    m.read_failure = Impl::ReadFailure::tick_repeated;
+    return Status::device_error;
+  }
   const std::uint64_t tick = m.have_tick ? m.next_tick - 1 + static_cast<std::uint64_t>(step) : s.tick;
   std::uint32_t flags = measurement_flags_of_sample(s.flags) | m.pending_flags;
   m.pending_flags = 0;

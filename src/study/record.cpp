@@ -95,8 +95,10 @@ Record execute_run(rig::Rig& rig, const RunRequest& request) {
     const Status status = rig.read(m);
     if (status != Status::ok) {
       rig.deactivate();
-      throw RuntimeError(fmt::format("run {}: the rig's read failed at sample {} (t = {} s): {}",
-                                     request.id, k, static_cast<double>(k) * ts, to_string(status)));
+      const std::vector<std::string> why = rig.degradation();  // what the rig saw, for the user
+      throw RuntimeError(fmt::format("run {}: the rig's read failed at sample {} (t = {} s): {}{}{}", request.id, k,
+                                     static_cast<double>(k) * ts, to_string(status), why.empty() ? "" : "; ",
+                                     fmt::join(why, "; ")));
     }
     const double u = command_at(request.command, k);
     r.time_s[k] = static_cast<double>(k) * ts;

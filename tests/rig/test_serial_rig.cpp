@@ -422,6 +422,32 @@ TEST(SerialRig, ReadFailsWhenThePortDies) {
   EXPECT_EQ(status, Status::device_error);
   EXPECT_EQ(r.deactivate(), Status::ok);
   EXPECT_NE(r.last_stop_problem(), "");  // STOP could not be confirmed
+  // and the run says why it ended (the study's error quotes it): a pseudo-terminal whose other end
+  // closed reads as silence, so the wait for the next sample is what ends it
+  const auto why = r.degradation();
+  ASSERT_FALSE(why.empty());
+  EXPECT_NE(why.back().find("no sample came within 0.5 s"), std::string::npos) << why.back();
+}
+
+TEST(SerialRig, ABoardThatFallsSilentEndsTheReadWithTheTimeoutNamed) {
+  BoardDouble board;
+  board.on_sample = [](BoardDouble::Sample& s) { return s.tick < 20; };  // then nothing
+  board.start();
+  auto o = options_for(board);
+  o.read_timeout_s = 0.2;
+  rig::SerialRig r(o);
+  ASSERT_EQ(r.configure(), Status::ok);
+  ASSERT_EQ(r.activate(), Status::ok);
+  rig::Measurement m;
+  Status status = Status::ok;
+  int reads = 0;
+  for (; reads < 100 && status == Status::ok; ++reads) status = r.read(m);
+  EXPECT_EQ(status, Status::device_error);
+  EXPECT_EQ(reads, 21);  // ticks 0–19, then the wait that timed out
+  r.deactivate();
+  const auto why = r.degradation();
+  ASSERT_FALSE(why.empty());
+  EXPECT_NE(why.back().find("no sample came within 0.2 s (read_timeout_s)"), std::string::npos) << why.back();
 }
 
 TEST(SerialRig, ReadAndWriteAreNoexceptAndAllocationFree) {
