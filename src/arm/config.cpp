@@ -36,14 +36,14 @@ plant::DriveModel read_drive(const TomlSection& t) {
   if (mode != "position" && mode != "speed") t.fail("mode", fmt::format("'{}' is not a drive mode; allowed: position, speed", mode));
   const auto drive_mode = mode == "position" ? plant::DriveMode::position : plant::DriveMode::speed;
   if (model == "thesis") {
-    t.finish("model, mode");
+    t.finish("model, mode, path");
     return drive_mode == plant::DriveMode::position ? plant::DriveModel::thesis_position_mode()
                                                    : plant::DriveModel::thesis_speed_mode();
   }
   if (model == "first-order") {
     if (drive_mode != plant::DriveMode::position) t.fail("mode", "a first-order drive is a position-mode drive; allowed: position");
     const double tau = t.positive("time_constant_s", 0.01);
-    t.finish("model, mode, time_constant_s");
+    t.finish("model, mode, time_constant_s, path");
     return plant::DriveModel::first_order_position(tau);
   }
   lti::ProcessStructure structure;
@@ -53,7 +53,7 @@ plant::DriveModel read_drive(const TomlSection& t) {
     t.fail("model", fmt::format("'{}': {}; allowed also: thesis, first-order", model, e.what()));
   }
   lti::ProcessParameters p;
-  std::string allowed = "model, mode";
+  std::string allowed = "model, mode, path";
   for (std::string_view name : structure.parameter_names()) {
     std::string key(name);
     for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -66,6 +66,62 @@ plant::DriveModel read_drive(const TomlSection& t) {
   } catch (const InvalidArgument& e) {
     t.fail("", e.what());
   }
+}
+
+double in_range(const TomlSection& t, std::string_view key, double fallback, double hi, const char* allowed) {
+  const double v = t.number(key, fallback);
+  if (!(v > 0.0 && v <= hi)) t.fail(key, fmt::format("= {} is out of range; allowed: {}", v, allowed));
+  return v;
+}
+
+// [joint.drive.path] kind = "pulse-train": signal::PulseTrainConfig (thesis §3.2, §4.1.2).
+signal::PulseTrainConfig read_pulse_train(const TomlSection& t) {
+  signal::PulseTrainConfig c;
+  c.update_rate_hz = in_range(t, "update_rate_hz", c.update_rate_hz, 1e4, "(0, 10000] (the thesis driver: 30 Hz)");
+  c.counts_per_rev = t.positive("counts_per_rev", c.counts_per_rev);
+  c.gear_ratio = t.positive("gear_ratio", c.gear_ratio);
+  c.max_pulse_frequency_hz = in_range(t, "max_pulse_frequency_hz", c.max_pulse_frequency_hz, 1e9, "(0, 1e9] (the thesis driver: 500 kHz)");
+  if (c.max_counts_per_update() < 1) {
+    t.fail("max_pulse_frequency_hz", fmt::format("= {} is out of range; allowed: >= update_rate_hz = {} (one pulse per update)",
+                                                 c.max_pulse_frequency_hz, c.update_rate_hz));
+  }
+  const std::string hold = t.text("velocity_hold", "lookahead");
+  if (hold != "lookahead" && hold != "sampled") t.fail("velocity_hold", fmt::format("'{}' is not a velocity hold; allowed: lookahead, sampled", hold));
+  c.velocity_hold = hold == "lookahead" ? signal::VelocityHold::lookahead : signal::VelocityHold::sampled;
+  t.finish("kind, update_rate_hz, counts_per_rev, gear_ratio, max_pulse_frequency_hz, velocity_hold");
+  return c;
+}
+
+// [joint.drive.path] kind = "analog": signal::AnalogOutputConfig (thesis §3.2, Table 3.2).
+signal::AnalogOutputConfig read_analog(const TomlSection& t) {
+  signal::AnalogOutputConfig c;
+  c.volts_per_unit = t.number("volts_per_unit", c.volts_per_unit);
+  if (c.volts_per_unit == 0.0) t.fail("volts_per_unit", "= 0 is out of range; allowed: finite and non-zero (volts per command unit)");
+  c.resolution_bits = static_cast<int>(t.integer("resolution_bits", c.resolution_bits, 1, 24));
+  c.full_scale_v = t.positive("full_scale_v", c.full_scale_v);
+  t.finish("kind, volts_per_unit, resolution_bits, full_scale_v");
+  return c;
+}
+
+// [joint.drive.path]: what carries the command to a drive of `mode` (ArmCommandPath).
+ArmCommandPath read_path(const TomlSection& t, plant::DriveMode mode) {
+  ArmCommandPath p;
+  const std::string kind = t.text("kind", "ideal");
+  const bool position = mode == plant::DriveMode::position;
+  if (kind == "ideal") {
+    t.finish("kind");
+  } else if (kind == "pulse-train") {
+    if (!position) t.fail("kind", "'pulse-train' carries positions (thesis §3.2) but the drive's mode is speed; allowed: ideal, analog");
+    p.kind = CommandPathKind::pulse_train;
+    p.pulse_train = read_pulse_train(t);
+  } else if (kind == "analog") {
+    if (position) t.fail("kind", "'analog' carries a speed command (thesis §3.2) but the drive's mode is position; allowed: ideal, pulse-train");
+    p.kind = CommandPathKind::analog;
+    p.analog = read_analog(t);
+  } else {
+    t.fail("kind", fmt::format("'{}' is not a command path; allowed: ideal, pulse-train, analog", kind));
+  }
+  return p;
 }
 
 plant::DampingPolicy read_policy(const TomlSection& t) {
@@ -150,7 +206,9 @@ ArmJoint read_joint(const TomlSection& t) {
   j.half_play_rad = 0.5 * non_negative(t, "play_deg", 0.0) * kDeg;  // play = total width 2β
   const auto drive = t.table("drive");
   if (!drive) t.fail("drive", "missing table [joint.drive]");
+  const auto path = drive->table("path");  // read before read_drive finishes [joint.drive]
   j.drive = read_drive(*drive);
+  if (path) j.path = read_path(*path, j.drive.mode());
   const auto contact = t.table("contact");
   if (!contact) t.fail("contact", "missing table [joint.contact]");
   j.law = read_contact(*contact);
@@ -206,6 +264,22 @@ void ArmImu::validate() const {
   }
 }
 
+void ArmCommandPath::validate(plant::DriveMode mode, const std::string& field) const {
+  const bool position = mode == plant::DriveMode::position;
+  if (kind == CommandPathKind::pulse_train && !position) {
+    throw InvalidArgument(field + ".kind = pulse-train needs a position-mode drive; allowed: ideal, analog");
+  }
+  if (kind == CommandPathKind::analog && position) {
+    throw InvalidArgument(field + ".kind = analog needs a speed-mode drive; allowed: ideal, pulse-train");
+  }
+  try {
+    if (kind == CommandPathKind::pulse_train) pulse_train.validate();
+    if (kind == CommandPathKind::analog) analog.validate();
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(fmt::format("{}: {}", field, e.what()));
+  }
+}
+
 void ArmModel::validate() const {
   if (static_cast<int>(joints.size()) != chain.dof()) {
     throw InvalidArgument(fmt::format("arm '{}' has {} joint configurations for {} chain joints; allowed: one per joint",
@@ -220,6 +294,7 @@ void ArmModel::validate() const {
     require_positive(field + ".gear_ratio", j.gear_ratio);
     require_non_negative(field + ".half_play_rad", j.half_play_rad);
     j.friction.validate(field.c_str());
+    j.path.validate(j.drive.mode(), field + ".path");
   }
   imu.validate();
 }

@@ -172,7 +172,8 @@ void measure(Eigen::MatrixXd& m, double sigma, double range, std::mt19937_64& rn
 ArmTrace simulate_arm(const ArmModel& model, std::span<const plant::Command> commands,
                       const ArmSimulationOptions& options) {
   options.validate(model.dof());
-  detail::ArmSystem system(model, commands);
+  const std::vector<plant::Command> received = received_commands(model, commands);
+  detail::ArmSystem system(model, received);
   Integrator cv(system, options.solver);
   ArmTrace trace;
   const auto rows = static_cast<Eigen::Index>(std::floor(options.duration_s * options.output_rate_hz + 1e-9)) + 1;

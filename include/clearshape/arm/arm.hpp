@@ -21,8 +21,26 @@
 #include "clearshape/plant/drive.hpp"
 #include "clearshape/plant/encoder.hpp"
 #include "clearshape/plant/friction.hpp"
+#include "clearshape/signal/position_path.hpp"
+#include "clearshape/signal/speed_path.hpp"
 
 namespace clearshape::arm {
+
+/// What carries a joint's command to its drive (docs/arm.md §1), as for the single joint
+/// (rig::simulate_run): `ideal` passes the command unchanged; `pulse_train` is the position-mode
+/// path of thesis §3.2, §4.1.2 (signal::apply_position_path: a velocity held per update period,
+/// whole counts, a capped pulse frequency), the command read as motor degrees; `analog` the
+/// speed-mode D/A of thesis §3.2, Table 3.2 (signal::apply_speed_path, each sample held).
+enum class CommandPathKind { ideal, pulse_train, analog };
+
+struct ArmCommandPath {
+  CommandPathKind kind = CommandPathKind::ideal;
+  signal::PulseTrainConfig pulse_train{};  ///< used by kind pulse_train
+  signal::AnalogOutputConfig analog{};     ///< used by kind analog
+  /// Throws InvalidArgument naming "<field>.kind" when the path does not suit `mode` (a pulse
+  /// train needs a position drive, the D/A a speed drive) or the config's field otherwise.
+  void validate(plant::DriveMode mode, const std::string& field) const;
+};
 
 struct ArmJoint {
   std::string name;  ///< the URDF joint's name
@@ -32,6 +50,7 @@ struct ArmJoint {
   plant::ContactLaw law = plant::ContactLaw::kelvin_voigt(1e4, 0.0);  ///< torque on the link
   plant::Friction friction{};      ///< bearing friction on the joint rate q̇ (N·m, rad/s)
   plant::EncoderConfig encoder{};  ///< on the motor shaft
+  ArmCommandPath path{};           ///< between the joint's command and its drive
 };
 
 /// The 3-axis gyroscope and accelerometer on the last link (the URDF's tip link), read in that

@@ -73,9 +73,20 @@ struct ArmTrace {
   long rhs_evaluations = 0;
 };
 
+/// What each drive receives: each joint's command through its command path (ArmJoint::path;
+/// docs/arm.md §1), as rig::simulate_run does for the single joint. ideal: the command itself.
+/// pulse_train: the command's samples (a zero-order-hold command sampled at 1 kHz first), held
+/// for one update period after the last, read as motor degrees, through
+/// signal::apply_position_path from rest at the first sample; the commanded position in degrees,
+/// linear between samples (the pulses arrive at a constant rate within an update period).
+/// analog: the samples through signal::apply_speed_path, each held (the D/A's zero-order hold).
+/// Throws InvalidArgument for a wrong number of commands.
+std::vector<plant::Command> received_commands(const ArmModel& model, std::span<const plant::Command> commands);
+
 /// Simulates `model` under one command per joint (the drive's command units: motor degrees
-/// for a Kp = 1 position drive). Throws InvalidArgument for a wrong number of commands or bad
-/// options, RuntimeError if CVODE fails (naming the time and the joints' state).
+/// for a Kp = 1 position drive), each through its joint's command path (received_commands).
+/// Throws InvalidArgument for a wrong number of commands or bad options, RuntimeError if CVODE
+/// fails (naming the time and the joints' state).
 ArmTrace simulate_arm(const ArmModel& model, std::span<const plant::Command> commands,
                       const ArmSimulationOptions& options);
 
