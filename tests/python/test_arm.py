@@ -67,3 +67,16 @@ def test_bad_input_is_refused_naming_the_key():
         cs.simulate_arm(np.zeros((3, 10)), 1e-3)
     with pytest.raises(ValueError, match="give both texts"):
         cs.simulate_arm(np.zeros((2, 10)), 1e-3, urdf=urdf)
+
+
+def test_a_pulse_train_path_delivers_whole_counts():
+    """[joint.drive.path] (docs/arm.md §4) comes with the TOML text: through the thesis's pulse
+    train (3000 pulses per motor turn, 30 Hz) the shoulder's 250 motor degrees arrive as
+    round(250 · 3000/360) = 2083 whole counts, 249.96°, where the ideal path delivers 250°."""
+    urdf, toml = cs.arm_text("scara-2")
+    pulses = toml.replace("[joint.contact]", '[joint.drive.path]\nkind = "pulse-train"\n[joint.contact]', 1)
+    run = cs.simulate_arm(shoulder_move(50.0), 1e-3, urdf=urdf, toml=pulses, duration_s=0.6)
+    assert run["motor_angle_rad"][-1, 0] == pytest.approx(2083 * 2 * np.pi / 3000, abs=1e-6)
+    assert abs(run["motor_angle_rad"][-1, 0] - 250.0 * DEG) > 0.03 * DEG
+    with pytest.raises(ValueError, match=r"joint\[0\]\.drive\.path\.kind.*allowed: ideal, pulse-train"):
+        cs.simulate_arm(shoulder_move(50.0), 1e-3, urdf=urdf, toml=pulses.replace('"pulse-train"', '"analog"', 1))
