@@ -134,11 +134,24 @@ TEST(ArmCommandPath, PulsesCarryWholeCountsAtTheUpdateInstantsAndRespectTheFrequ
   }
   EXPECT_LE(fastest_deg_s, cap_deg_s * (1.0 + 1e-12));
   EXPECT_GT(fastest_deg_s, cap_deg_s * (1.0 - 1.0 / static_cast<double>(c.max_counts_per_update())));  // the cap binds
-  EXPECT_EQ(received.value(end_s), 180.0);  // it catches up: 1500 counts exactly
+  EXPECT_DOUBLE_EQ(received.value(end_s), 180.0);  // it catches up: 1500 counts exactly
   ArmSimulationOptions o;
   o.duration_s = end_s + 0.3;
   const ArmTrace tr = simulate_arm(arm, sent, o);
   EXPECT_NEAR(tr.motor_angle_rad(tr.motor_angle_rad.rows() - 1, 0), std::numbers::pi, 1e-6);
+}
+
+TEST(ArmCommandPath, AnIdealStepArrivesAsARampOverOneUpdate) {
+  // thesis §4.1.2: through the pulse train "a higher sloped ramp"; 25 Hz puts the updates on the
+  // 1 kHz samples the held step is read at: the update at 0.08 s aims at 90° by 0.12 s
+  const ArmModel arm = arm_from_text(kUrdf, "one.urdf", one_joint_toml("kind = \"pulse-train\"\nupdate_rate_hz = 25\n"), "one.toml");
+  const std::vector<plant::Command> sent{plant::Command::step(0.1, 90.0)};
+  const plant::Command received = received_commands(arm, sent)[0];
+  EXPECT_EQ(received.value(0.08), 0.0);
+  EXPECT_NEAR(received.value(0.09), 187 * 0.12, 1e-12);  // of 750 pulses at a constant rate, 187 whole ones by then
+  EXPECT_NEAR(received.value(0.10), 45.0, 1e-12);
+  EXPECT_NEAR(received.value(0.12), 90.0, 1e-12);
+  EXPECT_NEAR(received.value(1.0), 90.0, 1e-12);
 }
 
 TEST(ArmCommandPath, AnAnalogJointReceivesTheDAsCodesHeld) {
