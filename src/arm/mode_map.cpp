@@ -103,8 +103,12 @@ RunRecord window_of(const SimulatedRun& run) {
           run.trace.gyro_rad_s.bottomRows(n)};
 }
 
+constexpr double kGyroAxisFloor = 0.01;  // an axis below 1 % of the strongest's RMS does not turn
+
 /// The records options.sensor reads from a run: every link's rate, or the last link's gyro axes
-/// that turn in the window (peak above 1e-9 rad/s: a planar arm's out-of-plane axes carry nothing).
+/// that turn in the window: peak above 1e-9 rad/s (a planar arm's out-of-plane axes carry nothing)
+/// and RMS at least 1 % of the strongest axis's (a recorded axis about which the link does not
+/// turn carries the gyro's noise alone, whose lines would be taken for modes).
 std::vector<std::pair<std::string, UniformSeries>> sensor_records(const ArmModel& arm, const RunRecord& run,
                                                                   ModeMapSensor sensor) {
   const bool gyro = sensor == ModeMapSensor::last_link_gyro;
@@ -116,9 +120,10 @@ std::vector<std::pair<std::string, UniformSeries>> sensor_records(const ArmModel
                           " columns of samples for sensor " + (gyro ? "last_link_gyro" : "link_rates"));
   }
   std::vector<std::pair<std::string, UniformSeries>> out;
+  const Eigen::RowVectorXd rms = (rates.colwise().squaredNorm() / static_cast<double>(rates.rows())).cwiseSqrt();
   for (Eigen::Index i = 0; i < rates.cols(); ++i) {
     const Eigen::VectorXd w = rates.col(i);
-    if (gyro && w.cwiseAbs().maxCoeff() <= 1e-9) continue;
+    if (gyro && (w.cwiseAbs().maxCoeff() <= 1e-9 || rms(i) < kGyroAxisFloor * rms.maxCoeff())) continue;
     out.emplace_back(gyro ? std::string("last link's gyro ") + "xyz"[i] : "rate of " + arm.joints[static_cast<std::size_t>(i)].name,
                      UniformSeries{run.start_s, run.sample_time_s, std::vector<double>(w.data(), w.data() + w.size())});
   }

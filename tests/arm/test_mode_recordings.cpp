@@ -168,6 +168,20 @@ TEST_F(ArmModeRecordings, NoisyRoundedFilesStillAgree) {
   }
 }
 
+// The same noisy files with all three gyro axes named: the two the link does not turn about carry
+// the noise alone (RMS 2e-4 rad/s against the z axis's ~0.04 rad/s ramp) and are not read, so the
+// map is the z axis's (before, a noise line at 12.7 Hz was taken for the first mode at one pose,
+// 40 % off).
+TEST_F(ArmModeRecordings, NoiseOnlyGyroAxesAreNotRead) {
+  const fs::path noisy = noisy_copy(*manifest_, *dir_ / "noisy-xyz", 2e-4, 6);
+  const ModeMapOptions o = ramp_options(ModeMapSensor::last_link_gyro);
+  const ModeMap map = mode_map_from_recordings(*arm_, read_mode_recordings(noisy, *arm_), o);
+  ASSERT_EQ(map.points.size(), 9u);
+  for (const auto& point : map.points) {
+    EXPECT_LT(std::abs(first_mode_error(*arm_, point)), 0.005) << point.pose_rad.transpose();
+  }
+}
+
 // Step runs (one per joint, named in the manifest) written and read back give the simulated map;
 // the same files with other column names, in deg/s and a window 0.1 s shorter (window_start_s,
 // window_s) give the map of the simulated windows shortened by 100 samples.
