@@ -30,6 +30,20 @@ function(clearshape_precompile target)
   endif()
 endfunction()
 
+# clearshape_cold(target): with CLEARSHAPE_COLD_O1 in an optimised GCC build (Release,
+# RelWithDebInfo), the target compiles at -O1: code that parses options and files, formats text
+# and dispatches to the library, with no loop that runs per sample or per simulation step. There
+# -O3's inlining and unrolling cost compile time and buy nothing at run time: the CLI's four unity
+# batches take 64 s of CPU at -O3 and about 46 s at -O1 (docs/design.md, "Build time"). The
+# modules that compute keep the build type's level. IEEE arithmetic rounds the same at every level
+# (no -ffast-math; x86-64's SSE2 has no fused multiply-add to contract into), so outputs do not
+# change: the studies' results.json are the same bytes.
+function(clearshape_cold target)
+  if(CLEARSHAPE_COLD_O1 AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_BUILD_TYPE MATCHES "^(Release|RelWithDebInfo)$")
+    target_compile_options(${target} PRIVATE -O1)  # after the build type's -O3: GCC takes the last -O
+  endif()
+endfunction()
+
 # clearshape_unity(target [SKIP file...]): with CLEARSHAPE_UNITY, the target's sources compile
 # in batches of 8 per translation unit (CMake's unity build), so the headers every source parses
 # and the inline code every source emits (Eigen, fmt, json, CLI11's validators, GoogleTest) are

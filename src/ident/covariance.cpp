@@ -4,7 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include <boost/math/distributions/chi_squared.hpp>
+#include "clearshape/core/distributions.hpp"
+#include "clearshape/core/linalg.hpp"
 
 namespace clearshape::ident::detail {
 
@@ -69,8 +70,7 @@ bool residual_is_white(const Eigen::VectorXd& e, const std::vector<Eigen::Index>
     q += r * r / static_cast<double>(n - lag);
   }
   q *= static_cast<double>(n) * static_cast<double>(n + 2);
-  const boost::math::chi_squared chi2(static_cast<double>(m));
-  return q <= boost::math::quantile(chi2, 0.99);
+  return q <= distributions::chi_squared_quantile(static_cast<double>(m), 0.99);
 }
 
 // Bartlett-kernel bandwidth from AR(1) fits to each score series gₐ(k) = Jₖₐ eₖ (Andrews 1991,
@@ -102,10 +102,10 @@ Eigen::MatrixXd scaled_inverse(const Eigen::MatrixXd& j, Eigen::VectorXd& scale)
     scale(i) = 1.0 / scale(i);
   }
   const Eigen::MatrixXd js = j * scale.asDiagonal();
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(js, Eigen::ComputeThinV);
-  const Eigen::VectorXd s = svd.singularValues();
+  const linalg::SingularValueDecomposition svd = linalg::svd(js, linalg::SvdMethod::jacobi, false, true);
+  const Eigen::VectorXd& s = svd.values;
   if (s.size() == 0 || !(s(s.size() - 1) > 1e-9 * s(0))) return nan;
-  const Eigen::MatrixXd v = svd.matrixV();
+  const Eigen::MatrixXd& v = svd.v;
   return v * s.cwiseAbs2().cwiseInverse().asDiagonal() * v.transpose();
 }
 

@@ -7,10 +7,9 @@
 
 #include <Eigen/Dense>
 #include <unsupported/Eigen/FFT>
-#include <boost/math/distributions/chi_squared.hpp>
-#include <boost/math/distributions/normal.hpp>
 #include <fmt/format.h>
 
+#include "clearshape/core/distributions.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/linalg.hpp"
 
@@ -49,8 +48,7 @@ std::vector<double> autocorrelation(const std::vector<double>& x, std::size_t ma
 }
 
 double chi2_survival(double statistic, std::size_t dof) {
-  const boost::math::chi_squared chi2(static_cast<double>(dof));
-  return boost::math::cdf(boost::math::complement(chi2, std::max(statistic, 0.0)));
+  return distributions::chi_squared_upper_tail(static_cast<double>(dof), std::max(statistic, 0.0));
 }
 
 // The lag with the largest |r| among lags[from…], its count beyond the band.
@@ -160,7 +158,7 @@ void check_options(std::size_t samples, const ResidualTestOptions& o) {
 
 double two_sided_z(double confidence) {
   if (!(confidence > 0.0 && confidence < 1.0)) throw_invalid("confidence", confidence, "in (0, 1)");
-  return boost::math::quantile(boost::math::normal(), 0.5 + 0.5 * confidence);
+  return distributions::normal_quantile(0.5 + 0.5 * confidence);
 }
 
 ResidualTests residual_tests(std::span<const double> input, std::span<const double> residual,

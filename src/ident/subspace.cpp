@@ -5,6 +5,7 @@
 #include <string>
 
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 
 namespace clearshape::ident {
 
@@ -146,16 +147,16 @@ namespace {
 
 // The order-n model from the SVD of the observability basis (Γ = U₁ S₁^½; A, C by shift
 // invariance; B, D, x0 by least squares). Throws RuntimeError when singular value n is zero.
-SubspaceModel subspace_model(const Eigen::JacobiSVD<Eigen::MatrixXd>& svd, const ScaledData& s, std::size_t order,
+SubspaceModel subspace_model(const linalg::SingularValueDecomposition& svd, const ScaledData& s, std::size_t order,
                              const Experiment& experiment, const SubspaceOptions& options) {
   SubspaceModel out;
-  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
+  for (Eigen::Index k = 0; k < svd.values.size(); ++k) out.singular_values.push_back(svd.values(k));
   const auto n = static_cast<Eigen::Index>(order);
-  if (!(svd.singularValues()(n - 1) > 1e-12 * svd.singularValues()(0))) {
+  if (!(svd.values(n - 1) > 1e-12 * svd.values(0))) {
     throw RuntimeError("subspace identification: the data do not support order " + std::to_string(order) +
                        " (singular value " + std::to_string(n) + " is zero); choose a lower order or a richer input.");
   }
-  const Eigen::MatrixXd gamma = svd.matrixU().leftCols(n) * svd.singularValues().head(n).cwiseSqrt().asDiagonal();
+  const Eigen::MatrixXd gamma = svd.u.leftCols(n) * svd.values.head(n).cwiseSqrt().asDiagonal();
   Eigen::MatrixXd a;
   Eigen::RowVectorXd c;
   shift_invariance(gamma, a, c);
@@ -171,15 +172,15 @@ SubspaceModel subspace_model(const Eigen::JacobiSVD<Eigen::MatrixXd>& svd, const
 }
 
 // ERA's balanced factors truncated at `order` (capped at the numerical rank, > 1e-10·σ₁).
-FreeResponseModel era_model(const Eigen::BDCSVD<Eigen::MatrixXd>& svd, std::size_t order) {
+FreeResponseModel era_model(const linalg::SingularValueDecomposition& svd, std::size_t order) {
   FreeResponseModel out;
-  for (Eigen::Index k = 0; k < svd.singularValues().size(); ++k) out.singular_values.push_back(svd.singularValues()(k));
+  for (Eigen::Index k = 0; k < svd.values.size(); ++k) out.singular_values.push_back(svd.values(k));
   Eigen::Index n = 0;
-  while (n < static_cast<Eigen::Index>(order) && svd.singularValues()(n) > 1e-10 * svd.singularValues()(0)) ++n;
+  while (n < static_cast<Eigen::Index>(order) && svd.values(n) > 1e-10 * svd.values(0)) ++n;
   if (n == 0) throw RuntimeError("era: the response is identically zero; there is nothing to identify.");
-  const Eigen::VectorXd s_half = svd.singularValues().head(n).cwiseSqrt();
-  const Eigen::MatrixXd gamma = svd.matrixU().leftCols(n) * s_half.asDiagonal();  // balanced factors
-  const Eigen::MatrixXd x = s_half.asDiagonal() * svd.matrixV().leftCols(n).transpose();
+  const Eigen::VectorXd s_half = svd.values.head(n).cwiseSqrt();
+  const Eigen::MatrixXd gamma = svd.u.leftCols(n) * s_half.asDiagonal();  // balanced factors
+  const Eigen::MatrixXd x = s_half.asDiagonal() * svd.v.leftCols(n).transpose();
   shift_invariance(gamma, out.a, out.c);
   out.x0 = x.col(0);
   return out;
@@ -192,7 +193,7 @@ SubspaceModel n4sid(const Experiment& experiment, std::size_t order, const Subsp
   if (order < 1) throw_invalid("n4sid order", 0.0, ">= 1");
   const std::size_t i = horizon(experiment, order, options);
   const ScaledData s = scaled(experiment);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(observability_basis(s, i, options.method), Eigen::ComputeThinU);
+  const auto svd = linalg::svd(observability_basis(s, i, options.method), linalg::SvdMethod::jacobi, true, false);
   return subspace_model(svd, s, order, experiment, options);
 }
 
@@ -202,7 +203,7 @@ std::vector<SubspaceModel> n4sid_orders(const Experiment& experiment, std::size_
   if (min_order < 1 || max_order < min_order) throw_invalid("n4sid min_order", static_cast<double>(min_order), ">= 1 and <= max_order");
   const std::size_t i = horizon(experiment, max_order, options);
   const ScaledData s = scaled(experiment);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(observability_basis(s, i, options.method), Eigen::ComputeThinU);
+  const auto svd = linalg::svd(observability_basis(s, i, options.method), linalg::SvdMethod::jacobi, true, false);
   std::vector<SubspaceModel> out;
   for (std::size_t n = min_order; n <= max_order; ++n) {
     try {
@@ -241,7 +242,7 @@ FreeResponseModel era(std::span<const double> response, std::size_t order, std::
   const std::size_t n_samples = response.size();
   const std::size_t cols = n_samples - r + 1;
   const Eigen::MatrixXd h = hankel(response, 0, r, cols);  // H(a, b) = y[a + b] = C A^(a+b) x0
-  Eigen::BDCSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const auto svd = linalg::svd(h, linalg::SvdMethod::divide_and_conquer, true, true);
   // The order is capped at the numerical rank of the Hankel matrix (an exact response of fewer
   // modes than asked for).
   return era_model(svd, order);
@@ -252,7 +253,7 @@ std::vector<FreeResponseModel> era_orders(std::span<const double> response, std:
   if (min_order < 1 || max_order < min_order) throw_invalid("era min_order", static_cast<double>(min_order), ">= 1 and <= max_order");
   const std::size_t r = era_rows(response, max_order, rows);
   const Eigen::MatrixXd h = hankel(response, 0, r, response.size() - r + 1);
-  Eigen::BDCSVD<Eigen::MatrixXd> svd(h, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const auto svd = linalg::svd(h, linalg::SvdMethod::divide_and_conquer, true, true);
   std::vector<FreeResponseModel> out;
   for (std::size_t n = min_order; n <= max_order; ++n) out.push_back(era_model(svd, n));
   return out;

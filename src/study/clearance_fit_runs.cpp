@@ -20,10 +20,11 @@
 #include <limits>
 
 #include <Eigen/Dense>
-#include <boost/math/distributions/chi_squared.hpp>
 #include <fmt/format.h>
 
+#include "clearshape/core/distributions.hpp"
 #include "clearshape/core/error.hpp"
+#include "clearshape/core/linalg.hpp"
 #include "clearshape/core/units.hpp"
 #include "clearshape/study/model.hpp"
 
@@ -564,8 +565,8 @@ struct Covariance {
 Covariance covariance(const Fit& f, const Refined& fit) {
   Covariance c;
   const Eigen::MatrixXd A = fit.J.transpose() * fit.J;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
-  if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-12 * eig.eigenvalues().maxCoeff())) return c;
+  const linalg::SymmetricEigenDecomposition eig = linalg::symmetric_eigen(A);
+  if (!eig.converged || !(eig.values.minCoeff() > 1e-12 * eig.values.maxCoeff())) return c;
   const Eigen::MatrixXd Ainv = A.inverse();
   const double N = static_cast<double>(fit.J.rows()), P = static_cast<double>(fit.J.cols());
   const double rho = lag1(fit.residual);
@@ -757,8 +758,7 @@ double spread_upper_bound(const std::vector<double>& log_values, double confiden
   double ss = 0.0;
   for (const double v : log_values) ss += (v - mean) * (v - mean);
   // σ ≤ √(SS / χ²_{1−confidence, n−1}): the one-sided bound on a normal sample's σ (Montgomery §7.4).
-  const boost::math::chi_squared chi2(static_cast<double>(n - 1));
-  return std::sqrt(ss / boost::math::quantile(chi2, 1.0 - confidence));
+  return std::sqrt(ss / distributions::chi_squared_quantile(static_cast<double>(n - 1), 1.0 - confidence));
 }
 
 ClearanceModelSigma ClearanceRunsFitResult::sigma() const {

@@ -1,6 +1,7 @@
 // core/linalg.hpp against closed forms: e^(θJ) of the rotation generator is the rotation by θ,
 // log undoes exp, the companion matrix of (s+1)(s+2)(s²+2s+5) has roots −1, −2, −1 ± 2i, and a
-// symmetric matrix's eigenpairs satisfy A·v = λ·v with orthonormal vectors.
+// symmetric matrix's eigenpairs satisfy A·v = λ·v with orthonormal vectors, and a matrix built as
+// Q₁ diag(σ) Q₂ᵀ from Householder reflections has exactly the singular values σ.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -54,6 +55,38 @@ TEST(Linalg, SymmetricEigenpairsAreOrthonormalAndAscending) {
   EXPECT_NEAR(e.values.sum(), a.trace(), 1e-13);
   EXPECT_LT((a * e.vectors - e.vectors * e.values.asDiagonal()).norm(), 1e-13);
   EXPECT_LT((e.vectors.transpose() * e.vectors - Eigen::MatrixXd::Identity(3, 3)).norm(), 1e-14);
+}
+
+// I − 2vvᵀ/(vᵀv): orthogonal and symmetric by construction (Golub & Van Loan §5.1.2).
+Eigen::MatrixXd householder(Eigen::Index n, double phase) {
+  Eigen::VectorXd v(n);
+  for (Eigen::Index k = 0; k < n; ++k) v(k) = std::sin(phase * static_cast<double>(k + 1)) + 0.1;
+  return Eigen::MatrixXd::Identity(n, n) - 2.0 * v * v.transpose() / v.squaredNorm();
+}
+
+TEST(Linalg, SingularValuesOfAnOrthogonallyBuiltMatrixAreTheOnesItWasBuiltWith) {
+  // 40 × 30 (BDCSVD divides and conquers above 16 columns), rank 3: σ = 5, 2, 0.5, then zeros.
+  const Eigen::Index m = 40, n = 30;
+  Eigen::MatrixXd sigma = Eigen::MatrixXd::Zero(m, n);
+  sigma(0, 0) = 5.0, sigma(1, 1) = 2.0, sigma(2, 2) = 0.5;
+  const Eigen::MatrixXd a = householder(m, 0.7) * sigma * householder(n, 1.3).transpose();
+  for (const SvdMethod method : {SvdMethod::jacobi, SvdMethod::divide_and_conquer}) {
+    const SingularValueDecomposition d = svd(a, method, true, true);
+    ASSERT_EQ(d.values.size(), n);
+    EXPECT_NEAR(d.values(0), 5.0, 1e-13);
+    EXPECT_NEAR(d.values(1), 2.0, 1e-13);
+    EXPECT_NEAR(d.values(2), 0.5, 1e-13);
+    EXPECT_LT(d.values.tail(n - 3).maxCoeff(), 1e-13);
+    ASSERT_EQ(d.u.rows(), m);
+    ASSERT_EQ(d.u.cols(), n);
+    ASSERT_EQ(d.v.rows(), n);
+    EXPECT_LT((d.u * d.values.asDiagonal() * d.v.transpose() - a).norm(), 1e-13);
+    EXPECT_LT((d.v.transpose() * d.v - Eigen::MatrixXd::Identity(n, n)).norm(), 1e-13);
+    const SingularValueDecomposition values_only = svd(a, method, false, false);
+    EXPECT_EQ(values_only.u.size(), 0);
+    EXPECT_EQ(values_only.v.size(), 0);
+    EXPECT_EQ(values_only.values, d.values);  // the factors do not change the values
+  }
 }
 
 }  // namespace

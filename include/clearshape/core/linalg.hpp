@@ -6,6 +6,7 @@
 //
 //   const linalg::EigenDecomposition eig = linalg::eigen(a);   // values only
 //   const Eigen::MatrixXd phi = linalg::expm(a * h);      // e^(Ah)
+//   const linalg::SingularValueDecomposition d = linalg::svd(h, linalg::SvdMethod::divide_and_conquer, true, true);
 #include <Eigen/Core>
 
 namespace clearshape::linalg {
@@ -29,6 +30,18 @@ struct SymmetricEigenDecomposition {
   bool converged = false;  ///< Eigen::Success
 };
 SymmetricEigenDecomposition symmetric_eigen(const Eigen::MatrixXd& a);
+
+/// The thin singular value decomposition a = U diag(σ) Vᵀ, σ descending; U and V only when asked.
+/// `jacobi`: two-sided Jacobi rotations after a column-pivoting QR (Eigen::JacobiSVD; Demmel &
+/// Veselić 1992), accurate to the small singular values; `divide_and_conquer`: bidiagonalisation
+/// and Gu & Eisenstat's divide and conquer (Eigen::BDCSVD; Gu & Eisenstat 1995), for large matrices.
+enum class SvdMethod { jacobi, divide_and_conquer };
+struct SingularValueDecomposition {
+  Eigen::VectorXd values;
+  Eigen::MatrixXd u;  ///< m × min(m, n); empty unless asked for
+  Eigen::MatrixXd v;  ///< n × min(m, n); empty unless asked for
+};
+SingularValueDecomposition svd(const Eigen::MatrixXd& a, SvdMethod method, bool with_u, bool with_v);
 
 /// e^A by Padé approximation with scaling and squaring (Higham 2005), Eigen's MatrixFunctions.
 Eigen::MatrixXd expm(const Eigen::MatrixXd& a);
