@@ -193,13 +193,24 @@ def table(rows: list[list[str]], header: list[str]) -> str:
     return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
 
 
+def flank_text(doc: dict) -> str:
+    """The flank-keeping stop's margin and floor, when the study runs a flank design."""
+    f = doc["study"].get("flank_keeping")
+    if f is None or not any(d["name"].startswith("flank-") for d in doc["designs"]):
+        return ""
+    return (f"; flank designs: each move re-planned with the acceleration limits lowered to {f['margin']:g} × "
+            f"|g_i| / M_ii at its end pose, never below {f['floor']:g} of the limit")
+
+
 def report(doc: dict, figures: list[tuple[Path, str]]) -> str:
     s = doc["study"]
     joints = ", ".join(f"{j['name']} {j['play_deg']:.2f}° play, limits {j['velocity_rad_s']:g} rad/s, "
                        f"{j['acceleration_rad_s2']:g} rad/s², {j['jerk_rad_s3']:g} rad/s³" for j in s["joints"])
     design_rows = [[d["name"], f"{d['total_residual_mm']:.4f}",
                     "—" if i == 0 else f"{100 * d['improvement']:.1f} %" + (" (WORSE)" if d["worse_than_unshaped"] else ""),
-                    "—" if i == 0 else str(d["moves_worse_than_unshaped"])] for i, d in enumerate(doc["designs"])]
+                    "—" if i == 0 else str(d["moves_worse_than_unshaped"]),
+                    f"{d['mean_command_s']:.3f} / {d['max_command_s']:.3f}" if "mean_command_s" in d else "—"]
+                   for i, d in enumerate(doc["designs"])]
     names = [d["name"] for d in doc["designs"]]
     move_rows = [[str(m["index"]), ", ".join(f"{q:.3f}" for q in m["to_rad"])] +
                  [f"{m['designs'][n]['residual_mm']:.4f}" for n in names] for m in doc["moves"]]
@@ -216,10 +227,10 @@ img{{max-width:100%}}.warn li{{color:#a00}}figcaption{{font-size:90%;color:#555}
 <h1>Arm study {html.escape(s['name'])}{html.escape(quick)}</h1>
 <p>Arm <b>{html.escape(s['arm'])}</b> ({html.escape(joints)}). Pick-and-place benchmark of {len(doc['moves'])} moves
 (seed {s['seed']}), each link starting in the middle of its play; {html.escape(s['method'])} shapers;
-clearance-aware command designed per move with {s['clearance_aware']['evaluations']} evaluations.
+clearance-aware command designed per move with {s['clearance_aware']['evaluations']} evaluations{flank_text(doc)}.
 Residual: {html.escape(s['residual'])}.</p>
 <h2>Tool-tip residual per design</h2>
-{table(design_rows, ['design', 'Σ residual (mm)', 'removed', 'moves worse than unshaped'])}
+{table(design_rows, ['design', 'Σ residual (mm)', 'removed', 'moves worse than unshaped', 'command mean / max (s)'])}
 <h2>Where a design is worse than unshaped</h2>
 {warn_html}
 {''.join(embedded(p, alt) for p, alt in figures)}

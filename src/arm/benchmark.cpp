@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "clearshape/arm/chain.hpp"
 #include "clearshape/core/error.hpp"
 #include "clearshape/metrics/mean_deviation.hpp"
 
@@ -54,9 +55,38 @@ MovePlay play_move(const ArmModel& arm, const PointToPoint& move, const MoveShap
   return play_move_with(arm, move, joint_shapers(arm, move.to_rad, shaping), options);
 }
 
+std::vector<signal::AxisLimits> flank_keeping_limits(const ArmModel& arm, const Eigen::VectorXd& end_pose_rad,
+                                                     std::span<const signal::AxisLimits> limits, double margin,
+                                                     double floor) {
+  require_in_closed("flank_margin", margin, 0.0, 1.0, "0: off");
+  if (!(floor > 0.0 && floor <= 1.0)) throw_invalid("flank_floor", floor, "(0, 1]");
+  if (end_pose_rad.size() != arm.dof() || limits.size() != static_cast<std::size_t>(arm.dof())) {
+    throw_invalid("flank_keeping_limits: pose and limits size", static_cast<double>(end_pose_rad.size()),
+                  fmt::format("{} (one per joint), {} limits given", arm.dof(), limits.size()));
+  }
+  std::vector<signal::AxisLimits> out(limits.begin(), limits.end());
+  if (margin == 0.0) return out;
+  ChainWorkspace ws(arm.chain);
+  Eigen::VectorXd g;
+  Eigen::MatrixXd m;
+  ws.gravity_torque(end_pose_rad, g);
+  ws.mass_matrix(end_pose_rad, m);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    const double bound_rad_s2 = std::abs(g(k)) / m(k, k);  // |q̈_i| < |g_i| / M_ii keeps the flank loaded
+    if (bound_rad_s2 <= 1e-9 * out[i].acceleration) continue;  // no gravity on this joint (g_i = 0 to rounding)
+    out[i].acceleration = std::max(floor * out[i].acceleration, std::min(out[i].acceleration, margin * bound_rad_s2));
+  }
+  return out;
+}
+
 MovePlay play_move_with(const ArmModel& arm, const PointToPoint& move, std::span<const shaping::Shaper> shapers,
                         const MovePlayOptions& options) {
-  const JointTrajectory planned = plan_move(arm, move.from_rad, move.to_rad, options.limits, options.sample_time_s);
+  require_in_closed("flank_margin", options.flank_margin, 0.0, 1.0, "0: off");
+  const std::vector<signal::AxisLimits> limits =
+      options.flank_margin > 0.0 ? flank_keeping_limits(arm, move.to_rad, options.limits, options.flank_margin, options.flank_floor)
+                                 : options.limits;
+  const JointTrajectory planned = plan_move(arm, move.from_rad, move.to_rad, limits, options.sample_time_s);
   const JointTrajectory shaped = shape_trajectory(planned, shapers);
   ArmSimulationOptions o;
   o.duration_s = shaped.time_s.back() + options.settle_s;

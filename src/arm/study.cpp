@@ -21,9 +21,9 @@ namespace {
 
 MoveShaping shaping_of(const ArmStudySpec& spec, const std::string& design) {
   MoveShaping s;
-  s.schedule = design == "unshaped"  ? ShaperSchedule::none
-               : design == "fixed"   ? ShaperSchedule::fixed
-                                     : ShaperSchedule::end_pose;
+  s.schedule = design == "unshaped" || design == "flank-unshaped" ? ShaperSchedule::none
+               : design == "fixed"                                 ? ShaperSchedule::fixed
+                                                                   : ShaperSchedule::end_pose;
   s.method = spec.method;
   s.every_mode = spec.every_mode;
   return s;
@@ -119,6 +119,9 @@ ArmStudyResult run_arm_study(const ArmStudySpec& spec, const ArmModel& arm) {
   ArmStudyResult r;
   r.moves = pick_and_place_moves(arm, spec.moves, spec.seed, spec.margin);
   const MovePlayOptions play = play_options(spec, arm.dof());
+  MovePlayOptions flank_play = play;  // the flank designs: the move re-planned within flank_keeping_limits
+  flank_play.flank_margin = spec.flank_margin;
+  flank_play.flank_floor = spec.flank_floor;
   std::vector<std::string> names{"unshaped"};
   names.insert(names.end(), spec.designs.begin(), spec.designs.end());
   const std::size_t n_moves = r.moves.size();
@@ -148,7 +151,8 @@ ArmStudyResult run_arm_study(const ArmStudySpec& spec, const ArmModel& arm) {
       const std::vector<shaping::Shaper> shapers(static_cast<std::size_t>(arm.dof()), r.clearance_aware[m].shaper);
       r.designs[d].moves[m] = play_move_with(arm, r.moves[m], shapers, play);
     } else {
-      r.designs[d].moves[m] = play_move(arm, r.moves[m], r.designs[d].shaping, play);
+      const bool flank = names[d].starts_with("flank-");
+      r.designs[d].moves[m] = play_move(arm, r.moves[m], r.designs[d].shaping, flank ? flank_play : play);
     }
   });
   for (BenchmarkDesign& b : r.designs) {

@@ -80,8 +80,9 @@ void read_benchmark(const TomlSection& t, ArmStudySpec& s) {
 void read_designs(const TomlSection& t, ArmStudySpec& s) {
   if (t.has("run")) s.designs = t.texts("run");
   for (const std::string& d : s.designs) {
-    if (d != "fixed" && d != "scheduled" && d != "clearance-aware") {
-      t.fail("run", fmt::format("'{}' is not a design; allowed: fixed, scheduled, clearance-aware (unshaped is "
+    if (d != "fixed" && d != "scheduled" && d != "clearance-aware" && d != "flank-unshaped" && d != "flank-scheduled") {
+      t.fail("run", fmt::format("'{}' is not a design; allowed: fixed, scheduled, clearance-aware, flank-unshaped, "
+                                "flank-scheduled (unshaped is "
                                 "always run: it is the reference)", d));
     }
     if (std::count(s.designs.begin(), s.designs.end(), d) > 1) t.fail("run", fmt::format("'{}' is listed twice", d));
@@ -96,7 +97,15 @@ void read_designs(const TomlSection& t, ArmStudySpec& s) {
   s.evaluations = static_cast<int>(t.integer("evaluations", s.evaluations, 10, 100000));
   s.slots = static_cast<int>(t.integer("slots", s.slots, 2, 32));
   s.threads = static_cast<int>(t.integer("threads", s.threads, 1, 64));
-  t.finish("run, method, every_mode, evaluations, slots, threads");
+  s.flank_margin = t.number("flank_margin", s.flank_margin);
+  if (!(s.flank_margin > 0.0 && s.flank_margin <= 1.0)) {
+    t.fail("flank_margin", fmt::format("= {} is out of range; allowed: 0 < flank_margin <= 1", s.flank_margin));
+  }
+  s.flank_floor = t.number("flank_floor", s.flank_floor);
+  if (!(s.flank_floor > 0.0 && s.flank_floor <= 1.0)) {
+    t.fail("flank_floor", fmt::format("= {} is out of range; allowed: 0 < flank_floor <= 1", s.flank_floor));
+  }
+  t.finish("run, method, every_mode, evaluations, slots, threads, flank_margin, flank_floor");
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 // results.json and tables.md of the arm study (arm/study.hpp; docs/arm.md, "The arm study").
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -44,8 +46,19 @@ nlohmann::ordered_json study_json(const ArmStudySpec& spec, const ArmModel& arm)
   s["method"] = shaping::to_string(spec.method);
   s["every_mode"] = spec.every_mode;
   s["clearance_aware"] = {{"evaluations", spec.evaluations}, {"slots", spec.slots}};
+  s["flank_keeping"] = {{"margin", spec.flank_margin}, {"floor", spec.flank_floor}};
   s["residual"] = "Eq. 5.1 (mean deviation) of each tool coordinate after the command ends, sqrt(MD_x^2 + MD_y^2 + MD_z^2)";
   return s;
+}
+
+// The mean and the longest command of a design over the moves (s): the price of a longer move.
+std::pair<double, double> command_s(const BenchmarkDesign& b) {
+  double sum = 0.0, longest = 0.0;
+  for (const MovePlay& p : b.moves) {
+    sum += p.command_end_s;
+    longest = std::max(longest, p.command_end_s);
+  }
+  return {b.moves.empty() ? 0.0 : sum / static_cast<double>(b.moves.size()), longest};
 }
 
 nlohmann::ordered_json designs_json(const ArmStudyResult& r) {
@@ -57,7 +70,9 @@ nlohmann::ordered_json designs_json(const ArmStudyResult& r) {
                    {"total_residual_mm", 1e3 * b.total_residual_m},
                    {"improvement", b.improvement},
                    {"worse_than_unshaped", b.total_residual_m > ref.total_residual_m},
-                   {"moves_worse_than_unshaped", worse}});
+                   {"moves_worse_than_unshaped", worse},
+                   {"mean_command_s", command_s(b).first},
+                   {"max_command_s", command_s(b).second}});
   }
   return out;
 }
@@ -109,14 +124,15 @@ std::string arm_study_tables(const ArmStudySpec& spec, const ArmStudyResult& r) 
   std::string md = fmt::format("# Arm study {}{}\n\n{} moves (seed {}), residual = Eq. 5.1 on the tool position after "
                                "the command ends, summed over the moves.\n\n",
                                spec.name, spec.quick ? " (quick)" : "", r.moves.size(), spec.seed);
-  md += "| design | Σ residual (mm) | removed | moves worse than unshaped |\n|---|---|---|---|\n";
+  md += "| design | Σ residual (mm) | removed | moves worse than unshaped | command mean / max (s) |\n|---|---|---|---|---|\n";
   const BenchmarkDesign& ref = r.designs.front();
   for (const BenchmarkDesign& b : r.designs) {
     const int worse = moves_worse(r, b);
     const std::string removed = &b == &ref ? "—"
                                 : b.improvement < 0.0 ? percent(b.improvement) + " (WORSE than unshaped)"
                                                       : percent(b.improvement);
-    md += fmt::format("| {} | {:.4f} | {} | {} |\n", b.name, 1e3 * b.total_residual_m, removed, &b == &ref ? "—" : std::to_string(worse));
+    md += fmt::format("| {} | {:.4f} | {} | {} | {:.3f} / {:.3f} |\n", b.name, 1e3 * b.total_residual_m, removed,
+                      &b == &ref ? "—" : std::to_string(worse), command_s(b).first, command_s(b).second);
   }
   md += "\n| move | end pose (rad) |";
   for (const BenchmarkDesign& b : r.designs) md += fmt::format(" {} (mm) |", b.name);

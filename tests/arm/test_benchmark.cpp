@@ -1,13 +1,18 @@
 // The arm's pick-and-place benchmark (arm/benchmark.hpp): the moves are reproducible and stay
 // in the workspace; the tool residual is Eq. 5.1, an RMS about the settled mean (a steady sine of
 // amplitude A gives A/√2, an identity); a stiff arm without play driven by shapers at its
-// own modes keeps almost none of its unshaped residual (linear theory, Singer & Seering 1990).
+// own modes keeps almost none of its unshaped residual (linear theory, Singer & Seering 1990);
+// within the flank-keeping limits the contact torque of vertical-2's plays keeps the sign gravity
+// gives it through the stop (M q̈ + g = τ: the link never leaves its loaded flank), without them
+// it crosses.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "clearshape/arm/benchmark.hpp"
+#include "clearshape/arm/chain.hpp"
 #include "clearshape/core/error.hpp"
 
 namespace clearshape::arm {
@@ -81,6 +86,69 @@ TEST(ArmBenchmark, StartPlacesAreCheckedPerJoint) {
   EXPECT_THROW(play_move(arm, moves[0], {}, o), InvalidArgument);
   o.start_play_fraction = Eigen::Vector2d(-1.0, 1.0);
   EXPECT_GE(play_move(arm, moves[0], {}, o).contact_onsets, 1);
+}
+
+// The least contact torque of each joint from the middle of `move` (planned within `limits`,
+// unshaped) to the end of the settle, over |g_i| and signed so that > 0 is gravity's flank.
+Eigen::VectorXd least_loaded_contact(const ArmModel& arm, const PointToPoint& move,
+                                     const std::vector<signal::AxisLimits>& limits) {
+  const JointTrajectory t = plan_move(arm, move.from_rad, move.to_rad, limits, 1e-3);
+  ArmSimulationOptions o;
+  o.duration_s = t.time_s.back() + 1.5;
+  const ArmTrace trace = simulate_arm(arm, drive_commands(arm, t), o);
+  ChainWorkspace ws(arm.chain);
+  Eigen::VectorXd g;
+  ws.gravity_torque(move.to_rad, g);  // at rest τ = g(q): the loaded flank's torque has g's sign
+  Eigen::VectorXd least = Eigen::VectorXd::Constant(arm.dof(), std::numeric_limits<double>::infinity());
+  for (std::size_t k = 0; k < trace.time_s.size(); ++k) {
+    if (trace.time_s[k] < 0.5 * t.time_s.back()) continue;
+    for (int i = 0; i < arm.dof(); ++i) {
+      least(i) = std::min(least(i), trace.contact_torque_n_m(static_cast<Eigen::Index>(k), i) / g(i));
+    }
+  }
+  return least;
+}
+
+TEST(ArmBenchmark, FlankKeepingStopKeepsGravitysFlankLoadedThroughTheStop) {
+  const ArmModel arm = builtin_arm("vertical-2");  // 0.5° play per joint
+  const std::vector<signal::AxisLimits> limits{{2.0, 20.0, 18000.0}, {3.0, 30.0, 27000.0}};  // the study's
+  const PointToPoint move = pick_and_place_moves(arm, 20, 1, 0.1)[17];  // the study's move 17
+  const auto kept = flank_keeping_limits(arm, move.to_rad, limits, 0.5, 0.05);
+  EXPECT_LT(kept[0].acceleration, 0.5 * limits[0].acceleration);  // the shoulder's |g| / M_ii = 9.4 rad/s²
+  const Eigen::VectorXd with = least_loaded_contact(arm, move, kept);
+  const Eigen::VectorXd without = least_loaded_contact(arm, move, limits);
+  for (int i = 0; i < arm.dof(); ++i) EXPECT_GT(with(i), 0.0) << "joint " << i << " leaves its loaded flank";
+  EXPECT_LT(without(0), 0.0) << "the shoulder keeps its flank without the bound: the test shows nothing";
+  MovePlayOptions o;
+  o.limits = limits;
+  const MovePlay plain = play_move(arm, move, {.schedule = ShaperSchedule::none}, o);
+  o.flank_margin = 0.5;
+  const MovePlay flank = play_move(arm, move, {.schedule = ShaperSchedule::none}, o);
+  EXPECT_GT(flank.command_end_s, plain.command_end_s);  // the price: a longer move
+  EXPECT_LT(flank.residual_m, 0.1 * plain.residual_m);  // no strike after the command's end
+}
+
+TEST(ArmBenchmark, FlankKeepingLimitsLeaveAGravityFreeArmAndCheckTheirRange) {
+  const ArmModel scara = builtin_arm("scara-2");  // gravity along the joint axes: g(q) = 0
+  const Eigen::VectorXd pose = pick_and_place_moves(scara, 1, 1)[0].to_rad;
+  const auto same = flank_keeping_limits(scara, pose, kLimits, 0.5, 0.05);
+  for (std::size_t i = 0; i < kLimits.size(); ++i) EXPECT_EQ(same[i].acceleration, kLimits[i].acceleration);
+  const auto message = [&](double margin, double floor) {
+    try {
+      (void)flank_keeping_limits(scara, pose, kLimits, margin, floor);
+    } catch (const InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message(1.5, 0.05).find("flank_margin"), std::string::npos);
+  EXPECT_NE(message(-0.1, 0.05).find("flank_margin"), std::string::npos);
+  EXPECT_NE(message(0.5, 0.0).find("flank_floor = 0 is out of range; allowed: (0, 1]"), std::string::npos)
+      << message(0.5, 0.0);
+  MovePlayOptions o;
+  o.limits = kLimits;
+  o.flank_margin = 2.0;
+  EXPECT_THROW(play_move(scara, pick_and_place_moves(scara, 1, 1)[0], {}, o), InvalidArgument);
 }
 
 }  // namespace

@@ -41,7 +41,26 @@ struct MovePlayOptions {
   double settle_s = 1.5;                   ///< simulated after the shaped command ends
   /// Where each link starts in its play, φ_i(0)/β_i in [−1, 1] (empty: the centre).
   Eigen::VectorXd start_play_fraction;
+  /// The flank-keeping stop (flank_keeping_limits): > 0 plans each move with the acceleration
+  /// limits lowered to flank_margin × the bound at its end pose; 0: the limits as given. [0, 1].
+  double flank_margin = 0.0;
+  /// flank_keeping_limits' floor: no limit is lowered below this share of its own. (0, 1].
+  double flank_floor = 0.05;
 };
+
+/// The flank-keeping limits of a move ending at `end_pose_rad` (docs/arm.md §7, "The
+/// flank-keeping stop"). Joint i's link stays on the flank gravity loads while the contact torque
+/// M_ii q̈_i + g_i keeps g_i's sign (M(q) q̈ + g(q) = τ, arm/chain.hpp, coupling left out), i.e. for
+/// |q̈_i| < |g_i(q)| / M_ii(q); an acceleration step at the stop's end swings that torque by
+/// M_ii |Δq̈_i| both ways, so the bound holds in either direction of the move. Each joint's
+/// acceleration limit becomes max(floor · a_i, min(a_i, margin · |g_i| / M_ii)): near the pose
+/// where g_i crosses zero no reachable deceleration keeps the flank loaded and the floor caps the
+/// cost; a joint without gravity (|g_i| / M_ii ≤ 1e-9 a_i, e.g. a horizontal arm) keeps a_i.
+/// Throws InvalidArgument naming flank_margin ([0, 1]), flank_floor ((0, 1]) or the pose's and
+/// limits' size (one per joint).
+std::vector<signal::AxisLimits> flank_keeping_limits(const ArmModel& arm, const Eigen::VectorXd& end_pose_rad,
+                                                     std::span<const signal::AxisLimits> limits, double margin,
+                                                     double floor);
 
 struct MovePlay {
   double residual_m = 0.0;      ///< tool_residual_m from the end of the shaped command
@@ -50,8 +69,9 @@ struct MovePlay {
   long contact_onsets = 0;      ///< flank contacts over the run
 };
 
-/// Plans `move` (plan_move), shapes each joint with its shaper (shape_trajectory), and simulates
-/// the arm through its drives (drive_commands, simulate_arm).
+/// Plans `move` (plan_move; within flank_keeping_limits when options.flank_margin > 0), shapes
+/// each joint with its shaper (shape_trajectory), and simulates the arm through its drives
+/// (drive_commands, simulate_arm).
 MovePlay play_move_with(const ArmModel& arm, const PointToPoint& move, std::span<const shaping::Shaper> shapers,
                         const MovePlayOptions& options);
 

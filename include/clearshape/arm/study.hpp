@@ -3,7 +3,8 @@
 // (built-in, or URDF + TOML), its play, a pick-and-place benchmark (arm/benchmark.hpp: move count,
 // seed, limits per joint) and the designs to compare — unshaped (always, the reference), one
 // fixed shaper per joint at the workspace centre, shapers scheduled at each move's end pose, and
-// the clearance-aware command designed per move (arm/clearance_aware.hpp) — plus a grid of poses
+// the clearance-aware command designed per move (arm/clearance_aware.hpp), and the move re-planned
+// to keep the gravity-loaded flanks (flank_keeping_limits) unshaped or scheduled — plus a grid of poses
 // for the workspace map of the linearised modes (arm/modes.hpp, joint_modes: the map is the
 // linearised model's, not identified from runs). run_arm_study plays every move with every design
 // (moves spread over threads; the result does not depend on their number) and
@@ -39,7 +40,11 @@ struct ArmStudySpec {
   double settle_s = 1.5;
   shaping::Method method = shaping::Method::zvd;
   bool every_mode = false;
-  std::vector<std::string> designs{"fixed", "scheduled", "clearance-aware"};  ///< after unshaped
+  /// After unshaped: fixed, scheduled, clearance-aware, and on the flank-keeping stop
+  /// (MovePlayOptions::flank_margin) flank-unshaped and flank-scheduled.
+  std::vector<std::string> designs{"fixed", "scheduled", "clearance-aware"};
+  double flank_margin = 0.5;      ///< the flank designs' MovePlayOptions::flank_margin, (0, 1]
+  double flank_floor = 0.05;      ///< their MovePlayOptions::flank_floor, (0, 1]
   int evaluations = 100;          ///< clearance-aware: evaluations of J per move
   int slots = 8;                  ///< clearance-aware: impulse slots
   int threads = 2;                ///< moves played in parallel
