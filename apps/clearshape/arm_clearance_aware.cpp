@@ -40,6 +40,8 @@ arm::ArmClearanceAwareOptions clearance_aware_options(const arm::ArmModel& arm, 
   o.play.limits = joint_limits(arm, m);
   o.play.sample_time_s = m.sample_time_s;
   o.play.settle_s = m.design_settle_s;
+  o.play.flank_margin = m.flank_margin;  // the design plays the move planned within the same lowered limits
+  o.play.flank_floor = m.flank_floor;
   o.slots = m.slots;
   o.grid_s = m.grid_s;
   if (!m.start_places.empty()) o.start_places = parse_start_places(m.start_places, arm);

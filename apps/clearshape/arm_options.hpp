@@ -61,12 +61,19 @@ struct MoveRequest {
   std::string start_places;  ///< "f1,f2;f1,f2;…" (φ/β per joint in [-1, 1]); empty: the library's five
   double design_settle_s = 1.5;  ///< simulated after the shaped command in each trial (s, 0.1-10)
   int threads = 2;           ///< parallel simulations, 1-64
+  // the flank-keeping stop (arm/benchmark.hpp flank_keeping_limits; docs/arm.md §7)
+  double flank_margin = 0.0;  ///< 0: off, [0, 1]
+  double flank_floor = 0.05;  ///< (0, 1]
 };
 /// --from, --to (required when `required`), --shaper, --method, --every-mode, --velocity,
-/// --acceleration, --jerk, --sample-time.
+/// --acceleration, --jerk, --sample-time, --flank-margin, --flank-floor.
 void add_move_options(CLI::App& app, MoveRequest& move, bool required);
 /// Each joint's limits from --velocity, --acceleration, --jerk (InvalidArgument naming the option).
 std::vector<signal::AxisLimits> joint_limits(const arm::ArmModel& arm, const MoveRequest& move);
+/// joint_limits within flank_keeping_limits at `end_pose_rad` (--flank-margin, --flank-floor;
+/// InvalidArgument naming the option); `summary` receives one line with the lowered limits when on.
+std::vector<signal::AxisLimits> move_limits(const arm::ArmModel& arm, const MoveRequest& move,
+                                            const Eigen::VectorXd& end_pose_rad, std::string& summary);
 /// The (shaped) move; `summary` receives one line per joint on its design, `applied` (when given)
 /// the shaper of each joint (empty for none).
 arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& move, std::string& summary,

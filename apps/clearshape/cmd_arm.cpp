@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "arm_options.hpp"
+#include "clearshape/arm/benchmark.hpp"
 #include "clearshape/arm/shaper_export.hpp"
 #include "clearshape/arm/simulation.hpp"
 #include "clearshape/core/error.hpp"
@@ -57,6 +58,13 @@ void add_move_options(CLI::App& app, MoveRequest& m, bool required) {
       ->check(CLI::Range(0.1, 10.0))->capture_default_str();
   app.add_option("--threads", m.threads, "clearance-aware: parallel simulations (1-64); the design does not depend on it")
       ->check(CLI::Range(1, 64))->capture_default_str();
+  app.add_option("--flank-margin", m.flank_margin,
+                 "The flank-keeping stop: plan within acceleration limits lowered to this share of |g_i|/M_ii at "
+                 "the end pose (0-1; 0: off; docs/arm.md §7)")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  app.add_option("--flank-floor", m.flank_floor,
+                 "The flank-keeping stop: no acceleration limit lowered below this share of its own (0-1, not 0)")
+      ->capture_default_str();
 }
 
 namespace {
@@ -81,13 +89,34 @@ std::vector<signal::AxisLimits> joint_limits(const arm::ArmModel& arm, const Mov
   return limits;
 }
 
+std::vector<signal::AxisLimits> move_limits(const arm::ArmModel& arm, const MoveRequest& m,
+                                            const Eigen::VectorXd& end_pose_rad, std::string& summary) {
+  if (!(m.flank_floor > 0.0 && m.flank_floor <= 1.0)) {
+    throw InvalidArgument(fmt::format("--flank-floor = {}; allowed: (0, 1], the share of each acceleration limit "
+                                      "kept at least", m.flank_floor));
+  }
+  const std::vector<signal::AxisLimits> given = joint_limits(arm, m);
+  if (m.flank_margin == 0.0) return given;
+  const auto lowered = arm::flank_keeping_limits(arm, end_pose_rad, given, m.flank_margin, m.flank_floor);
+  std::string from, to;
+  for (std::size_t i = 0; i < given.size(); ++i) {
+    from += fmt::format("{}{:.6g}", i == 0 ? "" : ",", given[i].acceleration);
+    to += fmt::format("{}{:.6g}", i == 0 ? "" : ",", lowered[i].acceleration);
+  }
+  summary += fmt::format("flank stop  margin {:g}, floor {:g}: acceleration {} -> {} rad/s² "
+                         "(max(floor·a, min(a, margin·|g|/M_ii)) at the end pose)\n",
+                         m.flank_margin, m.flank_floor, from, to);
+  return lowered;
+}
+
 arm::JointTrajectory build_move(const arm::ArmModel& arm, const MoveRequest& m, std::string& summary,
                                 std::vector<shaping::Shaper>* applied) {
   const Eigen::VectorXd q0 = parse_angles(m.from, "--from", arm);
   const Eigen::VectorXd q1 = parse_angles(m.to, "--to", arm);
-  arm::JointTrajectory t = arm::plan_move(arm, q0, q1, joint_limits(arm, m), m.sample_time_s);
+  std::string flank;
+  arm::JointTrajectory t = arm::plan_move(arm, q0, q1, move_limits(arm, m, q1, flank), m.sample_time_s);
   summary = fmt::format("move        {} -> {} rad, {:.4f} s unshaped\n", format_angles(q0), format_angles(q1),
-                        t.time_s.back());
+                        t.time_s.back()) + flank;
   if (m.shaper == "none") return t;
   std::vector<shaping::Shaper> own;
   std::vector<shaping::Shaper>& shapers = applied != nullptr ? *applied : own;

@@ -208,6 +208,10 @@ TEST(ArmCli, BadInputExits2NamingTheOption) {
       {"arm move --from 0,0 --to 1,0 --velocity 2,0.5,1", "--velocity = '2,0.5,1' has 3 values; allowed: one value for every joint or 2"},
       {"arm move --from 0,0 --to 1,0 --jerk 0", "--jerk = '0': 0 is out of range; allowed: one value for every joint or 2 comma-separated, each in [1e-06, 1e+07] rad/s³"},
       {"arm move --from 0,0 --to 1,0 --acceleration 1,x", "--acceleration = '1,x': 'x' is not a number"},
+      {"arm move --from 0,0 --to 1,0 --flank-margin 1.5", "--flank-margin: Value 1.5 not in range 0"},
+      {"arm move --from 0,0 --to 1,0 --flank-margin -0.1", "--flank-margin: Value -0.1 not in range 0"},
+      {"arm move --from 0,0 --to 1,0 --flank-margin 0.5 --flank-floor 0", "--flank-floor = 0; allowed: (0, 1]"},
+      {"arm move --from 0,0 --to 1,0 --flank-floor 1.5", "--flank-floor = 1.5; allowed: (0, 1]"},
   };
   for (const auto& [args, message] : cases) {
     const auto r = run_cli(args);

@@ -10,6 +10,7 @@
 
 #include "arm_model.hpp"
 #include "arrays.hpp"
+#include "clearshape/arm/benchmark.hpp"
 #include "clearshape/arm/clearance_aware.hpp"
 #include "clearshape/arm/simulation.hpp"
 #include "clearshape/arm/trajectory.hpp"
@@ -149,6 +150,8 @@ struct ClearanceAwareArgs {
   std::optional<DoubleArray> start_places;
   double settle_s = 1.5;
   int threads = 2;
+  double flank_margin = 0.0;  ///< the design plays the move within the same flank-keeping limits
+  double flank_floor = 0.05;
 };
 
 // One shaper for every joint by design_clearance_aware_move; its summary into `design`.
@@ -163,6 +166,8 @@ std::vector<shaping::Shaper> clearance_aware_shapers(const arm::ArmModel& model,
   o.play.limits.assign(limits.begin(), limits.end());
   o.play.sample_time_s = sample_time_s;
   o.play.settle_s = a.settle_s;
+  o.play.flank_margin = a.flank_margin;
+  o.play.flank_floor = a.flank_floor;
   o.slots = a.slots;
   o.grid_s = a.grid_s;
   o.max_evaluations = a.evaluations;
@@ -199,17 +204,22 @@ py::dict arm_move(const DoubleArray& start_rad, const DoubleArray& end_rad, cons
                   const std::optional<std::string>& toml, const std::string& schedule, const std::string& method,
                   double vtol, bool every_mode, const std::optional<std::string>& json_path,
                   const std::optional<std::string>& csv_path, int evaluations, int slots, double grid_s,
-                  const std::optional<DoubleArray>& start_places, double design_settle_s, int threads) {
+                  const std::optional<DoubleArray>& start_places, double design_settle_s, int threads,
+                  double flank_margin, double flank_floor) {
   const arm::ArmModel model = arm_model_of(name, urdf, toml);
   const arm::PointToPoint p2p{to_pose(start_rad, "start_rad"), to_pose(end_rad, "end_rad")};
   const Eigen::VectorXd& q1 = p2p.to_rad;
   const std::vector<signal::AxisLimits> axis_limits = limits_of(limits, model.dof());
-  const arm::JointTrajectory move = arm::plan_move(model, p2p.from_rad, q1, axis_limits, sample_time_s);
+  // flank_keeping_limits refuses flank_margin outside [0, 1] and flank_floor outside (0, 1] by name; 0: as given
+  const std::vector<signal::AxisLimits> planned_limits =
+      arm::flank_keeping_limits(model, q1, axis_limits, flank_margin, flank_floor);
+  const arm::JointTrajectory move = arm::plan_move(model, p2p.from_rad, q1, planned_limits, sample_time_s);
   py::dict design;
   const std::vector<shaping::Shaper> shapers =
       schedule == "clearance-aware"
           ? clearance_aware_shapers(model, p2p, axis_limits, sample_time_s,
-                                    {evaluations, slots, grid_s, start_places, design_settle_s, threads}, design)
+                                    {evaluations, slots, grid_s, start_places, design_settle_s, threads, flank_margin, flank_floor},
+                                    design)
           : arm::joint_shapers(model, q1,
                                {.schedule = schedule_of(schedule), .method = shaping::method_from_string(method),
                                 .vtol = vtol, .every_mode = every_mode});
@@ -230,6 +240,9 @@ py::dict arm_move(const DoubleArray& start_rad, const DoubleArray& end_rad, cons
   d["acceleration_rad_s2"] = to_array2(t.acceleration_rad_s2);
   d["commands"] = to_array2(commands.transpose());
   d["move_duration_s"] = move.time_s.back();
+  std::vector<double> acceleration_limits;
+  for (const signal::AxisLimits& l : planned_limits) acceleration_limits.push_back(l.acceleration);
+  d["acceleration_limits_rad_s2"] = to_array(acceleration_limits);
   d["shapers"] = shapers;
   if (schedule == "clearance-aware") d["design"] = design;
   return d;
@@ -271,7 +284,7 @@ response to its own gearbox output) and dominant_mode (per joint).)doc");
         py::arg("vtol") = 0.05, py::arg("every_mode") = false, py::arg("json_path") = py::none(),
         py::arg("csv_path") = py::none(), py::arg("evaluations") = 40, py::arg("slots") = 8,
         py::arg("grid_s") = 0.0, py::arg("start_places") = py::none(), py::arg("design_settle_s") = 1.5,
-        py::arg("threads") = 2,
+        py::arg("threads") = 2, py::arg("flank_margin") = 0.0, py::arg("flank_floor") = 0.05,
         R"doc(A synchronised jerk-limited move of every joint (docs/arm.md §7), limits a joints × 3 array
 (velocity, acceleration, jerk at the link, rad units), each joint shaped by `method` at its
 dominant mode: schedule 'unshaped', 'fixed' (at the workspace centre) or 'scheduled' (at the end
@@ -279,10 +292,14 @@ pose) — or 'clearance-aware': one positive shaper for every joint optimised by
 with its play from start places in the plays (arm/clearance_aware.hpp; evaluations 10-100000,
 slots 2-32, grid_s 0-1 s with 0 a quarter period of the end pose's lowest mode, start_places a
 places × joints array of φ/β in [-1, 1] or None for the five defaults, design_settle_s, threads
-1-64); every_mode shapes every joint at all the pose's modes. Optionally written as a ROS
+1-64); every_mode shapes every joint at all the pose's modes. flank_margin (0: off, up to 1) plans
+the move within flank_keeping_limits at the end pose (each acceleration limit lowered to
+max(flank_floor · a_i, min(a_i, flank_margin · |g_i| / M_ii)), flank_floor in (0, 1]; docs/arm.md
+§7, "The flank-keeping stop"), for every schedule. Optionally written as a ROS
 JointTrajectory JSON (json_path) and a CSV (csv_path). Returns joint_names, time_s,
 position_rad, velocity_rad_s, acceleration_rad_s2 (samples × joints), commands (joints ×
 samples: the drives' commands, ready for simulate_arm), move_duration_s (before shaping),
+acceleration_limits_rad_s2 (the ones planned with),
 shapers and, for 'clearance-aware', design (start_places, unshaped_residual_m,
 shaped_residual_m, worst_ratio, worse_than_unshaped, evaluations, design_time_s).)doc");
   bind_arm_mode_map(m);
