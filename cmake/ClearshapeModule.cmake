@@ -31,13 +31,17 @@ function(clearshape_precompile target)
 endfunction()
 
 # clearshape_cold(target): with CLEARSHAPE_COLD_O1 in an optimised GCC build (Release,
-# RelWithDebInfo), the target compiles at -O1: code that parses options and files, formats text
-# and dispatches to the library, with no loop that runs per sample or per simulation step. There
-# -O3's inlining and unrolling cost compile time and buy nothing at run time: the CLI's four unity
-# batches take 64 s of CPU at -O3 and about 46 s at -O1 (docs/design.md, "Build time"). The
-# modules that compute keep the build type's level. IEEE arithmetic rounds the same at every level
-# (no -ffast-math; x86-64's SSE2 has no fused multiply-add to contract into), so outputs do not
-# change: the studies' results.json are the same bytes.
+# RelWithDebInfo), the target compiles at -O1. For modules whose own code takes a negligible share
+# of the run time, measured (docs/design.md, "Build time"): the CLI, io and export parse, format and
+# dispatch; study, lti, advise and rig set up, fit and tabulate around the simulations, which run
+# in plant (over every `make run` study, perf puts 48 % of the CPU in plant, 19 % in CVODE and 20 %
+# in libm, 0.7 % in study's own functions, 0.01 % in rig's). There -O3's inlining and unrolling cost
+# compile time and buy nothing at run time: the CLI's four unity batches take 64 s of CPU at -O3
+# and about 46 s at -O1, study, lti, advise and rig 136 s and 90 s; the studies take as long and
+# bench_study, bench_clearance_aware and bench_simulate agree within 3 %. ident and core/linalg.cpp
+# stay at -O3: at -O1 bench_ident's fits take 20–29 % longer (their Eigen kernels). IEEE arithmetic
+# rounds the same at every level (no -ffast-math; x86-64's SSE2 has no fused multiply-add to
+# contract into), so outputs do not change: the studies' results.json are the same bytes.
 function(clearshape_cold target)
   if(CLEARSHAPE_COLD_O1 AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_BUILD_TYPE MATCHES "^(Release|RelWithDebInfo)$")
     target_compile_options(${target} PRIVATE -O1)  # after the build type's -O3: GCC takes the last -O
