@@ -128,19 +128,57 @@ shaping::Shaper shaper_of(const std::vector<double>& slot_times_s, const double*
   return shaping::positive_shaper_on_slots("clearance-aware", slot_times_s, std::span<const double>(x, slot_times_s.size()));
 }
 
-// MD of every case for `shaper`, in parallel: thread j takes cases j, j + T, j + 2T, …
-std::vector<double> case_mds(const Problem& p, const shaping::Shaper& shaper) {
+// The simulated length of a case: the move, the longest shaper and the settling time.
+double case_duration_s(const ClearanceAwareRequest& r, const DesignMove& move) {
+  return std::max(static_cast<double>(move.command.values.size() - 1) * r.sample_time_s, move.motion_end_s) +
+         r.max_duration_s + r.settle_s;
+}
+
+// Eq. 5.1 on a case's simulated link angle, from the start of the (last) move as the study does
+// (so a late settle counts).
+double case_md_of(const ClearanceAwareRequest& r, const DesignMove& move, const ModelResponse& response) {
+  metrics::MeanDeviationOptions options;
+  options.search_from_s = r.profiles.empty() ? r.move_start_s : move.last_move_start_s;
+  return metrics::mean_deviation(UniformSeries{0.0, response.sample_time_s, response.link_angle_deg}, options)
+      .mean_deviation;
+}
+
+// MDs of cases [c0, c1) (case c: move c / points, uncertainty point c % points) into md,
+// simulated together (simulate_drive_commands): each MD is clearance_aware_case_md's to the bit.
+void case_mds_together(const Problem& p, const shaping::Shaper& shaper, std::size_t c0, std::size_t c1,
+                       std::vector<double>& md) {
   const ClearanceAwareRequest& r = *p.request;
   const std::size_t n_points = r.uncertainty.size();
-  const std::size_t n_cases = p.moves.size() * n_points;
+  std::vector<UniformSeries> drives;
+  std::vector<double> durations;
+  for (std::size_t c = c0; c < c1; ++c) {
+    const DesignMove& move = p.moves[c / n_points];
+    durations.push_back(case_duration_s(r, move));
+    const UniformSeries command = shaping::shape_offline(shaper, extended(move.command, durations.back()), false);
+    drives.push_back(drive_command_of(p.models[c % n_points], command, durations.back()));
+  }
+  std::vector<DriveCommandJob> jobs;
+  for (std::size_t c = c0; c < c1; ++c) {
+    jobs.push_back({&p.models[c % n_points], &drives[c - c0], durations[c - c0], r.uncertainty[c % n_points].initial_play_fraction});
+  }
+  const std::vector<DriveCommandOutcome> outcomes = simulate_drive_commands(jobs);
+  for (std::size_t c = c0; c < c1; ++c) {
+    if (outcomes[c - c0].error) std::rethrow_exception(outcomes[c - c0].error);
+    md[c] = case_md_of(r, p.moves[c / n_points], outcomes[c - c0].response);
+  }
+}
+
+// MD of every case for `shaper`, in parallel: thread j takes the pairs of cases (2q, 2q + 1) for
+// q = j, j + T, j + 2T, …, each pair simulated together (case_mds_together).
+std::vector<double> case_mds(const Problem& p, const shaping::Shaper& shaper) {
+  const ClearanceAwareRequest& r = *p.request;
+  const std::size_t n_cases = p.moves.size() * r.uncertainty.size();
   std::vector<double> md(n_cases, 0.0);
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(p.threads));
+  const auto threads = static_cast<std::size_t>(p.threads);
   const auto work = [&](std::size_t j) {
     try {
-      for (std::size_t c = j; c < n_cases; c += static_cast<std::size_t>(p.threads)) {
-        const std::size_t m = c / n_points, u = c % n_points;
-        md[c] = clearance_aware_case_md(r, p.models[u], p.moves[m], r.uncertainty[u].initial_play_fraction, shaper);
-      }
+      for (std::size_t c = 2 * j; c < n_cases; c += 2 * threads) case_mds_together(p, shaper, c, std::min(c + 2, n_cases), md);
     } catch (...) {
       errors[j] = std::current_exception();
     }
@@ -264,15 +302,9 @@ std::vector<DesignMove> design_moves(const ClearanceAwareRequest& r) {
 
 double clearance_aware_case_md(const ClearanceAwareRequest& r, const ClearanceModel& model, const DesignMove& move,
                                double initial_play_fraction, const shaping::Shaper& shaper) {
-  const double duration_s = std::max(static_cast<double>(move.command.values.size() - 1) * r.sample_time_s,
-                                     move.motion_end_s) + r.max_duration_s + r.settle_s;
+  const double duration_s = case_duration_s(r, move);
   const UniformSeries command = shaping::shape_offline(shaper, extended(move.command, duration_s), false);
-  const ModelResponse response = simulate_command(model, command, duration_s, initial_play_fraction, true);
-  metrics::MeanDeviationOptions options;
-  // From the start of the (last) move, as the study's Eq. 5.1 (so a late settle counts).
-  options.search_from_s = r.profiles.empty() ? r.move_start_s : move.last_move_start_s;
-  return metrics::mean_deviation(UniformSeries{0.0, response.sample_time_s, response.link_angle_deg}, options)
-      .mean_deviation;
+  return case_md_of(r, move, simulate_command(model, command, duration_s, initial_play_fraction, true));
 }
 
 namespace {

@@ -108,27 +108,56 @@ Job job(const Fit& f, const Theta& t, const Runs& v, std::size_t i, double start
 // workers with a fixed job-to-worker assignment (the result does not depend on the thread
 // count). The gyro's view: the link rate through its first-order low-pass (y += a(x − y),
 // a = 1 − exp(−2π f_c T), plant/gyroscope.hpp). An integration failure gives an empty residual.
+// Job j's residual from its simulated response (its link rate, low-passed like the gyro, less
+// the record); empty when the simulation failed.
+std::vector<double> residual_of(const Fit& f, const Job& job, ModelResponse& r) {
+  std::vector<double>& rate = r.link_rate_deg_s;
+  rate.resize(f.samples, rate.empty() ? 0.0 : rate.back());
+  if (!std::isnan(job.hz)) {
+    apply_sensor_low_pass(rate, job.hz, f.p->runs[job.run].drive_command.sample_time_s);
+    const auto& y = f.measured[job.run];
+    for (std::size_t k = 0; k < rate.size(); ++k) rate[k] -= y[k];
+  }
+  return std::move(rate);
+}
+
+// Every job's residual, in parallel: worker w takes the pairs of jobs (2q, 2q + 1) for q = w,
+// w + W, …, a pair simulated together at the design's accuracy (simulate_drive_commands); the fit's
+// final check (design_accuracy false, CVODE) one job at a time.
 std::vector<std::vector<double>> residuals(Fit& f, const std::vector<Job>& jobs, bool design_accuracy = true) {
   std::vector<std::vector<double>> out(jobs.size());
   const auto workers = static_cast<std::size_t>(std::clamp(f.p->threads, 1, 64));
-  const auto work = [&](std::size_t w) {
-    for (std::size_t j = w; j < jobs.size(); j += workers) {
+  const auto one = [&](std::size_t j) {
+    try {
+      const auto& rec = f.p->runs[jobs[j].run];
+      ModelResponse r = simulate_drive_command(jobs[j].model, rec.drive_command, f.window_s(),
+                                               std::clamp(jobs[j].start, -1.0, 1.0), design_accuracy);
+      out[j] = residual_of(f, jobs[j], r);
+    } catch (const std::exception&) {
+      out[j].clear();
+    }
+  };
+  const auto pair = [&](std::size_t j0, std::size_t j1) {
+    std::vector<DriveCommandJob> batch;
+    for (std::size_t j = j0; j < j1; ++j) {
+      batch.push_back({&jobs[j].model, &f.p->runs[jobs[j].run].drive_command, f.window_s(), std::clamp(jobs[j].start, -1.0, 1.0)});
+    }
+    std::vector<DriveCommandOutcome> outcomes = simulate_drive_commands(batch);
+    for (std::size_t j = j0; j < j1; ++j) {
       try {
-        const auto& rec = f.p->runs[jobs[j].run];
-        ModelResponse r = simulate_drive_command(jobs[j].model, rec.drive_command, f.window_s(),
-                                                 std::clamp(jobs[j].start, -1.0, 1.0), design_accuracy);
-        std::vector<double>& rate = r.link_rate_deg_s;
-        rate.resize(f.samples, rate.empty() ? 0.0 : rate.back());
-        if (!std::isnan(jobs[j].hz)) {
-          apply_sensor_low_pass(rate, jobs[j].hz, rec.drive_command.sample_time_s);
-          const auto& y = f.measured[jobs[j].run];
-          for (std::size_t k = 0; k < rate.size(); ++k) rate[k] -= y[k];
-        }
-        out[j] = std::move(rate);
+        if (outcomes[j - j0].error) std::rethrow_exception(outcomes[j - j0].error);
+        out[j] = residual_of(f, jobs[j], outcomes[j - j0].response);
       } catch (const std::exception&) {
-        out[j].clear();
+        out[j].clear();  // a failed simulation: no information
       }
     }
+  };
+  const auto work = [&](std::size_t w) {
+    if (!design_accuracy) {
+      for (std::size_t j = w; j < jobs.size(); j += workers) one(j);
+      return;
+    }
+    for (std::size_t j = 2 * w; j < jobs.size(); j += 2 * workers) pair(j, std::min(j + 2, jobs.size()));
   };
   std::vector<std::future<void>> pool;
   for (std::size_t w = 1; w < workers; ++w) pool.push_back(std::async(std::launch::async, work, w));

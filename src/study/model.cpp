@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "clearshape/core/error.hpp"
 #include "clearshape/core/units.hpp"
@@ -56,13 +57,16 @@ bool fixed_step_covers(const ClearanceModel& m, double ts) {
 
 namespace {
 
-// The design loop's fast path (fixed_step_covers): the same model, sampled like a record.
-ModelResponse simulate_fixed(const ClearanceModel& m, const plant::PlantModel& model, const UniformSeries& u,
-                             double initial_play_fraction) {
+// The fixed-step path's options for the model (fixed_step_covers).
+plant::FixedStepOptions fixed_options(const ClearanceModel& m, double ts, double initial_play_fraction) {
   plant::FixedStepOptions options;
-  options.substeps = fixed_substeps(m, u.sample_time_s);
+  options.substeps = fixed_substeps(m, ts);
   options.initial_relative_angle_rad = initial_play_fraction * 0.5 * m.play_rad;
-  const plant::FixedStepResponse sim = plant::simulate_fixed_step(model, u, options);
+  return options;
+}
+
+// A fixed-step simulation sampled like a record.
+ModelResponse response_of(const plant::FixedStepResponse& sim, const UniformSeries& u) {
   ModelResponse r;
   r.sample_time_s = u.sample_time_s;
   const std::size_t n = u.values.size();
@@ -80,6 +84,12 @@ ModelResponse simulate_fixed(const ClearanceModel& m, const plant::PlantModel& m
     r.link_rate_deg_s[k] = rad_to_deg(sim.link_rate_rad_s[k]);
   }
   return r;
+}
+
+// The design loop's fast path (fixed_step_covers): the same model, sampled like a record.
+ModelResponse simulate_fixed(const ClearanceModel& m, const plant::PlantModel& model, const UniformSeries& u,
+                             double initial_play_fraction) {
+  return response_of(plant::simulate_fixed_step(model, u, fixed_options(m, u.sample_time_s, initial_play_fraction)), u);
 }
 
 }  // namespace
@@ -160,8 +170,56 @@ ModelResponse simulate_drive_command(const ClearanceModel& m, const UniformSerie
   return r;
 }
 
-ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& command, double duration_s,
-                               double initial_play_fraction, bool design_accuracy) {
+std::vector<DriveCommandOutcome> simulate_drive_commands(std::span<const DriveCommandJob> jobs) {
+  std::vector<DriveCommandOutcome> out(jobs.size());
+  const auto alone = [&](std::size_t i) {
+    try {
+      const DriveCommandJob& j = jobs[i];
+      out[i].response = simulate_drive_command(*j.model, *j.drive_command, j.duration_s, j.initial_play_fraction, true);
+    } catch (...) {
+      out[i].error = std::current_exception();
+    }
+  };
+  // A job for the fixed-step path: its grid, plant and options (as simulate_drive_command builds them).
+  struct Fixed {
+    UniformSeries u;
+    plant::PlantModel model;
+    plant::FixedStepOptions options;
+  };
+  const auto fixed = [&](std::size_t i) -> std::optional<Fixed> {
+    const DriveCommandJob& j = jobs[i];
+    const double ts = j.drive_command->sample_time_s;
+    if (!(j.duration_s > 0.0) || !(ts > 0.0) || !(j.initial_play_fraction >= -1.0 && j.initial_play_fraction <= 1.0) ||
+        !fixed_step_covers(*j.model, ts)) {
+      return std::nullopt;  // simulate_drive_command decides (and names any bad argument)
+    }
+    return Fixed{on_grid(*j.drive_command, sample_count(j.duration_s, ts), ts), plant_of(*j.model),
+                 fixed_options(*j.model, ts, j.initial_play_fraction)};
+  };
+  std::size_t i = 0;
+  while (i < jobs.size()) {
+    std::optional<Fixed> a = fixed(i);
+    std::optional<Fixed> b = a && i + 1 < jobs.size() ? fixed(i + 1) : std::nullopt;
+    if (!b) {
+      alone(i);
+      ++i;
+      continue;
+    }
+    try {
+      const plant::FixedStepJob pair[2] = {{&a->model, &a->u, a->options}, {&b->model, &b->u, b->options}};
+      std::vector<plant::FixedStepResponse> sims = plant::simulate_fixed_steps(pair);
+      out[i].response = response_of(sims[0], a->u);
+      out[i + 1].response = response_of(sims[1], b->u);
+    } catch (...) {  // one of the two failed: each alone, so the error is its own
+      alone(i);
+      alone(i + 1);
+    }
+    i += 2;
+  }
+  return out;
+}
+
+UniformSeries drive_command_of(const ClearanceModel& m, const UniformSeries& command, double duration_s) {
   require_positive("duration_s", duration_s);
   const double ts = command.sample_time_s;
   const std::size_t n = sample_count(duration_s, ts);
@@ -179,7 +237,13 @@ ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& com
   }
   drive.start_s = 0.0;
   drive.sample_time_s = ts;
-  return simulate_drive_command(m, drive, duration_s, initial_play_fraction, design_accuracy);
+  return drive;
+}
+
+ModelResponse simulate_command(const ClearanceModel& m, const UniformSeries& command, double duration_s,
+                               double initial_play_fraction, bool design_accuracy) {
+  return simulate_drive_command(m, drive_command_of(m, command, duration_s), duration_s, initial_play_fraction,
+                                design_accuracy);
 }
 
 }  // namespace clearshape::study

@@ -125,3 +125,36 @@ TEST(WornCoupling, FixedStepLocatesContactOnsets) {
     EXPECT_LE(worst_deg_s, 0.3);
   }
 }
+
+// simulate_fixed_steps steps neighbouring jobs together for speed; every response must still be
+// simulate_fixed_step's to the bit: two pairs whose links start at four places in the play (each
+// crosses it and hits a flank, so contact onsets are located inside shared steps), and a job of
+// another length that runs alone.
+TEST(WornCoupling, FixedStepsTogetherGiveEachRunsResponseToTheBit) {
+  const rig::RigTruth t = rig::builtin_truth("worn-coupling");
+  const plant::PlantModel model = rig::plant_model(t, rig::CommandMode::position);
+  rig::RigTruth stiffer = t;
+  stiffer.position_contact.stiffness *= 1.3;
+  const plant::PlantModel other = rig::plant_model(stiffer, rig::CommandMode::position);
+  const cs::UniformSeries u = golden_command(1201), shorter = golden_command(700);
+  std::vector<plant::FixedStepJob> jobs;
+  for (const double fraction : {-1.0, 0.3, 1.0, -0.4}) {
+    plant::FixedStepOptions f;
+    f.initial_relative_angle_rad = fraction * t.half_play_rad();
+    jobs.push_back({jobs.size() == 1 ? &other : &model, &u, f});
+  }
+  jobs.push_back({&model, &shorter, {}});
+  const std::vector<plant::FixedStepResponse> together = plant::simulate_fixed_steps(jobs);
+  ASSERT_EQ(together.size(), jobs.size());
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    SCOPED_TRACE(i);
+    const plant::FixedStepResponse alone = plant::simulate_fixed_step(*jobs[i].model, *jobs[i].drive_input, jobs[i].options);
+    EXPECT_EQ(together[i].link_angle_rad, alone.link_angle_rad);
+    EXPECT_EQ(together[i].link_rate_rad_s, alone.link_rate_rad_s);
+    EXPECT_EQ(together[i].motor_angle_rad, alone.motor_angle_rad);
+    EXPECT_EQ(together[i].motor_rate_rad_s, alone.motor_rate_rad_s);
+  }
+  // The pair with the stiffer flank does differ from the nominal one: the lanes did not share state.
+  EXPECT_NE(together[1].link_angle_rad, together[0].link_angle_rad);
+  EXPECT_GT(cs::rad_to_deg(*std::max_element(together[0].link_angle_rad.begin(), together[0].link_angle_rad.end())), 20.2);
+}

@@ -15,6 +15,7 @@
 #include "clearshape/io/atomic_file.hpp"
 #include "clearshape/rig/loopback_rig.hpp"
 #include "clearshape/study/record.hpp"
+#include "support/paths.hpp"
 
 namespace cs = clearshape;
 namespace st = clearshape::study;
@@ -33,12 +34,6 @@ st::RunRequest step_request() {
   return req;
 }
 
-// Per-process folders: several test processes (and build trees) may run at once.
-std::filesystem::path temp_dir(const char* name) {
-  const auto dir = std::filesystem::temp_directory_path() / (std::string(name) + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  return dir;
-}
 
 }  // namespace
 
@@ -69,7 +64,7 @@ TEST(Record, RoundTripIsBitExactAndKeyedByTheProtocolHash) {
   cs::rig::LoopbackRig rig(cs::rig::LoopbackConfig{});
   const st::RunRequest req = step_request();
   const st::Record r = st::execute_run(rig, req);
-  const auto dir = temp_dir("clearshape_test_record");
+  const auto dir = clearshape::testing::emptied_temp_path("clearshape_test_record");
   st::write_record(dir, r, req, "hash-a", "loopback", {{"reads", 101}});
   EXPECT_TRUE(std::filesystem::exists(dir / "unshaped__step__r01.csv"));
   EXPECT_TRUE(std::filesystem::exists(dir / "unshaped__step__r01.json"));
@@ -94,7 +89,7 @@ TEST(Record, AStaleRunReadBackCanBeReplacedByTheRerun) {
   cs::rig::LoopbackRig rig(cs::rig::LoopbackConfig{});
   const st::RunRequest req = step_request();
   const st::Record r = st::execute_run(rig, req);
-  const auto dir = temp_dir("clearshape_test_record_stale");
+  const auto dir = clearshape::testing::emptied_temp_path("clearshape_test_record_stale");
   st::write_record(dir, r, req, "hash-a", "loopback", {{"reads", 101}});
   ASSERT_FALSE(st::read_record(dir, req, cs::rig::CommandMode::position, "hash-b").has_value());
   EXPECT_NO_THROW(st::write_record(dir, r, req, "hash-b", "loopback", {{"reads", 101}}));

@@ -71,17 +71,11 @@ st::StudyResult run(const std::string& protocol, const std::filesystem::path& ou
   return st::run_study(st::quick_variant(st::load_protocol(studies_path(protocol))), options);
 }
 
-// Per-process folders: several test processes (and build trees) may run at once.
-std::filesystem::path temp_dir(const char* name) {
-  const auto dir = std::filesystem::temp_directory_path() / (std::string(name) + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  return dir;
-}
 
 }  // namespace
 
 TEST(StudyQuick, PositionModeReproducesTheThesisQualitatively) {
-  const auto out = temp_dir("clearshape_study_quick_position");
+  const auto out = clearshape::testing::emptied_temp_path("clearshape_study_quick_position");
   const st::StudyResult r = run("thesis-position.toml", out);
 
   const json& b1 = r.table("B.1");
@@ -215,7 +209,7 @@ TEST(StudyQuick, PositionModeReproducesTheThesisQualitatively) {
 }
 
 TEST(StudyQuick, SpeedModeShapersFromTheDriveModelReduceTheMd) {
-  const auto out = temp_dir("clearshape_study_quick_speed");
+  const auto out = clearshape::testing::emptied_temp_path("clearshape_study_quick_speed");
   const st::StudyResult r = run("thesis-speed.toml", out);
   const json& t = r.table("5.1");
   const double zv = improvement(t, "zv@drive-model");
@@ -232,8 +226,8 @@ TEST(StudyQuick, SpeedModeShapersFromTheDriveModelReduceTheMd) {
 }
 
 TEST(StudyQuick, DeterministicAndResumable) {
-  const auto a = temp_dir("clearshape_study_quick_a");
-  const auto b = temp_dir("clearshape_study_quick_b");
+  const auto a = clearshape::testing::emptied_temp_path("clearshape_study_quick_a");
+  const auto b = clearshape::testing::emptied_temp_path("clearshape_study_quick_b");
   run("thesis-position.toml", a);
   run("thesis-position.toml", b);
   for (const char* f : {"results.json", "tables.md", "figures.json", "data/rig_B.1.csv",

@@ -26,6 +26,12 @@ inline std::filesystem::path studies_path(const std::string& name) {
 inline std::filesystem::path process_temp_path(const std::string& name) {
   return std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
 }
+/// process_temp_path(name), emptied (not created: the code under test makes it).
+inline std::filesystem::path emptied_temp_path(const std::string& name) {
+  const auto dir = process_temp_path(name);
+  std::filesystem::remove_all(dir);
+  return dir;
+}
 /// process_temp_path(name), emptied and created.
 inline std::filesystem::path fresh_temp_dir(const std::string& name) {
   const auto dir = process_temp_path(name);

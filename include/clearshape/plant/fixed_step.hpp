@@ -22,6 +22,7 @@
 //
 // Not covered (InvalidArgument): impulse impacts (TorsionalClearance::impact), the thesis
 // Kelvin–Voigt law that switches on the rate, the planar joint. Those need plant::simulate.
+#include <span>
 #include <vector>
 
 #include "clearshape/core/series.hpp"
@@ -49,5 +50,19 @@ struct FixedStepResponse {
 /// Throws InvalidArgument for a model it does not cover (header) or a bad option.
 FixedStepResponse simulate_fixed_step(const PlantModel& model, const UniformSeries& drive_input,
                                       const FixedStepOptions& options = {});
+
+/// One simulation of a batch: the arguments of simulate_fixed_step (not owned; they must outlive
+/// the call).
+struct FixedStepJob {
+  const PlantModel* model = nullptr;
+  const UniformSeries* drive_input = nullptr;
+  FixedStepOptions options;
+};
+
+/// simulate_fixed_step for each job, in order, with the same results to the bit. Two neighbouring
+/// jobs of the same length, sample time and substeps are stepped together, interleaved, which the
+/// processor runs faster than one after the other (each simulation is a chain of dependent
+/// operations: bench_clearance_aware). Throws as simulate_fixed_step, for the first failing job.
+std::vector<FixedStepResponse> simulate_fixed_steps(std::span<const FixedStepJob> jobs);
 
 }  // namespace clearshape::plant

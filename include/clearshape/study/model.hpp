@@ -12,6 +12,8 @@
 // Position mode: the pulse generator programs a target at its next 30 Hz update, one update
 // period after it was written (the rig reports the commanded position it actually applied, and
 // the clearance fit uses that record directly).
+#include <exception>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -70,6 +72,32 @@ plant::PlantModel plant_of(const ClearanceModel& model);
 ModelResponse simulate_drive_command(const ClearanceModel& model, const UniformSeries& drive_command,
                                      double duration_s, double initial_play_fraction = 0.0,
                                      bool design_accuracy = false);
+
+/// One simulation of a design loop's batch: simulate_drive_command's arguments with
+/// design_accuracy (pointers not owned; they must outlive the call).
+struct DriveCommandJob {
+  const ClearanceModel* model = nullptr;
+  const UniformSeries* drive_command = nullptr;
+  double duration_s = 0.0;
+  double initial_play_fraction = 0.0;
+};
+
+/// Each job's response, or the error simulate_drive_command would have thrown for it.
+struct DriveCommandOutcome {
+  ModelResponse response;
+  std::exception_ptr error;  ///< null on success
+};
+
+/// simulate_drive_command(…, design_accuracy = true) for every job, in order, with the same
+/// responses to the bit and the same errors. Neighbouring jobs on the fixed-step path with the
+/// same length and step are simulated two at a time (plant::simulate_fixed_steps: about 1.5 times
+/// the throughput); a pair that fails is simulated again one job at a time, so an error stays
+/// with its job.
+std::vector<DriveCommandOutcome> simulate_drive_commands(std::span<const DriveCommandJob> jobs);
+
+/// The drive command a requested command (command units) becomes through the mode's command path
+/// (as simulate_command applies it), on the grid of `duration_s`.
+UniformSeries drive_command_of(const ClearanceModel& model, const UniformSeries& command, double duration_s);
 
 /// Simulates the model under a requested command (command units), through the mode's command
 /// path (position: the rig's real-time 30 Hz pulse path — at the first sample tick at or after
