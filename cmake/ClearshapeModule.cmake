@@ -33,16 +33,17 @@ endfunction()
 # clearshape_cold(target [SOURCES file...]): with CLEARSHAPE_COLD_O1 in an optimised GCC build
 # (Release, RelWithDebInfo), the target (or only the given sources of it) compiles at -O1. For modules whose own code takes a negligible share
 # of the run time, measured (docs/design.md, "Build time"): the CLI, io and export parse, format and
-# dispatch; study, lti, advise and rig set up, fit and tabulate around the simulations, which run
-# in plant (over every `make run` study, perf puts 48 % of the CPU in plant, 19 % in CVODE and 20 %
-# in libm, 0.7 % in study's own functions, 0.01 % in rig's). There -O3's inlining and unrolling cost
-# compile time and buy nothing at run time: the CLI's four unity batches take 64 s of CPU at -O3
-# and about 46 s at -O1, study, lti, advise and rig 136 s and 90 s; the studies take as long and
-# bench_study, bench_clearance_aware and bench_simulate agree within 3 %. core/linalg.cpp (Eigen's
-# decompositions, instantiated once) too: 45 → 33 s, bench_ident's free-decay modes 11.1 → 12.2 ms,
-# its fits unchanged. ident stays at -O3: at -O1 bench_ident's fits take 20–29 % longer. IEEE arithmetic
-# rounds the same at every level (no -ffast-math; x86-64's SSE2 has no fused multiply-add to
-# contract into), so outputs do not change: the studies' results.json are the same bytes.
+# dispatch; study, ident, lti, advise and rig set up, identify, fit and tabulate around the
+# simulations, which run in plant (over every `make run` study, perf puts 48 % of the CPU in plant,
+# 19 % in CVODE and 20 % in libm, 0.7 % in study's own functions, 0.2 % in ident's, 0.01 % in
+# rig's). There -O3's inlining and unrolling cost compile time and buy nothing at run time: the
+# CLI's four unity batches take 64 s of CPU at -O3 and about 46 s at -O1; study, ident, lti, advise
+# and rig 203 s and 137 s; the studies take as long and bench_study, bench_clearance_aware and
+# bench_simulate agree within 3 %. core/linalg.cpp (Eigen's decompositions, instantiated once)
+# too: 45 → 33 s. What it costs a user: bench_ident's fits take 20–29 % longer (16.4 → 20.3 ms for
+# one record), its free-decay modes 11.1 → 12.2 ms. IEEE arithmetic rounds the same at every level
+# (no -ffast-math; x86-64's SSE2 has no fused multiply-add to contract into), so outputs do not
+# change: the studies' results.json are the same bytes.
 function(clearshape_cold target)
   cmake_parse_arguments(ARG "" "" "SOURCES" ${ARGN})
   if(CLEARSHAPE_COLD_O1 AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_BUILD_TYPE MATCHES "^(Release|RelWithDebInfo)$")
